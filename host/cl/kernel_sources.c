@@ -1,0 +1,60 @@
+#include "cl/kernel_sources.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char *read_text_file(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    char *text = NULL;
+    if (fseek(f, 0, SEEK_END) == 0) {
+        long size = ftell(f);
+        if (size >= 0 && fseek(f, 0, SEEK_SET) == 0 && (text = malloc((size_t)size + 1))) {
+            if (fread(text, 1, (size_t)size, f) != (size_t)size) {
+                free(text);
+                text = NULL;
+            } else {
+                text[size] = '\0';
+            }
+        }
+    }
+    fclose(f);
+    return text;
+}
+
+char *kernel_source_load(const char *name, const char *kernel_dir, const char **include_dir, char *error,
+                         int error_size)
+{
+    const EmbeddedKernel *embedded = kernel_source_embedded(name);
+    if (!embedded) {
+        snprintf(error, (size_t)error_size, "no kernel source named '%s'", name);
+        return NULL;
+    }
+    if (!kernel_dir)
+        kernel_dir = getenv(KERNEL_DIR_ENV);
+    *include_dir = NULL;
+    if (!kernel_dir || !*kernel_dir) {
+        char *copy = malloc(strlen(embedded->source) + 1);
+        if (copy)
+            strcpy(copy, embedded->source);
+        else
+            snprintf(error, (size_t)error_size, "out of memory");
+        return copy;
+    }
+    /* embedded->path is "kernels/<file>"; take the file name. */
+    const char *file = strrchr(embedded->path, '/');
+    file = file ? file + 1 : embedded->path;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", kernel_dir, file);
+    char *text = read_text_file(path);
+    if (!text) {
+        snprintf(error, (size_t)error_size, "cannot read kernel source %s (from %s)", path,
+                 getenv(KERNEL_DIR_ENV) == kernel_dir ? KERNEL_DIR_ENV : "--kernel-dir");
+        return NULL;
+    }
+    *include_dir = kernel_dir;
+    return text;
+}

@@ -1,0 +1,27 @@
+/* OpenCL C sources: embedded in the binary at build time, or read from a
+ * kernels/ directory at run time (developer option: edit and rerun without
+ * rebuilding). */
+#ifndef HOST_CL_KERNEL_SOURCES_H
+#define HOST_CL_KERNEL_SOURCES_H
+
+typedef struct {
+    const char *name;   /* e.g. "estimator" */
+    const char *path;   /* e.g. "kernels/estimator.cl", relative to the repository */
+    const char *source; /* includes inlined, with #line markers */
+} EmbeddedKernel;
+
+/* The embedded source of kernel file `name`, or NULL. */
+const EmbeddedKernel *kernel_source_embedded(const char *name);
+
+/* Environment variable naming a kernels/ directory to load sources from
+ * instead of the embedded copies. */
+#define KERNEL_DIR_ENV "GMON_KERNEL_DIR"
+
+/* The source of kernel `name`: read from `kernel_dir` (or $GMON_KERNEL_DIR
+ * when kernel_dir is NULL) if set, else the embedded copy. Returns a malloc'd
+ * string and sets *include_dir to the directory to pass as -I (NULL when
+ * embedded), or NULL with a message in `error`. */
+char *kernel_source_load(const char *name, const char *kernel_dir, const char **include_dir, char *error,
+                         int error_size);
+
+#endif

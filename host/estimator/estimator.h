@@ -1,0 +1,61 @@
+/* The per-pixel estimators (mean, MoN, G-MoN) on the host: the reference the
+ * OpenCL kernels are tested against, and what re-estimates a saved render.
+ * Both run the one implementation in kernels/estimator_core.h.
+ *
+ * Set sums are planes [set][channel][pixel] of floats; accumulators are the
+ * renderer's exact sums, planes [set][channel][word][pixel] of uint64. Every
+ * pixel has sample_count samples, sample s in set s mod M. */
+#ifndef HOST_ESTIMATOR_ESTIMATOR_H
+#define HOST_ESTIMATOR_ESTIMATOR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define ESTIMATOR_DEFAULT_SETS 21
+
+typedef enum {
+    GINI_PER_CHANNEL = 0, /* default */
+    GINI_PER_PIXEL = 1,
+    SORT_BY_LUMINANCE = 2,
+} GiniMode;
+
+typedef struct {
+    int set_count;      /* M, 1..64 */
+    GiniMode gini_mode;
+} EstimatorSettings;
+
+/* Output images, 3 values (RGB) per pixel; NULL where not wanted. */
+typedef struct {
+    float *mean;
+    float *mon;
+    float *gmon;
+    float *gini;   /* diagnostics: G used per channel */
+    int32_t *trim; /* diagnostics: sets trimmed at each end, per channel */
+    size_t length; /* elements in each non-NULL buffer, >= 3 * pixel_count */
+} EstimatorImages;
+
+typedef enum {
+    ESTIMATOR_OK = 0,
+    ESTIMATOR_INVALID_ARGUMENT = 1,
+} EstimatorStatus;
+
+/* Estimates every pixel from float set sums (set_sums_length >= M * 3 *
+ * pixel_count). On a bad argument returns ESTIMATOR_INVALID_ARGUMENT and puts
+ * a one-line reason in `message` (may be NULL). */
+EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums,
+                                    size_t set_sums_length, size_t pixel_count, uint64_t sample_count,
+                                    EstimatorImages *images, char *message, size_t message_size);
+
+/* The same from exact accumulators (length >= M * 3 * 2 * pixel_count). */
+EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
+                                            size_t accumulators_length, size_t pixel_count,
+                                            uint64_t sample_count, EstimatorImages *images, char *message,
+                                            size_t message_size);
+
+/* Converts accumulators to float set sums (nearest float, as the kernels
+ * do). */
+EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *accumulators,
+                                                 size_t accumulators_length, size_t pixel_count, float *set_sums,
+                                                 size_t set_sums_length, char *message, size_t message_size);
+
+#endif

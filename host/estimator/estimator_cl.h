@@ -1,0 +1,38 @@
+/* The estimator kernels (kernels/estimator.cl) on an OpenCL device. */
+#ifndef HOST_ESTIMATOR_ESTIMATOR_CL_H
+#define HOST_ESTIMATOR_ESTIMATOR_CL_H
+
+#include "cl/cl_device.h"
+#include "estimator/estimator.h"
+
+/* Which images a program writes (its EST_OUTPUTS). */
+enum {
+    ESTIMATOR_OUTPUT_MEAN = 1,
+    ESTIMATOR_OUTPUT_MON = 2,
+    ESTIMATOR_OUTPUT_GMON = 4,
+    ESTIMATOR_OUTPUT_DIAGNOSTICS = 8,
+    ESTIMATOR_OUTPUT_ALL = 15,
+};
+
+typedef struct EstimatorProgram EstimatorProgram;
+
+/* Builds the estimator program for M, the Gini mode and the outputs. Returns
+ * NULL after printing the reason. kernel_dir: see kernel_sources.h. */
+EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, int outputs,
+                                        const char *kernel_dir);
+void estimator_program_destroy(EstimatorProgram *program);
+
+/* Enqueues the estimator on device buffers. `input` holds float set sums or,
+ * with from_accumulators, exact accumulators; outputs not in the program's
+ * mask may be NULL. Returns the kernel's event (caller releases), or NULL on
+ * error. */
+cl_event estimator_program_enqueue(EstimatorProgram *program, cl_mem input, int from_accumulators,
+                                   size_t pixel_count, uint64_t sample_count, cl_mem mean, cl_mem mon, cl_mem gmon,
+                                   cl_mem gini, cl_mem trim);
+
+/* Convenience for tests: uploads host input, runs, downloads into `images`
+ * (buffers not in the mask are left alone). Returns 0 on success. */
+int estimator_program_run(EstimatorProgram *program, const void *input, int from_accumulators, size_t pixel_count,
+                          uint64_t sample_count, EstimatorImages *images);
+
+#endif

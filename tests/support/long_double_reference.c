@@ -1,0 +1,1 @@
+/* placeholder */ typedef int placeholder_long_double_reference;
