@@ -1,1 +1,275 @@
-int main(void){return 0;}
+/* Kernel == host, bit for bit: the estimator kernels on the OpenCL device
+ * against the host reference (the same estimator_core.h compiled by the host
+ * compiler), for M in {1, 2, 3, 4, 20, 21, 64}, every Gini mode and every
+ * input case, plus sample streams with NaN and Inf accumulated on both. */
+#include "cl/cl_device.h"
+#include "estimator/estimator.h"
+#include "estimator/estimator_cl.h"
+#include "estimator_cases.h"
+#include "estimator_core.h"
+#include "sample_streams.h"
+#include "test_device.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+static const int set_counts[] = {1, 2, 3, 4, 20, 21, 64};
+#define SET_COUNTS (int)(sizeof set_counts / sizeof set_counts[0])
+
+static ClDevice device;
+
+static int setup(void **state)
+{
+    (void)state;
+    return test_device_open(&device) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    cl_device_close(&device);
+    return 0;
+}
+
+typedef struct {
+    float *mean, *mon, *gmon, *gini;
+    int32_t *trim;
+    EstimatorImages view;
+} Images;
+
+static void images_init(Images *im, size_t pixel_count)
+{
+    size_t n = pixel_count * 3;
+    im->mean = calloc(n, sizeof(float));
+    im->mon = calloc(n, sizeof(float));
+    im->gmon = calloc(n, sizeof(float));
+    im->gini = calloc(n, sizeof(float));
+    im->trim = calloc(n, sizeof(int32_t));
+    im->view = (EstimatorImages){im->mean, im->mon, im->gmon, im->gini, im->trim, n};
+}
+
+static void images_free(Images *im)
+{
+    free(im->mean);
+    free(im->mon);
+    free(im->gmon);
+    free(im->gini);
+    free(im->trim);
+}
+
+/* Bitwise comparison, naming the first differing value on failure. */
+static void assert_images_identical(const Images *a, const Images *b, size_t pixel_count, const char *what)
+{
+    size_t n = pixel_count * 3;
+    const void *pa[5] = {a->mean, a->mon, a->gmon, a->gini, a->trim};
+    const void *pb[5] = {b->mean, b->mon, b->gmon, b->gini, b->trim};
+    const char *names[5] = {"mean", "mon", "gmon", "gini", "trim"};
+    for (int i = 0; i < 5; ++i) {
+        if (memcmp(pa[i], pb[i], n * 4) == 0)
+            continue;
+        for (size_t k = 0; k < n; ++k) {
+            uint32_t x, y;
+            memcpy(&x, (const char *)pa[i] + 4 * k, 4);
+            memcpy(&y, (const char *)pb[i] + 4 * k, 4);
+            if (x != y)
+                fail_msg("%s: %s differs at pixel %zu channel %zu: kernel %08x (%g) host %08x (%g)", what, names[i],
+                         k / 3, k % 3, x, (double)float_from_bits(x), y, (double)float_from_bits(y));
+        }
+    }
+}
+
+static void test_kernel_equals_host_on_all_cases(void **state)
+{
+    (void)state;
+    int compared = 0;
+    for (int mi = 0; mi < SET_COUNTS; ++mi) {
+        for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
+            EstimatorSettings settings = {set_counts[mi], (GiniMode)mode};
+            EstimatorProgram *program = estimator_program_new(&device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+            assert_non_null(program);
+            for (int kind = 0; kind < CASE_COUNT; ++kind) {
+                EstimatorCase c = estimator_case_make((EstimatorCaseKind)kind, set_counts[mi], 1);
+                size_t values = (size_t)c.set_count * 3 * c.pixel_count;
+                Images host, kernel;
+                images_init(&host, c.pixel_count);
+                images_init(&kernel, c.pixel_count);
+                char message[256];
+                assert_int_equal(estimator_from_sums(&settings, c.sums, values, c.pixel_count, c.sample_count,
+                                                     &host.view, message, sizeof message),
+                                 ESTIMATOR_OK);
+                assert_int_equal(estimator_program_run(program, c.sums, 0, c.pixel_count, c.sample_count,
+                                                       &kernel.view),
+                                 0);
+                char what[128];
+                snprintf(what, sizeof what, "M=%d mode=%d case '%s'", set_counts[mi], mode, c.name);
+                assert_images_identical(&kernel, &host, c.pixel_count, what);
+                ++compared;
+                images_free(&host);
+                images_free(&kernel);
+                estimator_case_free(&c);
+            }
+            estimator_program_destroy(program);
+        }
+    }
+    printf("compared %d (M, mode, case) combinations bit for bit\n", compared);
+}
+
+/* A stream of RGB samples with NaN, +Inf, -Inf, huge and denormal values
+ * mixed into ordinary ones. */
+static float *make_stream(size_t pixel_count, size_t length, uint64_t seed)
+{
+    float *samples = malloc(pixel_count * length * 3 * sizeof(float));
+    TestRng rng = test_rng(seed);
+    for (size_t i = 0; i < pixel_count * length * 3; ++i) {
+        uint64_t pick = test_rng_next(&rng) % 100;
+        double u = test_rng_uniform(&rng);
+        float x = (float)(u * u * 4.0);
+        if (pick == 0)
+            x = NAN;
+        else if (pick == 1)
+            x = INFINITY;
+        else if (pick == 2)
+            x = -INFINITY;
+        else if (pick == 3)
+            x = 1e30f; /* above the accumulation limit: rejected */
+        else if (pick == 4)
+            x = 1e-40f * (float)u;
+        else if (pick < 10)
+            x = (float)test_pareto(&rng, 1.2);
+        samples[i] = x;
+    }
+    return samples;
+}
+
+/* Runs accumulate_stream over samples [first, first + length) of each
+ * pixel's stream of `total` samples: one pass of a progressive render. */
+static void device_accumulate(cl_kernel kernel, cl_mem accumulators, cl_mem rejected, const float *samples,
+                              size_t pixel_count, size_t total, size_t first, size_t length)
+{
+    cl_int err = CL_SUCCESS;
+    float *slice = malloc(pixel_count * length * 3 * sizeof(float));
+    for (size_t p = 0; p < pixel_count; ++p)
+        memcpy(slice + p * length * 3, samples + (p * total + first) * 3, length * 3 * sizeof(float));
+    cl_mem in = clCreateBuffer(device.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                               pixel_count * length * 3 * sizeof(float), slice, &err);
+    assert_int_equal(err, CL_SUCCESS);
+    cl_ulong stream_length = length, first_sample = first, pixels = pixel_count;
+    assert_int_equal(clSetKernelArg(kernel, 0, sizeof in, &in), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(kernel, 1, sizeof stream_length, &stream_length), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(kernel, 2, sizeof first_sample, &first_sample), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(kernel, 3, sizeof accumulators, &accumulators), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(kernel, 4, sizeof pixels, &pixels), CL_SUCCESS);
+    assert_int_equal(clSetKernelArg(kernel, 5, sizeof rejected, &rejected), CL_SUCCESS);
+    size_t global = pixel_count;
+    assert_int_equal(clEnqueueNDRangeKernel(device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL),
+                     CL_SUCCESS);
+    assert_int_equal(clFinish(device.queue), CL_SUCCESS);
+    clReleaseMemObject(in);
+    free(slice);
+}
+
+static void test_streams_with_nan_and_inf(void **state)
+{
+    (void)state;
+    const size_t pixel_count = 61, length = 300;
+    for (int mi = 0; mi < SET_COUNTS; ++mi) {
+        const int m = set_counts[mi];
+        float *samples = make_stream(pixel_count, length, (uint64_t)m);
+        size_t words = (size_t)m * 3 * 2 * pixel_count;
+
+        /* Host: the shared accumulation code, one sample at a time. */
+        uint64_t *host_acc = calloc(words, sizeof(uint64_t));
+        uint32_t *host_rejected = calloc(pixel_count, sizeof(uint32_t));
+        for (size_t p = 0; p < pixel_count; ++p)
+            for (size_t i = 0; i < length; ++i) {
+                const float *rgb = samples + (p * length + i) * 3;
+                host_rejected[p] += (uint32_t)accumulate_sample(host_acc, p, pixel_count,
+                                                                set_of_sample(i, (uint32_t)m), rgb[0], rgb[1],
+                                                                rgb[2]);
+            }
+
+        /* Device: the same stream in two passes of unequal length. */
+        char options[64];
+        snprintf(options, sizeof options, "-DEST_SETS=%d", m);
+        cl_program program = cl_program_build(&device, "estimator", options, NULL);
+        assert_non_null(program);
+        cl_int err = CL_SUCCESS;
+        cl_kernel kernel = clCreateKernel(program, "accumulate_stream", &err);
+        assert_int_equal(err, CL_SUCCESS);
+        uint64_t *zero = calloc(words, sizeof(uint64_t));
+        cl_mem acc = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                    words * sizeof(uint64_t), zero, &err);
+        assert_int_equal(err, CL_SUCCESS);
+        cl_mem rejected = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                         pixel_count * sizeof(uint32_t), zero, &err);
+        assert_int_equal(err, CL_SUCCESS);
+        /* Two passes of unequal length, as a progressive render batches. */
+        device_accumulate(kernel, acc, rejected, samples, pixel_count, length, 0, 113);
+        device_accumulate(kernel, acc, rejected, samples, pixel_count, length, 113, length - 113);
+
+        uint64_t *device_acc = malloc(words * sizeof(uint64_t));
+        uint32_t *device_rejected = malloc(pixel_count * sizeof(uint32_t));
+        assert_int_equal(clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc, 0,
+                                             NULL, NULL),
+                         CL_SUCCESS);
+        assert_int_equal(clEnqueueReadBuffer(device.queue, rejected, CL_TRUE, 0, pixel_count * sizeof(uint32_t),
+                                             device_rejected, 0, NULL, NULL),
+                         CL_SUCCESS);
+        assert_memory_equal(device_acc, host_acc, words * sizeof(uint64_t));
+        assert_memory_equal(device_rejected, host_rejected, pixel_count * sizeof(uint32_t));
+        uint32_t total_rejected = 0;
+        for (size_t p = 0; p < pixel_count; ++p)
+            total_rejected += host_rejected[p];
+        assert_true(total_rejected > 0);
+
+        /* And the estimates of those sums, from the accumulators. */
+        for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
+            EstimatorSettings settings = {m, (GiniMode)mode};
+            EstimatorProgram *est = estimator_program_new(&device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+            assert_non_null(est);
+            Images host, kern;
+            images_init(&host, pixel_count);
+            images_init(&kern, pixel_count);
+            assert_int_equal(estimator_from_accumulators(&settings, host_acc, words, pixel_count, length,
+                                                         &host.view, NULL, 0),
+                             ESTIMATOR_OK);
+            assert_int_equal(estimator_program_run(est, device_acc, 1, pixel_count, length, &kern.view), 0);
+            char what[96];
+            snprintf(what, sizeof what, "stream M=%d mode=%d", m, mode);
+            assert_images_identical(&kern, &host, pixel_count, what);
+            for (size_t i = 0; i < pixel_count * 3; ++i)
+                assert_true(isfinite(host.mean[i]) && isfinite(host.gmon[i]) && isfinite(host.mon[i]));
+            images_free(&host);
+            images_free(&kern);
+            estimator_program_destroy(est);
+        }
+
+        free(device_acc);
+        free(device_rejected);
+        free(zero);
+        free(host_acc);
+        free(host_rejected);
+        free(samples);
+        clReleaseMemObject(acc);
+        clReleaseMemObject(rejected);
+        clReleaseKernel(kernel);
+        clReleaseProgram(program);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_kernel_equals_host_on_all_cases),
+        cmocka_unit_test(test_streams_with_nan_and_inf),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
