@@ -1,0 +1,285 @@
+#include "render/bvh.h"
+
+#include <float.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define BIN_COUNT 16
+#define MAX_LEAF_SIZE 8
+/* Past this depth, splits fall back to the object median, which halves the
+ * count each level and so bounds the depth. */
+#define SAH_DEPTH_LIMIT 48
+
+typedef struct {
+    float lower[3], upper[3];
+} Box;
+
+typedef struct {
+    Box box;
+    float centroid[3];
+    int index;
+} BuildItem;
+
+typedef struct {
+    BuildItem *items;
+    BvhNode *nodes;
+    int node_count, node_capacity;
+    int depth, largest_leaf;
+} Builder;
+
+static Box box_empty(void)
+{
+    Box b = {{FLT_MAX, FLT_MAX, FLT_MAX}, {-FLT_MAX, -FLT_MAX, -FLT_MAX}};
+    return b;
+}
+
+static void box_grow_point(Box *b, const float *p)
+{
+    for (int i = 0; i < 3; ++i) {
+        b->lower[i] = p[i] < b->lower[i] ? p[i] : b->lower[i];
+        b->upper[i] = p[i] > b->upper[i] ? p[i] : b->upper[i];
+    }
+}
+
+static void box_grow(Box *b, const Box *other)
+{
+    box_grow_point(b, other->lower);
+    box_grow_point(b, other->upper);
+}
+
+static float box_area(const Box *b)
+{
+    float d[3];
+    for (int i = 0; i < 3; ++i)
+        d[i] = b->upper[i] > b->lower[i] ? b->upper[i] - b->lower[i] : 0.0f;
+    return 2.0f * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+}
+
+static Box primitive_box(const Primitive *p)
+{
+    Box b = box_empty();
+    if (p->kind == PRIM_SPHERE) {
+        for (int i = 0; i < 3; ++i) {
+            b.lower[i] = p->a[i] - p->b[0];
+            b.upper[i] = p->a[i] + p->b[0];
+        }
+    } else {
+        box_grow_point(&b, p->a);
+        box_grow_point(&b, p->b);
+        box_grow_point(&b, p->c);
+    }
+    return b;
+}
+
+static int new_node(Builder *b)
+{
+    if (b->node_count == b->node_capacity) {
+        int capacity = b->node_capacity ? 2 * b->node_capacity : 64;
+        BvhNode *nodes = realloc(b->nodes, (size_t)capacity * sizeof *nodes);
+        if (!nodes)
+            return -1;
+        b->nodes = nodes;
+        b->node_capacity = capacity;
+    }
+    return b->node_count++;
+}
+
+/* qsort comparators by centroid along one axis, ties by index so the build
+ * is deterministic. */
+static int compare_along(const void *x, const void *y, int axis)
+{
+    const BuildItem *a = x, *b = y;
+    if (a->centroid[axis] != b->centroid[axis])
+        return a->centroid[axis] < b->centroid[axis] ? -1 : 1;
+    return (a->index > b->index) - (a->index < b->index);
+}
+static int compare_x(const void *x, const void *y)
+{
+    return compare_along(x, y, 0);
+}
+static int compare_y(const void *x, const void *y)
+{
+    return compare_along(x, y, 1);
+}
+static int compare_z(const void *x, const void *y)
+{
+    return compare_along(x, y, 2);
+}
+
+/* Chooses a split of items [first, first + count): returns the count going
+ * left (0 if a leaf is better) and the axis. */
+static int choose_split(BuildItem *items, int count, const Box *bounds, int depth, int *axis_out)
+{
+    Box centroids = box_empty();
+    for (int i = 0; i < count; ++i)
+        box_grow_point(&centroids, items[i].centroid);
+    int axis = 0;
+    float extent = -1.0f;
+    for (int i = 0; i < 3; ++i)
+        if (centroids.upper[i] - centroids.lower[i] > extent) {
+            extent = centroids.upper[i] - centroids.lower[i];
+            axis = i;
+        }
+    *axis_out = axis;
+    if (count <= 1 || extent <= 0.0f)
+        return 0; /* identical centroids: nothing to split */
+
+    if (depth < SAH_DEPTH_LIMIT) {
+        float best_cost = FLT_MAX;
+        int best_axis = -1, best_bin = -1;
+        for (int a = 0; a < 3; ++a) {
+            float lo = centroids.lower[a], span = centroids.upper[a] - lo;
+            if (span <= 0.0f)
+                continue;
+            Box bin_box[BIN_COUNT];
+            int bin_count[BIN_COUNT] = {0};
+            for (int k = 0; k < BIN_COUNT; ++k)
+                bin_box[k] = box_empty();
+            for (int i = 0; i < count; ++i) {
+                int k = (int)((items[i].centroid[a] - lo) / span * BIN_COUNT);
+                k = k < 0 ? 0 : (k >= BIN_COUNT ? BIN_COUNT - 1 : k);
+                bin_count[k]++;
+                box_grow(&bin_box[k], &items[i].box);
+            }
+            /* Sweep from the right for suffix areas, then from the left. */
+            float right_area[BIN_COUNT];
+            int right_count[BIN_COUNT];
+            Box acc = box_empty();
+            int n = 0;
+            for (int k = BIN_COUNT - 1; k > 0; --k) {
+                box_grow(&acc, &bin_box[k]);
+                n += bin_count[k];
+                right_area[k] = box_area(&acc);
+                right_count[k] = n;
+            }
+            acc = box_empty();
+            n = 0;
+            for (int k = 0; k < BIN_COUNT - 1; ++k) {
+                box_grow(&acc, &bin_box[k]);
+                n += bin_count[k];
+                if (n == 0 || right_count[k + 1] == 0)
+                    continue;
+                float cost = box_area(&acc) * (float)n + right_area[k + 1] * (float)right_count[k + 1];
+                if (cost < best_cost) {
+                    best_cost = cost;
+                    best_axis = a;
+                    best_bin = k;
+                }
+            }
+        }
+        float parent_area = box_area(bounds);
+        /* Traversal cost 1, intersection cost 1 per primitive. */
+        float leaf_cost = (float)count;
+        float split_cost = parent_area > 0.0f ? 1.0f + best_cost / parent_area : FLT_MAX;
+        if (best_axis >= 0 && (split_cost < leaf_cost || count > MAX_LEAF_SIZE)) {
+            float lo = centroids.lower[best_axis], span = centroids.upper[best_axis] - lo;
+            int left = 0;
+            for (int i = 0; i < count; ++i) {
+                int k = (int)((items[i].centroid[best_axis] - lo) / span * BIN_COUNT);
+                k = k < 0 ? 0 : (k >= BIN_COUNT ? BIN_COUNT - 1 : k);
+                if (k <= best_bin) {
+                    BuildItem t = items[i];
+                    items[i] = items[left];
+                    items[left++] = t;
+                }
+            }
+            *axis_out = best_axis;
+            return left;
+        }
+        if (count <= MAX_LEAF_SIZE)
+            return 0;
+    }
+    /* Object median along the widest centroid axis. */
+    int (*const compare[3])(const void *, const void *) = {compare_x, compare_y, compare_z};
+    qsort(items, (size_t)count, sizeof *items, compare[axis]);
+    return count / 2;
+}
+
+static int build_node(Builder *b, int first, int count, int depth)
+{
+    int index = new_node(b);
+    if (index < 0)
+        return -1;
+    if (depth > b->depth)
+        b->depth = depth;
+    Box bounds = box_empty();
+    for (int i = first; i < first + count; ++i)
+        box_grow(&bounds, &b->items[i].box);
+    int axis = 0;
+    int left = choose_split(b->items + first, count, &bounds, depth, &axis);
+    BvhNode node;
+    memcpy(node.lower, bounds.lower, sizeof node.lower);
+    memcpy(node.upper, bounds.upper, sizeof node.upper);
+    if (left == 0 || left == count) {
+        node.first = first;
+        node.count = count;
+        if (count > b->largest_leaf)
+            b->largest_leaf = count;
+        b->nodes[index] = node;
+        return index;
+    }
+    if (build_node(b, first, left, depth + 1) < 0)
+        return -1;
+    int right = build_node(b, first + left, count - left, depth + 1);
+    if (right < 0)
+        return -1;
+    node.first = right;
+    node.count = -(axis + 1);
+    b->nodes[index] = node;
+    return index;
+}
+
+int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, size_t error_size)
+{
+    memset(bvh, 0, sizeof *bvh);
+    Builder b = {0};
+    b.items = malloc((size_t)(count > 0 ? count : 1) * sizeof *b.items);
+    bvh->primitives = malloc((size_t)(count > 0 ? count : 1) * sizeof *bvh->primitives);
+    if (!b.items || !bvh->primitives)
+        goto out_of_memory;
+    for (int i = 0; i < count; ++i) {
+        b.items[i].box = primitive_box(&primitives[i]);
+        b.items[i].index = i;
+        for (int k = 0; k < 3; ++k)
+            b.items[i].centroid[k] = 0.5f * (b.items[i].box.lower[k] + b.items[i].box.upper[k]);
+    }
+    if (count == 0) {
+        int root = new_node(&b);
+        if (root < 0)
+            goto out_of_memory;
+        BvhNode empty = {{0, 0, 0}, 0, {0, 0, 0}, 0};
+        b.nodes[root] = empty;
+    } else if (build_node(&b, 0, count, 0) < 0) {
+        goto out_of_memory;
+    }
+    if (b.depth >= BVH_MAX_DEPTH) {
+        snprintf(error, error_size, "BVH depth %d exceeds the traversal limit %d", b.depth, BVH_MAX_DEPTH);
+        free(b.items);
+        free(b.nodes);
+        bvh_destroy(bvh);
+        return -1;
+    }
+    for (int i = 0; i < count; ++i)
+        bvh->primitives[i] = primitives[b.items[i].index];
+    bvh->nodes = b.nodes;
+    bvh->node_count = b.node_count;
+    bvh->primitive_count = count;
+    bvh->depth = b.depth;
+    bvh->largest_leaf = b.largest_leaf;
+    free(b.items);
+    return 0;
+out_of_memory:
+    snprintf(error, error_size, "out of memory building the BVH over %d primitives", count);
+    free(b.items);
+    free(b.nodes);
+    bvh_destroy(bvh);
+    return -1;
+}
+
+void bvh_destroy(Bvh *bvh)
+{
+    free(bvh->nodes);
+    free(bvh->primitives);
+    memset(bvh, 0, sizeof *bvh);
+}
