@@ -32,9 +32,71 @@ typedef struct {
     int32_t count;
 } BvhNode;
 
+/* Primitive.kind: the shape in the low byte, flags above it. */
+#define PRIM_KIND_MASK 0xffu
+#define PRIM_FLIP_NORMAL 0x100u /* ReverseOrientation (or a handedness swap) */
+
+/* Material types. */
+#define MAT_DIFFUSE 0u
+#define MAT_DIELECTRIC 1u
+#define MAT_CONDUCTOR 2u
+#define MAT_COATED_DIFFUSE 3u
+
+/* 64 bytes. alpha_x/alpha_y are GGX roughnesses; below SMOOTH_ALPHA the
+ * surface is treated as perfectly smooth (a delta lobe). */
+typedef struct {
+    uint32_t type;
+    float alpha_x;
+    float alpha_y;
+    float eta; /* dielectric / coating index of refraction */
+    float reflectance[3]; /* diffuse albedo, coated base albedo */
+    float pad0;
+    float conductor_eta[3];
+    float pad1;
+    float conductor_k[3];
+    float pad2;
+} Material;
+
+#define SMOOTH_ALPHA 1e-3f
+
+/* An area light: one emitting primitive. 32 bytes. */
+typedef struct {
+    float radiance[3];
+    int32_t primitive; /* index into the (BVH-ordered) primitive array */
+    float area;
+    uint32_t two_sided;
+    float pick_probability; /* chance that light sampling picks it */
+    float pick_cdf;         /* running sum of pick probabilities, inclusive */
+} Emitter;
+
+/* Render parameters, one per render. 96 bytes. The camera looks along
+ * `forward`; `right` and `up` are scaled by the tangents of the half fields
+ * of view, so a pixel's ray is forward + x * right + y * up for x, y in
+ * [-1, 1] (x to the right, y up in the image). */
+#define RENDER_NEE 1u /* next-event estimation with MIS; else BSDF sampling only */
+
+typedef struct {
+    float camera_position[3];
+    uint32_t width;
+    float camera_right[3];
+    uint32_t height;
+    float camera_up[3];
+    uint32_t max_depth;
+    float camera_forward[3];
+    uint32_t seed;
+    float environment[3];    /* constant infinite light radiance */
+    uint32_t emitter_count;
+    float environment_pick;  /* chance light sampling picks the environment */
+    uint32_t flags;
+    uint32_t pad[2];
+} RenderParams;
+
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
 _Static_assert(sizeof(BvhNode) == 32, "BvhNode must match the kernel's layout");
+_Static_assert(sizeof(Material) == 64, "Material must match the kernel's layout");
+_Static_assert(sizeof(Emitter) == 32, "Emitter must match the kernel's layout");
+_Static_assert(sizeof(RenderParams) == 96, "RenderParams must match the kernel's layout");
 #endif
 
 #endif

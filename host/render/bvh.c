@@ -59,7 +59,7 @@ static float box_area(const Box *b)
 static Box primitive_box(const Primitive *p)
 {
     Box b = box_empty();
-    if (p->kind == PRIM_SPHERE) {
+    if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
         for (int i = 0; i < 3; ++i) {
             b.lower[i] = p->a[i] - p->b[0];
             b.upper[i] = p->a[i] + p->b[0];
