@@ -19,6 +19,15 @@ typedef enum {
     SORT_BY_LUMINANCE = 2,
 } GiniMode;
 
+/* Which images to compute (a kernel's EST_OUTPUTS). */
+enum {
+    ESTIMATOR_OUTPUT_MEAN = 1,
+    ESTIMATOR_OUTPUT_MON = 2,
+    ESTIMATOR_OUTPUT_GMON = 4,
+    ESTIMATOR_OUTPUT_DIAGNOSTICS = 8, /* Gini G and trim count c */
+    ESTIMATOR_OUTPUT_ALL = 15,
+};
+
 typedef struct {
     int set_count;      /* M, 1..64 */
     GiniMode gini_mode;

@@ -5,15 +5,6 @@
 #include "cl/cl_device.h"
 #include "estimator/estimator.h"
 
-/* Which images a program writes (its EST_OUTPUTS). */
-enum {
-    ESTIMATOR_OUTPUT_MEAN = 1,
-    ESTIMATOR_OUTPUT_MON = 2,
-    ESTIMATOR_OUTPUT_GMON = 4,
-    ESTIMATOR_OUTPUT_DIAGNOSTICS = 8,
-    ESTIMATOR_OUTPUT_ALL = 15,
-};
-
 typedef struct EstimatorProgram EstimatorProgram;
 
 /* Builds the estimator program for M, the Gini mode and the outputs. Returns

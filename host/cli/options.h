@@ -1,0 +1,47 @@
+/* gmonrt's command line: every flag, its default and its validation. */
+#ifndef HOST_CLI_OPTIONS_H
+#define HOST_CLI_OPTIONS_H
+
+#include "estimator/estimator.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef enum {
+    COMMAND_RENDER,
+    COMMAND_ESTIMATE, /* re-estimate a saved EXR's set sums */
+    COMMAND_LIST_DEVICES,
+    COMMAND_HELP,
+} Command;
+
+typedef struct {
+    Command command;
+    const char *input;        /* scene file (render) or EXR (estimate); NULL: default scene */
+    const char *outfile;      /* EXR path; NULL: from the scene's Film, else render.exr */
+    uint64_t spp;             /* 0: the scene's Sampler pixelsamples */
+    uint32_t seed;
+    int quiet;
+    EstimatorSettings estimator; /* --sets, --gini-mode */
+    int outputs;              /* --estimators: ESTIMATOR_OUTPUT_* */
+    int diagnostics;          /* --diagnostics: Gini, trim count, non-finite count layers */
+    int write_sets;           /* --write-sets: exact per-set sums in the EXR */
+    const char *preview;      /* estimator shown in the PNG: mean, mon or gmon */
+    float exposure;           /* PNG exposure multiplier */
+    double time_budget;       /* --time seconds, 0: none */
+    unsigned width, height;   /* --resolution, 0: the scene's */
+    int max_depth;            /* --maxdepth, -1: the scene's */
+    int bsdf_only;            /* --integrator bsdf */
+    const char *devices;      /* --device: all, cpu, gpu or indices; NULL: first device */
+    uint64_t first_sample;    /* --first-sample: start of the sample range */
+    int allow_unsupported;
+    const char *kernel_dir;
+} Options;
+
+/* Parses argv. Returns 0 on success; on a bad flag or value writes a
+ * one-line message to `error` and returns 2 (the exit code to use). */
+int options_parse(int argc, char **argv, Options *options, char *error, size_t error_size);
+
+/* The full --help text. */
+const char *options_help(void);
+
+#endif
