@@ -204,11 +204,12 @@ KERNEL_FN uint64_t set_sum_index(uint32_t set, uint32_t channel, uint64_t pixel,
 /* ------------------------------------------------------------------------
  * Per-pixel estimators.
  *
- * Numerically stable form (ESTIMATORS.md): every channel is first scaled by
- * a power of two so its largest set sum lies in [1, 2). Scaling by a power
- * of two is exact, so nothing can overflow (even at FLT_MAX), denormal sums
- * keep their precision through the division by the set counts, and results
- * scale exactly with their inputs. Averages are computed as
+ * Numerically stable form (ESTIMATORS.md). Set means t_j = S_j / n_j are
+ * kept as they are (a single scale for all sets would flush means 2^126
+ * below the largest to zero, and 1e-30 and 1e30 can share a pixel). Each
+ * sum instead scales the values it adds by the power of two that brings the
+ * largest of them into [1, 2): exact, so nothing overflows even at FLT_MAX,
+ * and results scale exactly with their inputs. Averages are computed as
  * base + mean(value - base) with a compensated sum, so equal means give that
  * value exactly; Gini's numerator pairs t_{m+1-j} - t_j, which never cancel.
  * ---------------------------------------------------------------------- */
@@ -243,15 +244,24 @@ KERNEL_FN float power_of_two(int k)
     return float_from_bits((uint32_t)(k + 127) << 23);
 }
 
-/* x * 2^k for k in -253..253, in two exact steps where one would leave the
- * normal range. */
-KERNEL_FN float scale_by_power_of_two(float x, int k)
+/* 2^k for k in -253..253 as two factors, each a float, whose product with x
+ * (x * first * second) is exact when the result is normal. */
+typedef struct {
+    float first;
+    float second;
+} PowerOfTwo;
+
+KERNEL_FN PowerOfTwo power_of_two_factors(int k)
 {
-    if (k > 127)
-        return x * power_of_two(127) * power_of_two(k - 127);
-    if (k < -126)
-        return x * power_of_two(-126) * power_of_two(k + 126);
-    return x * power_of_two(k);
+    PowerOfTwo p;
+    p.first = power_of_two(k > 127 ? 127 : (k < -126 ? -126 : k));
+    p.second = power_of_two(k > 127 ? k - 127 : (k < -126 ? k + 126 : 0));
+    return p;
+}
+
+KERNEL_FN float scaled(float x, PowerOfTwo p)
+{
+    return x * p.first * p.second;
 }
 
 /* floor(log2(a)) for finite a > 0, denormals included. */
@@ -265,44 +275,62 @@ KERNEL_FN int exponent_of(float a)
     return (63 - leading_zeros64((uint64_t)bits)) - 149;
 }
 
-/* Mean of v[first..last] as v[first] + mean of the differences. */
+/* floor(log2(max |v[j]|)) over first..last, or 0 if all are zero. */
+KERNEL_FN int range_exponent(const float *v, int first, int last)
+{
+    float largest = 0.0f;
+    for (int j = first; j <= last; ++j)
+        largest = abs_float(v[j]) > largest ? abs_float(v[j]) : largest;
+    return largest > 0.0f ? exponent_of(largest) : 0;
+}
+
+/* Mean of v[first..last] as v[first] + mean of the differences, on values
+ * scaled so the largest lies in [1, 2). */
 KERNEL_FN float average_range(const float *v, int first, int last)
 {
-    float base = v[first];
+    int e = range_exponent(v, first, last);
+    PowerOfTwo down = power_of_two_factors(-e);
+    float base = scaled(v[first], down);
     CompensatedSum s;
     s.sum = 0.0f;
     s.compensation = 0.0f;
     for (int j = first + 1; j <= last; ++j)
-        compensated_add(&s, v[j] - base);
-    return base + (s.sum + s.compensation) / (float)(last - first + 1);
+        compensated_add(&s, scaled(v[j], down) - base);
+    return scaled(base + (s.sum + s.compensation) / (float)(last - first + 1), power_of_two_factors(e));
 }
 
-/* Sample-weighted mean of sorted set means: sum n_j t_j / n. */
+/* Sample-weighted mean of sorted set means, sum n_j t_j / n, scaled the same
+ * way. */
 KERNEL_FN float weighted_average(const float *v, const float *counts, int m, float total)
 {
-    float base = v[0];
+    int e = range_exponent(v, 0, m - 1);
+    PowerOfTwo down = power_of_two_factors(-e);
+    float base = scaled(v[0], down);
     CompensatedSum s;
     s.sum = 0.0f;
     s.compensation = 0.0f;
     for (int j = 1; j < m; ++j)
-        compensated_add(&s, counts[j] * (v[j] - base));
-    return base + (s.sum + s.compensation) / total;
+        compensated_add(&s, counts[j] * (scaled(v[j], down) - base));
+    return scaled(base + (s.sum + s.compensation) / total, power_of_two_factors(e));
 }
 
-/* Gini coefficient of m ascending values, clamped to [0, 1]. Negative values
- * shift everything by -t_1, which changes only the denominator since the
- * numerator is built from differences. Inputs are at most 2 in magnitude. */
+/* Gini coefficient of m ascending values, clamped to [0, 1]. G is scale
+ * invariant: values are scaled so the largest magnitude lies in [1, 2).
+ * Negative values shift everything by -t_1, which changes only the
+ * denominator since the numerator is built from differences. */
 KERNEL_FN float gini_sorted(const float *t, int m)
 {
     if (m < 2)
         return 0.0f;
-    float shift = t[0] < 0.0f ? t[0] : 0.0f;
+    PowerOfTwo down = power_of_two_factors(-range_exponent(t, 0, m - 1));
+    float lowest = scaled(t[0], down);
+    float shift = lowest < 0.0f ? lowest : 0.0f;
     float numerator = 0.0f;
     for (int j = 0; j < m / 2; ++j)
-        numerator += (float)(m - 1 - 2 * j) * (t[m - 1 - j] - t[j]);
+        numerator += (float)(m - 1 - 2 * j) * (scaled(t[m - 1 - j], down) - scaled(t[j], down));
     float total = 0.0f;
     for (int j = 0; j < m; ++j)
-        total += t[j] - shift;
+        total += scaled(t[j], down) - shift;
     float denominator = (float)m * total;
     if (!(denominator > 0.0f) || !(denominator < INFINITY))
         return 0.0f;
@@ -381,22 +409,15 @@ KERNEL_FN PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sa
     int equal_counts = few_samples || with_extra == 0;
     int most = (m - 1) / 2; /* largest trim */
 
-    float t[EST_CHANNELS][EST_CAPACITY];      /* scaled set means, by set */
+    float t[EST_CHANNELS][EST_CAPACITY];      /* set means, by set */
     float sorted[EST_CHANNELS][EST_CAPACITY]; /* the same, ascending */
     float counts[EST_CAPACITY];               /* n_j, carried by the sort */
-    int exponent[EST_CHANNELS];
 
     for (int c = 0; c < EST_CHANNELS; ++c) {
-        float largest = 0.0f;
         for (int j = 0; j < m; ++j) {
-            if ((float_bits(sums[c][j]) & 0x7f800000u) == 0x7f800000u)
-                sums[c][j] = 0.0f;
-            largest = abs_float(sums[c][j]) > largest ? abs_float(sums[c][j]) : largest;
-        }
-        exponent[c] = largest > 0.0f ? exponent_of(largest) : 0;
-        for (int j = 0; j < m; ++j) {
+            float sum = (float_bits(sums[c][j]) & 0x7f800000u) == 0x7f800000u ? 0.0f : sums[c][j];
             counts[j] = few_samples ? 1.0f : (float)(per_set + (j < with_extra ? 1u : 0u));
-            t[c][j] = scale_by_power_of_two(sums[c][j], -exponent[c]) / counts[j];
+            t[c][j] = sum / counts[j];
             sorted[c][j] = t[c][j];
         }
         sort_with_companion(sorted[c], counts, m);
@@ -417,16 +438,19 @@ KERNEL_FN PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sa
     } else if (gini_mode == EST_SORT_BY_LUMINANCE) {
         /* Luminance (Rec. 709) of each set, on one scale common to the
          * channels; sets are then ordered and trimmed whole. */
-        int common = exponent[0];
-        for (int c = 1; c < EST_CHANNELS; ++c)
-            common = exponent[c] > common ? exponent[c] : common;
+        int common = range_exponent(t[0], 0, m - 1);
+        for (int c = 1; c < EST_CHANNELS; ++c) {
+            int e = range_exponent(t[c], 0, m - 1);
+            common = e > common ? e : common;
+        }
+        PowerOfTwo down = power_of_two_factors(-common);
         const float weight[EST_CHANNELS] = {0.2126f, 0.7152f, 0.0722f};
         float luma[EST_CAPACITY];
         int order[EST_CAPACITY];
         for (int j = 0; j < m; ++j) {
             luma[j] = 0.0f;
             for (int c = 0; c < EST_CHANNELS; ++c)
-                luma[j] += weight[c] * scale_by_power_of_two(t[c][j], exponent[c] - common);
+                luma[j] += weight[c] * scaled(t[c][j], down);
             order[j] = j;
         }
         for (int i = 1; i < m; ++i) {
@@ -461,10 +485,9 @@ KERNEL_FN PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sa
             lo = sorted[c][j] < lo ? sorted[c][j] : lo;
             hi = sorted[c][j] > hi ? sorted[c][j] : hi;
         }
-        float gmon = average_range(sorted[c], out.trim[c], m - 1 - out.trim[c]);
-        out.mean[c] = scale_by_power_of_two(clamp_float(out.mean[c], lo, hi), exponent[c]);
-        out.mon[c] = scale_by_power_of_two(clamp_float(out.mon[c], lo, hi), exponent[c]);
-        out.gmon[c] = scale_by_power_of_two(clamp_float(gmon, lo, hi), exponent[c]);
+        out.mean[c] = clamp_float(out.mean[c], lo, hi);
+        out.mon[c] = clamp_float(out.mon[c], lo, hi);
+        out.gmon[c] = clamp_float(average_range(sorted[c], out.trim[c], m - 1 - out.trim[c]), lo, hi);
     }
     return out;
 }

@@ -1,1 +1,353 @@
-int main(void){return 0;}
+/* Argument validation of the host estimator API: every bad argument returns
+ * ESTIMATOR_INVALID_ARGUMENT with a one-line reason, never crashes, and works
+ * without a message buffer; valid calls return ESTIMATOR_OK. */
+#include "estimator/estimator.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#define M 4
+#define PIXELS 5
+#define SUMS (M * 3 * PIXELS)
+#define WORDS (2 * SUMS)
+#define OUTPUTS (3 * PIXELS)
+
+/* Buffers of exactly the valid sizes for M sets and PIXELS pixels. */
+typedef struct {
+    float sums[SUMS];
+    uint64_t accumulators[WORDS];
+    float mean[OUTPUTS], mon[OUTPUTS], gmon[OUTPUTS], gini[OUTPUTS];
+    int32_t trim[OUTPUTS];
+    EstimatorSettings settings;
+    EstimatorImages images;
+} Fixture;
+
+static void fixture_init(Fixture *f)
+{
+    memset(f, 0, sizeof *f);
+    for (size_t i = 0; i < SUMS; ++i)
+        f->sums[i] = (float)(i % 7) * 0.5f;
+    /* Every set sum 1.0: low word 2^56 (units of 2^-56), high word 0, in
+     * planes [set][channel][word][pixel]. */
+    for (size_t plane = 0; plane < (size_t)M * 3; ++plane)
+        for (size_t p = 0; p < PIXELS; ++p)
+            f->accumulators[(plane * 2) * PIXELS + p] = (uint64_t)1 << 56;
+    f->settings.set_count = M;
+    f->settings.gini_mode = GINI_PER_CHANNEL;
+    EstimatorImages images = {f->mean, f->mon, f->gmon, f->gini, f->trim, OUTPUTS};
+    f->images = images;
+}
+
+static Fixture fixture;
+
+static int setup(void **state)
+{
+    (void)state;
+    fixture_init(&fixture);
+    return 0;
+}
+
+/* Calls with a message buffer and again without one: both must refuse, the
+ * first with a non-empty reason. */
+typedef EstimatorStatus (*Call)(char *message, size_t message_size);
+
+static void expect_invalid(Call call)
+{
+    char message[256];
+    memset(message, 0, sizeof message);
+    assert_int_equal(call(message, sizeof message), ESTIMATOR_INVALID_ARGUMENT);
+    assert_true(strlen(message) > 0);
+    assert_non_null(memchr(message, '\0', sizeof message));
+    print_message("refused: %s\n", message);
+    assert_int_equal(call(NULL, 0), ESTIMATOR_INVALID_ARGUMENT);
+    assert_int_equal(call(NULL, sizeof message), ESTIMATOR_INVALID_ARGUMENT);
+    /* A one-byte buffer has room for the terminator only. */
+    char tiny = 'x';
+    assert_int_equal(call(&tiny, 1), ESTIMATOR_INVALID_ARGUMENT);
+    assert_int_equal(tiny, '\0');
+}
+
+/* The valid call, from sums, from accumulators and the conversion. */
+static EstimatorStatus from_sums(const EstimatorSettings *settings, const float *sums, size_t length,
+                                 size_t pixels, EstimatorImages *images, char *message, size_t message_size)
+{
+    return estimator_from_sums(settings, sums, length, pixels, 100, images, message, message_size);
+}
+
+static EstimatorStatus from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
+                                         size_t length, size_t pixels, EstimatorImages *images, char *message,
+                                         size_t message_size)
+{
+    return estimator_from_accumulators(settings, accumulators, length, pixels, 100, images, message, message_size);
+}
+
+static void test_valid_calls_succeed(void **state)
+{
+    (void)state;
+    Fixture *f = &fixture;
+    char message[256] = "";
+    for (int mode = 0; mode < 3; ++mode) {
+        f->settings.gini_mode = (GiniMode)mode;
+        assert_int_equal(from_sums(&f->settings, f->sums, SUMS, PIXELS, &f->images, message, sizeof message),
+                         ESTIMATOR_OK);
+        assert_int_equal(
+            from_accumulators(&f->settings, f->accumulators, WORDS, PIXELS, &f->images, message, sizeof message),
+            ESTIMATOR_OK);
+    }
+    assert_int_equal(estimator_sums_from_accumulators(M, f->accumulators, WORDS, PIXELS, f->sums, SUMS, NULL, 0),
+                     ESTIMATOR_OK);
+    assert_true(f->sums[0] == 1.0f && f->sums[SUMS - 1] == 1.0f);
+    /* Only one output requested, and no message buffer. */
+    EstimatorImages gmon_only = {NULL, NULL, f->gmon, NULL, NULL, OUTPUTS};
+    assert_int_equal(from_sums(&f->settings, f->sums, SUMS, PIXELS, &gmon_only, NULL, 0), ESTIMATOR_OK);
+    assert_true(f->gmon[0] == 1.0f / 25.0f); /* sums 1, 100 / M = 25 samples per set */
+    /* Longer buffers than needed, and zero pixels, are fine. */
+    assert_int_equal(from_sums(&f->settings, f->sums, SUMS, PIXELS - 1, &f->images, NULL, 0), ESTIMATOR_OK);
+    assert_int_equal(from_sums(&f->settings, f->sums, SUMS, 0, &f->images, NULL, 0), ESTIMATOR_OK);
+    /* The ends of the valid range of M (1 and 64 sets, one pixel). */
+    static float sums64[64 * 3];
+    EstimatorSettings one = {1, GINI_PER_CHANNEL}, most = {64, SORT_BY_LUMINANCE};
+    assert_int_equal(from_sums(&one, sums64, 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
+    assert_int_equal(from_sums(&most, sums64, 64 * 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
+}
+
+/* Each bad argument, for each entry point it applies to. The fixture holds
+ * the otherwise valid arguments. */
+static EstimatorSettings bad_settings;
+
+static EstimatorStatus sums_with_bad_settings(char *message, size_t size)
+{
+    return from_sums(&bad_settings, fixture.sums, SUMS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus accumulators_with_bad_settings(char *message, size_t size)
+{
+    return from_accumulators(&bad_settings, fixture.accumulators, WORDS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus conversion_with_bad_set_count(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(bad_settings.set_count, fixture.accumulators, WORDS, PIXELS,
+                                            fixture.sums, SUMS, message, size);
+}
+
+static void test_set_count_out_of_range(void **state)
+{
+    (void)state;
+    static const int bad[] = {0, 65, -1, 1000, INT32_MIN};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        bad_settings.set_count = bad[i];
+        bad_settings.gini_mode = GINI_PER_CHANNEL;
+        expect_invalid(sums_with_bad_settings);
+        expect_invalid(accumulators_with_bad_settings);
+        expect_invalid(conversion_with_bad_set_count);
+    }
+}
+
+static void test_unknown_gini_mode(void **state)
+{
+    (void)state;
+    static const int bad[] = {3, -1, 1000};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        bad_settings.set_count = M;
+        bad_settings.gini_mode = (GiniMode)bad[i];
+        expect_invalid(sums_with_bad_settings);
+        expect_invalid(accumulators_with_bad_settings);
+    }
+}
+
+static EstimatorStatus sums_null_settings(char *message, size_t size)
+{
+    return from_sums(NULL, fixture.sums, SUMS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus sums_null_input(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, NULL, SUMS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus sums_null_images(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, fixture.sums, SUMS, PIXELS, NULL, message, size);
+}
+
+static EstimatorStatus accumulators_null_settings(char *message, size_t size)
+{
+    return from_accumulators(NULL, fixture.accumulators, WORDS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus accumulators_null_input(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, NULL, WORDS, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus accumulators_null_images(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS, PIXELS, NULL, message, size);
+}
+
+static EstimatorStatus conversion_null_accumulators(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(M, NULL, WORDS, PIXELS, fixture.sums, SUMS, message, size);
+}
+
+static EstimatorStatus conversion_null_sums(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(M, fixture.accumulators, WORDS, PIXELS, NULL, SUMS, message, size);
+}
+
+static void test_null_arguments(void **state)
+{
+    (void)state;
+    expect_invalid(sums_null_settings);
+    expect_invalid(sums_null_input);
+    expect_invalid(sums_null_images);
+    expect_invalid(accumulators_null_settings);
+    expect_invalid(accumulators_null_input);
+    expect_invalid(accumulators_null_images);
+    expect_invalid(conversion_null_accumulators);
+    expect_invalid(conversion_null_sums);
+}
+
+static EstimatorImages no_outputs = {NULL, NULL, NULL, NULL, NULL, OUTPUTS};
+
+static EstimatorStatus sums_no_output(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, fixture.sums, SUMS, PIXELS, &no_outputs, message, size);
+}
+
+static EstimatorStatus accumulators_no_output(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS, PIXELS, &no_outputs, message, size);
+}
+
+static void test_no_output_requested(void **state)
+{
+    (void)state;
+    expect_invalid(sums_no_output);
+    expect_invalid(accumulators_no_output);
+}
+
+static EstimatorStatus sums_input_short(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, fixture.sums, SUMS - 1, PIXELS, &fixture.images, message, size);
+}
+
+static EstimatorStatus accumulators_input_short(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS - 1, PIXELS, &fixture.images, message,
+                             size);
+}
+
+/* Accumulators are two words per value: a float-sized count is too short. */
+static EstimatorStatus accumulators_counted_as_floats(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, SUMS, PIXELS, &fixture.images, message,
+                             size);
+}
+
+static EstimatorStatus conversion_input_short(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(M, fixture.accumulators, WORDS - 1, PIXELS, fixture.sums, SUMS, message,
+                                            size);
+}
+
+static void test_input_too_short(void **state)
+{
+    (void)state;
+    expect_invalid(sums_input_short);
+    expect_invalid(accumulators_input_short);
+    expect_invalid(accumulators_counted_as_floats);
+    expect_invalid(conversion_input_short);
+}
+
+static EstimatorImages short_outputs;
+
+static EstimatorStatus sums_output_short(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, fixture.sums, SUMS, PIXELS, &short_outputs, message, size);
+}
+
+static EstimatorStatus accumulators_output_short(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS, PIXELS, &short_outputs, message,
+                             size);
+}
+
+static EstimatorStatus conversion_output_short(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(M, fixture.accumulators, WORDS, PIXELS, fixture.sums, SUMS - 1, message,
+                                            size);
+}
+
+static void test_output_too_short(void **state)
+{
+    (void)state;
+    short_outputs = fixture.images;
+    short_outputs.length = OUTPUTS - 1;
+    expect_invalid(sums_output_short);
+    expect_invalid(accumulators_output_short);
+    expect_invalid(conversion_output_short);
+}
+
+/* Pixel counts whose buffer sizes overflow size_t, with every length
+ * claimed as SIZE_MAX: a wrapped-around size check would let the call run
+ * off the ends of the small buffers. */
+static size_t huge_pixels;
+static EstimatorImages huge_outputs;
+
+static EstimatorStatus sums_huge(char *message, size_t size)
+{
+    return from_sums(&fixture.settings, fixture.sums, SIZE_MAX, huge_pixels, &huge_outputs, message, size);
+}
+
+static EstimatorStatus accumulators_huge(char *message, size_t size)
+{
+    return from_accumulators(&fixture.settings, fixture.accumulators, SIZE_MAX, huge_pixels, &huge_outputs, message,
+                             size);
+}
+
+static EstimatorStatus conversion_huge(char *message, size_t size)
+{
+    return estimator_sums_from_accumulators(M, fixture.accumulators, SIZE_MAX, huge_pixels, fixture.sums, SIZE_MAX,
+                                            message, size);
+}
+
+static void test_huge_pixel_count(void **state)
+{
+    (void)state;
+    huge_outputs = fixture.images;
+    huge_outputs.length = SIZE_MAX;
+    /* Just past what M * 3 floats (or 2 * M * 3 words) per pixel can
+     * address; 2^(bits - 2), where both products wrap around to exactly 0
+     * (M * 3 = 12 = 3 * 4); and the largest. */
+    const size_t choices[] = {SIZE_MAX / ((size_t)M * 3) + 1, (size_t)1 << (sizeof(size_t) * 8 - 2), SIZE_MAX};
+    for (size_t i = 0; i < sizeof choices / sizeof choices[0]; ++i) {
+        huge_pixels = choices[i];
+        expect_invalid(sums_huge);
+        expect_invalid(accumulators_huge);
+        expect_invalid(conversion_huge);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup(test_valid_calls_succeed, setup),
+        cmocka_unit_test_setup(test_set_count_out_of_range, setup),
+        cmocka_unit_test_setup(test_unknown_gini_mode, setup),
+        cmocka_unit_test_setup(test_null_arguments, setup),
+        cmocka_unit_test_setup(test_no_output_requested, setup),
+        cmocka_unit_test_setup(test_input_too_short, setup),
+        cmocka_unit_test_setup(test_output_too_short, setup),
+        cmocka_unit_test_setup(test_huge_pixel_count, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
