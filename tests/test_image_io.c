@@ -1,0 +1,795 @@
+/* Image output: EXR round trips (every layer bit for bit, metadata, exact
+ * set sums), the EXR layout as OpenEXR itself sees it, errors on missing and
+ * damaged files; PNG files parsed here byte by byte (chunks, CRCs, stored
+ * deflate blocks, Adler-32) against independently computed sRGB codes. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+
+#include "io/exr_image.h"
+#include "io/png_image.h"
+
+#include <openexr.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ------------------------------------------------------------------------
+ * Helpers
+ * ---------------------------------------------------------------------- */
+
+static uint64_t splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15u);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9u;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebu;
+    return z ^ (z >> 31);
+}
+
+/* The whole file; NULL if it cannot be read. */
+static uint8_t *read_whole_file(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t capacity = 4096, used = 0;
+    uint8_t *data = malloc(capacity);
+    size_t n;
+    while (data && (n = fread(data + used, 1, capacity - used, f)) > 0) {
+        used += n;
+        if (used == capacity) {
+            uint8_t *bigger = realloc(data, capacity * 2);
+            if (!bigger) {
+                free(data);
+                data = NULL;
+                break;
+            }
+            data = bigger;
+            capacity *= 2;
+        }
+    }
+    fclose(f);
+    *size = used;
+    return data;
+}
+
+static void write_whole_file(const char *path, const uint8_t *data, size_t size)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    assert_int_equal(fclose(f), 0);
+}
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
+
+/* ------------------------------------------------------------------------
+ * EXR
+ * ---------------------------------------------------------------------- */
+
+/* Buffers behind a test image. */
+typedef struct {
+    ExrImage image;
+    float *rgb[4];
+    int32_t *trim;
+    uint32_t *nonfinite;
+    uint64_t *accumulators;
+} TestImage;
+
+static const ExrKeyValue test_extras[] = {
+    {"comments", "G-MoN round trip"},
+    {"render.device", "PoCL / cpu"},
+    {"render.command", "gmonrt --spp 1024 --sets 21 scenes/cornell.pbrt"},
+};
+
+/* An image with every layer filled with random bits (so NaN payloads,
+ * infinities, -0 and denormals appear), sets full of random 128-bit values. */
+static TestImage make_full_image(int width, int height, int set_count, uint64_t seed)
+{
+    TestImage t;
+    memset(&t, 0, sizeof t);
+    size_t pixels = (size_t)width * (size_t)height;
+    uint64_t state = seed;
+    for (int layer = 0; layer < 4; ++layer) {
+        t.rgb[layer] = malloc(pixels * 3 * sizeof(float));
+        assert_non_null(t.rgb[layer]);
+        for (size_t i = 0; i < pixels * 3; ++i) {
+            uint32_t bits = (uint32_t)splitmix64(&state);
+            memcpy(&t.rgb[layer][i], &bits, sizeof bits);
+        }
+    }
+    t.trim = malloc(pixels * 3 * sizeof(int32_t));
+    t.nonfinite = malloc(pixels * sizeof(uint32_t));
+    size_t words = (size_t)set_count * 3 * 2 * pixels;
+    t.accumulators = malloc(words * sizeof(uint64_t));
+    assert_non_null(t.trim);
+    assert_non_null(t.nonfinite);
+    assert_non_null(t.accumulators);
+    for (size_t i = 0; i < pixels * 3; ++i)
+        t.trim[i] = (int32_t)(splitmix64(&state) % 33);
+    t.trim[0] = -1; /* any int32 survives, not only valid trims */
+    for (size_t i = 0; i < pixels; ++i)
+        t.nonfinite[i] = (uint32_t)splitmix64(&state);
+    for (size_t i = 0; i < words; ++i)
+        t.accumulators[i] = splitmix64(&state);
+    t.accumulators[0] = 0xffffffffffffffffu;      /* -1 unit in the low word... */
+    t.accumulators[pixels] = 0xffffffffffffffffu; /* ...and high word: -2^-56 */
+
+    t.image.width = width;
+    t.image.height = height;
+    t.image.mean = t.rgb[0];
+    t.image.mon = t.rgb[1];
+    t.image.gmon = t.rgb[2];
+    t.image.gini = t.rgb[3];
+    t.image.trim = t.trim;
+    t.image.nonfinite = t.nonfinite;
+    t.image.accumulators = t.accumulators;
+    ExrMetadata *meta = &t.image.metadata;
+    meta->software = "gmon 0.1 (test)";
+    meta->set_count = set_count;
+    meta->sample_count = 0xfedcba9876543211u; /* above 2^53: a double would round it */
+    meta->seed = 18446744073709551615u;
+    meta->first_sample = 9007199254740993u; /* 2^53 + 1 */
+    meta->scene_path = "scenes/cornell box/scene.pbrt";
+    meta->scene_hash = "sha256:9f86d081884c7d659a2feaa0c55ad015a3bf4f1b2b0b822cd15d6c15b0f00a08";
+    meta->gini_mode = SORT_BY_LUMINANCE;
+    meta->extras = test_extras;
+    meta->extra_count = sizeof test_extras / sizeof test_extras[0];
+    return t;
+}
+
+static void free_test_image(TestImage *t)
+{
+    for (int layer = 0; layer < 4; ++layer)
+        free(t->rgb[layer]);
+    free(t->trim);
+    free(t->nonfinite);
+    free(t->accumulators);
+}
+
+static void assert_same_bytes(const void *a, const void *b, size_t size)
+{
+    if (!a || !b) {
+        assert_true(a == NULL && b == NULL);
+        return;
+    }
+    assert_memory_equal(a, b, size);
+}
+
+static void assert_same_string(const char *a, const char *b)
+{
+    if (!a || !b) {
+        assert_true(a == NULL && b == NULL);
+        return;
+    }
+    assert_string_equal(a, b);
+}
+
+static const char *find_extra(const ExrMetadata *meta, const char *key)
+{
+    for (size_t i = 0; i < meta->extra_count; ++i)
+        if (strcmp(meta->extras[i].key, key) == 0)
+            return meta->extras[i].value;
+    return NULL;
+}
+
+static void assert_images_equal(const ExrImage *expected, const ExrImage *actual)
+{
+    assert_int_equal(actual->width, expected->width);
+    assert_int_equal(actual->height, expected->height);
+    size_t pixels = (size_t)expected->width * (size_t)expected->height;
+    assert_same_bytes(expected->mean, actual->mean, pixels * 3 * sizeof(float));
+    assert_same_bytes(expected->mon, actual->mon, pixels * 3 * sizeof(float));
+    assert_same_bytes(expected->gmon, actual->gmon, pixels * 3 * sizeof(float));
+    assert_same_bytes(expected->gini, actual->gini, pixels * 3 * sizeof(float));
+    assert_same_bytes(expected->trim, actual->trim, pixels * 3 * sizeof(int32_t));
+    assert_same_bytes(expected->nonfinite, actual->nonfinite, pixels * sizeof(uint32_t));
+    const ExrMetadata *e = &expected->metadata, *a = &actual->metadata;
+    assert_int_equal(a->set_count, e->set_count);
+    if (expected->accumulators)
+        assert_same_bytes(expected->accumulators, actual->accumulators,
+                          (size_t)e->set_count * 3 * 2 * pixels * sizeof(uint64_t));
+    else
+        assert_null(actual->accumulators);
+    assert_same_string(e->software, a->software);
+    assert_true(a->sample_count == e->sample_count);
+    assert_true(a->seed == e->seed);
+    assert_true(a->first_sample == e->first_sample);
+    assert_same_string(e->scene_path, a->scene_path);
+    assert_same_string(e->scene_hash, a->scene_hash);
+    assert_int_equal(a->gini_mode, e->gini_mode);
+    assert_int_equal(a->extra_count, e->extra_count);
+    for (size_t i = 0; i < e->extra_count; ++i) {
+        const char *value = find_extra(a, e->extras[i].key);
+        assert_non_null(value);
+        assert_string_equal(value, e->extras[i].value);
+    }
+}
+
+static void round_trip(int width, int height, int set_count, uint64_t seed)
+{
+    char path[64], error[512] = "";
+    snprintf(path, sizeof path, "test_image_io_%dx%d_m%d.exr", width, height, set_count);
+    TestImage t = make_full_image(width, height, set_count, seed);
+    if (exr_image_write(path, &t.image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    ExrImage read;
+    if (exr_image_read(path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    assert_images_equal(&t.image, &read);
+    exr_image_free(&read);
+    assert_null(read.mean);
+    assert_null(read.storage);
+    free_test_image(&t);
+    remove(path);
+}
+
+static void test_exr_round_trip_m21_7x5(void **state)
+{
+    (void)state;
+    round_trip(7, 5, 21, 1);
+}
+
+static void test_exr_round_trip_m1(void **state)
+{
+    (void)state;
+    round_trip(7, 5, 1, 2);
+    round_trip(1, 1, 1, 3);
+}
+
+/* Several ZIP chunks (16 rows each), the last one partial; M = 64. */
+static void test_exr_round_trip_many_chunks(void **state)
+{
+    (void)state;
+    round_trip(37, 35, 21, 4);
+    round_trip(3, 17, 64, 5);
+}
+
+static void test_exr_mean_only(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_mean_only.exr";
+    char error[512] = "";
+    float mean[4 * 3 * 3];
+    for (size_t i = 0; i < sizeof mean / sizeof mean[0]; ++i)
+        mean[i] = (float)i * 0.25f - 1.0f;
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = 4;
+    image.height = 3;
+    image.mean = mean;
+    if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    ExrImage read;
+    if (exr_image_read(path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    assert_images_equal(&image, &read);
+    assert_null(read.mon);
+    assert_null(read.gmon);
+    assert_null(read.gini);
+    assert_null(read.trim);
+    assert_null(read.nonfinite);
+    assert_null(read.accumulators);
+    assert_int_equal(read.metadata.set_count, 0);
+    assert_null(read.metadata.software);
+    assert_int_equal(read.metadata.extra_count, 0);
+    exr_image_free(&read);
+    remove(path);
+}
+
+/* The file as OpenEXR itself reads it: one scanline part, ZIP, the channel
+ * names, types and order, attribute types. */
+static void test_exr_layout_seen_by_openexr(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_layout.exr";
+    char error[512] = "";
+    TestImage t = make_full_image(5, 4, 2, 6);
+    if (exr_image_write(path, &t.image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+
+    exr_context_t ctxt = NULL;
+    assert_int_equal(exr_start_read(&ctxt, path, NULL), EXR_ERR_SUCCESS);
+    int parts = 0;
+    assert_int_equal(exr_get_count(ctxt, &parts), EXR_ERR_SUCCESS);
+    assert_int_equal(parts, 1);
+    exr_storage_t storage;
+    assert_int_equal(exr_get_storage(ctxt, 0, &storage), EXR_ERR_SUCCESS);
+    assert_int_equal(storage, EXR_STORAGE_SCANLINE);
+    exr_compression_t compression;
+    assert_int_equal(exr_get_compression(ctxt, 0, &compression), EXR_ERR_SUCCESS);
+    assert_int_equal(compression, EXR_COMPRESSION_ZIP);
+    exr_attr_box2i_t window;
+    assert_int_equal(exr_get_data_window(ctxt, 0, &window), EXR_ERR_SUCCESS);
+    assert_int_equal(window.min.x, 0);
+    assert_int_equal(window.min.y, 0);
+    assert_int_equal(window.max.x, 4);
+    assert_int_equal(window.max.y, 3);
+
+    const exr_attr_chlist_t *channels = NULL;
+    assert_int_equal(exr_get_channels(ctxt, 0, &channels), EXR_ERR_SUCCESS);
+    /* 4 float layers + trim (3 each) + nonfinite + 2 sets x 3 x 4 words */
+    assert_int_equal(channels->num_channels, 5 * 3 + 1 + 2 * 3 * 4);
+    const char *expected[][2] = {
+        {"gini.B", "f"},    {"gmon.R", "f"},      {"mean.G", "f"},      {"mon.B", "f"},
+        {"nonfinite", "u"}, {"sets.0.R.w0", "u"}, {"sets.1.B.w3", "u"}, {"trim.G", "u"},
+    };
+    for (size_t e = 0; e < sizeof expected / sizeof expected[0]; ++e) {
+        int found = 0;
+        for (int i = 0; i < channels->num_channels; ++i) {
+            if (strcmp(channels->entries[i].name.str, expected[e][0]) != 0)
+                continue;
+            found = 1;
+            exr_pixel_type_t type = expected[e][1][0] == 'f' ? EXR_PIXEL_FLOAT : EXR_PIXEL_UINT;
+            assert_int_equal(channels->entries[i].pixel_type, type);
+        }
+        if (!found)
+            fail_msg("channel %s missing", expected[e][0]);
+    }
+    for (int i = 1; i < channels->num_channels; ++i)
+        assert_true(strcmp(channels->entries[i - 1].name.str, channels->entries[i].name.str) < 0);
+
+    int32_t sets = 0;
+    assert_int_equal(exr_attr_get_int(ctxt, 0, "gmon.sets", &sets), EXR_ERR_SUCCESS);
+    assert_int_equal(sets, 2);
+    int32_t length = 0;
+    const char *text = NULL;
+    assert_int_equal(exr_attr_get_string(ctxt, 0, "gmon.samples", &length, &text), EXR_ERR_SUCCESS);
+    assert_int_equal(length, (int32_t)strlen("18364758544493064721"));
+    assert_memory_equal(text, "18364758544493064721", (size_t)length);
+    assert_int_equal(exr_attr_get_string(ctxt, 0, "gmon.giniMode", &length, &text), EXR_ERR_SUCCESS);
+    assert_memory_equal(text, "sort_by_luminance", (size_t)length);
+    assert_int_equal(exr_attr_get_string(ctxt, 0, "render.device", &length, &text), EXR_ERR_SUCCESS);
+    assert_memory_equal(text, "PoCL / cpu", (size_t)length);
+    exr_finish(&ctxt);
+    free_test_image(&t);
+    remove(path);
+}
+
+/* HALF values and the floats they stand for, subnormals and specials
+ * included. */
+static const struct {
+    uint16_t half;
+    float value;
+} half_values[] = {
+    {0x3c00, 1.0f},     {0x3800, 0.5f},  {0xc000, -2.0f},    {0x0001, 5.9604645e-8f},   {0x03ff, 6.0975552e-5f},
+    {0x7bff, 65504.0f}, {0x8000, -0.0f}, {0x7c00, INFINITY}, {0x3555, 0.333251953125f},
+};
+#define HALF_VALUE_COUNT (sizeof half_values / sizeof half_values[0])
+
+/* A file from another writer: HALF mean channels, a foreign FLOAT channel
+ * sorted before them, no gmon attributes, no compression. The mean is read
+ * as float, nothing else is present. */
+static void test_exr_foreign_file(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_foreign.exr";
+    enum { width = 3, height = 2 };
+    const char *names[] = {"Z", "mean.B", "mean.G", "mean.R"};
+    uint16_t halves[3][width * height]; /* B, G, R planes */
+    float depth[width * height];
+    for (int p = 0; p < width * height; ++p) {
+        for (int c = 0; c < 3; ++c)
+            halves[c][p] = half_values[(size_t)(p + 3 * c) % HALF_VALUE_COUNT].half;
+        depth[p] = (float)p;
+    }
+    exr_context_t ctxt = NULL;
+    int part = 0;
+    assert_int_equal(exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, NULL), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_add_part(ctxt, "beauty", EXR_STORAGE_SCANLINE, &part), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_initialize_required_attr_simple(ctxt, part, width, height, EXR_COMPRESSION_NONE),
+                     EXR_ERR_SUCCESS);
+    for (int c = 0; c < 4; ++c)
+        assert_int_equal(exr_add_channel(ctxt, part, names[c], c == 0 ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF,
+                                         EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1),
+                         EXR_ERR_SUCCESS);
+    assert_int_equal(exr_attr_set_string(ctxt, part, "owner", "someone else"), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_write_header(ctxt), EXR_ERR_SUCCESS);
+    exr_encode_pipeline_t encoder;
+    memset(&encoder, 0, sizeof encoder);
+    for (int y = 0; y < height; ++y) {
+        exr_chunk_info_t chunk;
+        assert_int_equal(exr_write_scanline_chunk_info(ctxt, part, y, &chunk), EXR_ERR_SUCCESS);
+        assert_int_equal(y == 0 ? exr_encoding_initialize(ctxt, part, &chunk, &encoder)
+                                : exr_encoding_update(ctxt, part, &chunk, &encoder),
+                         EXR_ERR_SUCCESS);
+        assert_int_equal(encoder.channel_count, 4);
+        for (int c = 0; c < encoder.channel_count; ++c) {
+            exr_coding_channel_info_t *channel = &encoder.channels[c];
+            assert_string_equal(channel->channel_name, names[c]);
+            int is_depth = c == 0;
+            channel->user_bytes_per_element = is_depth ? 4 : 2;
+            channel->user_data_type = is_depth ? EXR_PIXEL_FLOAT : EXR_PIXEL_HALF;
+            channel->user_pixel_stride = channel->user_bytes_per_element;
+            channel->user_line_stride = channel->user_bytes_per_element * width;
+            channel->encode_from_ptr =
+                is_depth ? (const uint8_t *)(depth + y * width) : (const uint8_t *)(halves[c - 1] + y * width);
+        }
+        if (y == 0)
+            assert_int_equal(exr_encoding_choose_default_routines(ctxt, part, &encoder), EXR_ERR_SUCCESS);
+        assert_int_equal(exr_encoding_run(ctxt, part, &encoder), EXR_ERR_SUCCESS);
+    }
+    exr_encoding_destroy(ctxt, &encoder);
+    assert_int_equal(exr_finish(&ctxt), EXR_ERR_SUCCESS);
+
+    char error[512] = "";
+    ExrImage read;
+    if (exr_image_read(path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    assert_int_equal(read.width, width);
+    assert_int_equal(read.height, height);
+    assert_non_null(read.mean);
+    for (int p = 0; p < width * height; ++p) {
+        for (int c = 0; c < 3; ++c) { /* c: R, G, B; planes are B, G, R */
+            float expected = half_values[(size_t)(p + 3 * (2 - c)) % HALF_VALUE_COUNT].value;
+            assert_memory_equal(&read.mean[p * 3 + c], &expected, sizeof expected);
+        }
+    }
+    assert_null(read.mon);
+    assert_null(read.gmon);
+    assert_null(read.gini);
+    assert_null(read.trim);
+    assert_null(read.nonfinite);
+    assert_null(read.accumulators);
+    assert_int_equal(read.metadata.set_count, 0);
+    assert_true(read.metadata.sample_count == 0);
+    assert_null(read.metadata.scene_path);
+    assert_int_equal(read.metadata.gini_mode, GINI_PER_CHANNEL);
+    assert_string_equal(find_extra(&read.metadata, "owner"), "someone else");
+    exr_image_free(&read);
+    remove(path);
+}
+
+static void assert_read_fails(const char *path, const char *what)
+{
+    char error[512] = "";
+    ExrImage read;
+    if (exr_image_read(path, &read, error, sizeof error) == IMAGE_IO_OK)
+        fail_msg("reading %s succeeded", what);
+    assert_non_null(strstr(error, path));
+    assert_true(strlen(error) > strlen(path) + 2);
+    exr_image_free(&read); /* safe after a failure */
+}
+
+static void test_exr_missing_and_damaged_files(void **state)
+{
+    (void)state;
+    assert_read_fails("test_image_io_no_such_file.exr", "a missing file");
+
+    const char *path = "test_image_io_damaged_source.exr";
+    const char *damaged = "test_image_io_damaged.exr";
+    char error[512] = "";
+    TestImage t = make_full_image(9, 40, 3, 7);
+    if (exr_image_write(path, &t.image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    size_t size = 0;
+    uint8_t *bytes = read_whole_file(path, &size);
+    assert_non_null(bytes);
+    assert_true(size > 1000);
+
+    /* Truncated: empty, inside the magic, inside the header, inside the
+     * chunk table, inside the pixels, just short of the end. */
+    size_t cuts[] = {0, 3, 60, size / 4, size / 2, size - 1};
+    for (size_t i = 0; i < sizeof cuts / sizeof cuts[0]; ++i) {
+        write_whole_file(damaged, bytes, cuts[i]);
+        char what[64];
+        snprintf(what, sizeof what, "a file cut to %zu of %zu bytes", cuts[i], size);
+        assert_read_fails(damaged, what);
+    }
+
+    /* Not an EXR at all. */
+    const uint8_t text[] = "this is not an OpenEXR file, just text\n";
+    write_whole_file(damaged, text, sizeof text);
+    assert_read_fails(damaged, "a text file");
+
+    /* Compressed pixel data overwritten: zlib must notice. */
+    uint8_t *garbled = malloc(size);
+    assert_non_null(garbled);
+    memcpy(garbled, bytes, size);
+    for (size_t i = size / 2; i < size / 2 + 64; ++i)
+        garbled[i] ^= 0x5a;
+    write_whole_file(damaged, garbled, size);
+    assert_read_fails(damaged, "a file with garbled pixel data");
+
+    free(garbled);
+    free(bytes);
+    free_test_image(&t);
+    remove(path);
+    remove(damaged);
+}
+
+static void test_exr_write_errors(void **state)
+{
+    (void)state;
+    char error[512] = "";
+    float mean[3] = {1, 2, 3};
+    uint64_t accumulators[6] = {0};
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = 1;
+    image.height = 1;
+
+    assert_int_equal(exr_image_write("test_image_io_empty.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "no layer"));
+    image.mean = mean;
+
+    image.accumulators = accumulators; /* without M */
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "test_image_io_bad.exr"));
+    image.accumulators = NULL;
+
+    ExrKeyValue reserved[] = {{"gmon.seed", "1"}};
+    image.metadata.extras = reserved;
+    image.metadata.extra_count = 1;
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "reserved"));
+    ExrKeyValue twice[] = {{"note", "a"}, {"note", "b"}};
+    image.metadata.extras = twice;
+    image.metadata.extra_count = 2;
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    image.metadata.extra_count = 0;
+
+    image.metadata.gini_mode = (GiniMode)7;
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    image.metadata.gini_mode = GINI_PER_CHANNEL;
+
+    /* A directory that does not exist: the library's message. */
+    assert_int_equal(exr_image_write("no_such_directory/x.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "no_such_directory/x.exr"));
+    assert_false(file_exists("test_image_io_bad.exr"));
+    assert_false(file_exists("test_image_io_empty.exr"));
+
+    /* NULL error buffer is allowed. */
+    assert_int_equal(exr_image_write(NULL, &image, NULL, 0), IMAGE_IO_ERROR);
+}
+
+/* ------------------------------------------------------------------------
+ * PNG
+ * ---------------------------------------------------------------------- */
+
+/* Bitwise CRC-32 and plain Adler-32, written independently of the writer's
+ * table-driven versions. */
+static uint32_t reference_crc32(const uint8_t *data, size_t length)
+{
+    uint32_t crc = 0xffffffffu;
+    for (size_t i = 0; i < length; ++i) {
+        crc ^= data[i];
+        for (int k = 0; k < 8; ++k)
+            crc = (crc >> 1) ^ (0xedb88320u & (0u - (crc & 1u)));
+    }
+    return ~crc;
+}
+
+static uint32_t reference_adler32(const uint8_t *data, size_t length)
+{
+    uint64_t a = 1, b = 0;
+    for (size_t i = 0; i < length; ++i) {
+        a = (a + data[i]) % 65521;
+        b = (b + a) % 65521;
+    }
+    return (uint32_t)(b << 16 | a);
+}
+
+static uint32_t get_u32(const uint8_t *p)
+{
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+typedef struct {
+    uint32_t width, height;
+    uint8_t *raw; /* inflated image data */
+    size_t raw_size;
+    int chunk_count;
+} ParsedPng;
+
+/* Parses a PNG that uses only stored deflate blocks, checking every
+ * structural rule on the way. */
+static ParsedPng parse_png(const char *path)
+{
+    ParsedPng png;
+    memset(&png, 0, sizeof png);
+    size_t size = 0;
+    uint8_t *file = read_whole_file(path, &size);
+    assert_non_null(file);
+    static const uint8_t signature[8] = {0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a};
+    assert_true(size >= 8);
+    assert_memory_equal(file, signature, 8);
+
+    uint8_t *zlib = malloc(size);
+    assert_non_null(zlib);
+    size_t zlib_size = 0;
+    size_t at = 8;
+    int seen_iend = 0, seen_idat = 0;
+    while (at < size) {
+        assert_true(at + 12 <= size);
+        uint32_t length = get_u32(file + at);
+        assert_true(at + 12 + length <= size);
+        const uint8_t *type = file + at + 4;
+        const uint8_t *data = file + at + 8;
+        uint32_t crc = get_u32(file + at + 8 + length);
+        assert_int_equal(crc, reference_crc32(type, 4 + (size_t)length));
+        if (png.chunk_count == 0) {
+            assert_memory_equal(type, "IHDR", 4);
+            assert_int_equal(length, 13);
+            png.width = get_u32(data);
+            png.height = get_u32(data + 4);
+            assert_int_equal(data[8], 8);  /* bit depth */
+            assert_int_equal(data[9], 2);  /* RGB */
+            assert_int_equal(data[10], 0); /* deflate */
+            assert_int_equal(data[11], 0); /* filter method */
+            assert_int_equal(data[12], 0); /* no interlace */
+        }
+        if (memcmp(type, "IDAT", 4) == 0) {
+            memcpy(zlib + zlib_size, data, length);
+            zlib_size += length;
+            seen_idat = 1;
+        } else {
+            assert_false(seen_idat && memcmp(type, "IEND", 4) != 0); /* IDATs are consecutive, then IEND */
+        }
+        if (memcmp(type, "IEND", 4) == 0) {
+            assert_int_equal(length, 0);
+            seen_iend = 1;
+        }
+        png.chunk_count += 1;
+        at += 12 + length;
+    }
+    assert_true(seen_iend);
+    assert_int_equal(at, size);
+
+    /* zlib: CMF, FLG, stored blocks, Adler-32 of the inflated data. */
+    assert_true(zlib_size >= 2 + 5 + 4);
+    assert_int_equal(zlib[0] & 0x0f, 8); /* deflate */
+    assert_true((zlib[0] >> 4) <= 7);
+    assert_int_equal(((unsigned)zlib[0] << 8 | zlib[1]) % 31, 0);
+    assert_int_equal(zlib[1] & 0x20, 0); /* no preset dictionary */
+    png.raw = malloc(zlib_size);
+    assert_non_null(png.raw);
+    size_t z = 2;
+    int final = 0;
+    while (!final) {
+        assert_true(z + 5 <= zlib_size);
+        uint8_t header = zlib[z];
+        final = header & 1;
+        assert_int_equal((header >> 1) & 3, 0); /* BTYPE 00: stored */
+        unsigned len = zlib[z + 1] | (unsigned)zlib[z + 2] << 8;
+        unsigned nlen = zlib[z + 3] | (unsigned)zlib[z + 4] << 8;
+        assert_int_equal(len ^ nlen, 0xffffu);
+        z += 5;
+        assert_true(z + len <= zlib_size);
+        memcpy(png.raw + png.raw_size, zlib + z, len);
+        png.raw_size += len;
+        z += len;
+    }
+    assert_int_equal(z + 4, zlib_size);
+    assert_int_equal(get_u32(zlib + z), reference_adler32(png.raw, png.raw_size));
+    free(zlib);
+    free(file);
+    return png;
+}
+
+static void test_png_srgb_codes(void **state)
+{
+    (void)state;
+    assert_int_equal(png_srgb_byte(0.0f), 0);
+    assert_int_equal(png_srgb_byte(1.0f), 255);
+    assert_int_equal(png_srgb_byte(0.5f), 188);      /* 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354 */
+    assert_int_equal(png_srgb_byte(0.0031308f), 10); /* 12.92 * 0.0031308 = 0.04045 -> 10.3 */
+    assert_int_equal(png_srgb_byte(0.18f), 118);     /* 0.4614 * 255 = 117.7 */
+    assert_int_equal(png_srgb_byte(-0.5f), 0);
+    assert_int_equal(png_srgb_byte(NAN), 0);
+    assert_int_equal(png_srgb_byte(-NAN), 0);
+    assert_int_equal(png_srgb_byte(2.0f), 255);
+    assert_int_equal(png_srgb_byte(INFINITY), 255);
+    assert_int_equal(png_srgb_byte(-INFINITY), 0);
+    /* Monotonic over the whole range. */
+    uint8_t previous = 0;
+    for (int i = 0; i <= 4096; ++i) {
+        uint8_t code = png_srgb_byte((float)i / 4096.0f);
+        assert_true(code >= previous);
+        previous = code;
+    }
+    assert_int_equal(previous, 255);
+}
+
+static void test_png_small_image(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_small.png";
+    /* 3x2: known values and their sRGB codes (after exposure 2). */
+    const float rgb[2 * 3][3] = {
+        {0.0f, 0.5f, 0.25f},        /* 0, 1.0, 0.5 */
+        {NAN, -1.0f, INFINITY},     /* 0, 0, 1 */
+        {1.0f, 0.00156540f, 0.09f}, /* 2 -> 1, 0.0031308, 0.18 */
+        {0.0f, 0.0f, 0.0f},         /* 0 */
+        {0.5f, 0.5f, 0.5f},         /* 1.0 */
+        {0.25f, 0.125f, 0.0f},      /* 0.5, 0.25, 0 */
+    };
+    const uint8_t expected_rows[2][1 + 3 * 3] = {
+        {0, 0, 255, 188, 0, 0, 255, 255, 10, 118},
+        {0, 0, 0, 0, 255, 255, 255, 188, 137, 0},
+    };
+    char error[512] = "";
+    if (png_write_srgb(path, 3, 2, &rgb[0][0], 2.0f, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    ParsedPng png = parse_png(path);
+    assert_int_equal(png.width, 3);
+    assert_int_equal(png.height, 2);
+    assert_int_equal(png.raw_size, sizeof expected_rows);
+    assert_memory_equal(png.raw, expected_rows, sizeof expected_rows);
+    free(png.raw);
+    remove(path);
+}
+
+/* Big enough for several stored blocks (65535 bytes each) and IDATs. */
+static void test_png_several_blocks(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_large.png";
+    const int width = 301, height = 250; /* raw: 250 * 904 = 226000 bytes */
+    float *rgb = malloc(sizeof(float) * 3 * (size_t)width * (size_t)height);
+    assert_non_null(rgb);
+    for (int i = 0; i < 3 * width * height; ++i)
+        rgb[i] = (float)(i % 1021) / 1020.0f;
+    char error[512] = "";
+    if (png_write_srgb(path, width, height, rgb, PNG_DEFAULT_EXPOSURE, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    ParsedPng png = parse_png(path);
+    assert_int_equal(png.width, width);
+    assert_int_equal(png.height, height);
+    size_t row_size = 1 + 3 * (size_t)width;
+    assert_int_equal(png.raw_size, row_size * (size_t)height);
+    assert_true(png.chunk_count >= 2 + 4 + 1); /* IHDR, sRGB, 4 IDATs, IEND */
+    for (int y = 0; y < height; ++y) {
+        const uint8_t *row = png.raw + (size_t)y * row_size;
+        assert_int_equal(row[0], 0);
+        for (int i = 0; i < 3 * width; ++i)
+            assert_int_equal(row[1 + i], png_srgb_byte(rgb[y * 3 * width + i]));
+    }
+    free(png.raw);
+    free(rgb);
+    remove(path);
+}
+
+static void test_png_errors(void **state)
+{
+    (void)state;
+    char error[512] = "";
+    const float rgb[3] = {0.5f, 0.5f, 0.5f};
+    assert_int_equal(png_write_srgb("no_such_directory/x.png", 1, 1, rgb, 1.0f, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "no_such_directory/x.png"));
+    assert_int_equal(png_write_srgb("test_image_io_bad.png", 0, 1, rgb, 1.0f, error, sizeof error), IMAGE_IO_ERROR);
+    assert_int_equal(png_write_srgb("test_image_io_bad.png", 1, 1, NULL, 1.0f, error, sizeof error), IMAGE_IO_ERROR);
+    assert_int_equal(png_write_srgb("test_image_io_bad.png", 1, 1, rgb, NAN, error, sizeof error), IMAGE_IO_ERROR);
+    assert_int_equal(png_write_srgb("test_image_io_bad.png", 1, 1, rgb, -1.0f, NULL, 0), IMAGE_IO_ERROR);
+    assert_false(file_exists("test_image_io_bad.png"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_exr_round_trip_m21_7x5),
+        cmocka_unit_test(test_exr_round_trip_m1),
+        cmocka_unit_test(test_exr_round_trip_many_chunks),
+        cmocka_unit_test(test_exr_mean_only),
+        cmocka_unit_test(test_exr_layout_seen_by_openexr),
+        cmocka_unit_test(test_exr_foreign_file),
+        cmocka_unit_test(test_exr_missing_and_damaged_files),
+        cmocka_unit_test(test_exr_write_errors),
+        cmocka_unit_test(test_png_srgb_codes),
+        cmocka_unit_test(test_png_small_image),
+        cmocka_unit_test(test_png_several_blocks),
+        cmocka_unit_test(test_png_errors),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
