@@ -1,0 +1,132 @@
+#include "render/scene_convert.h"
+
+#include "scene/scene.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static Material convert_material(const SceneMaterial *in)
+{
+    Material m;
+    memset(&m, 0, sizeof m);
+    float alpha[2];
+    scene_material_alpha(in, alpha);
+    m.alpha_x = alpha[0];
+    m.alpha_y = alpha[1];
+    m.eta = in->eta;
+    memcpy(m.reflectance, in->reflectance, sizeof m.reflectance);
+    switch (in->type) {
+    case SCENE_MATERIAL_DIFFUSE:
+        m.type = MAT_DIFFUSE;
+        break;
+    case SCENE_MATERIAL_DIELECTRIC:
+        m.type = MAT_DIELECTRIC;
+        break;
+    case SCENE_MATERIAL_COATED_DIFFUSE:
+        m.type = MAT_COATED_DIFFUSE;
+        break;
+    case SCENE_MATERIAL_CONDUCTOR:
+        m.type = MAT_CONDUCTOR;
+        for (int c = 0; c < 3; ++c) {
+            if (in->use_reflectance) {
+                /* pbrt-v4: a reflectance r is a conductor with eta = 1 and
+                 * k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence
+                 * reflectance is r. */
+                float r = in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
+                m.conductor_eta[c] = 1.0f;
+                m.conductor_k[c] = 2.0f * sqrtf(r) / sqrtf(1.0f - r);
+            } else {
+                m.conductor_eta[c] = in->conductor_eta[c];
+                m.conductor_k[c] = in->conductor_k[c];
+            }
+        }
+        break;
+    }
+    return m;
+}
+
+/* FNV-1a over the converted scene: identifies its content for merges. */
+static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
+{
+    const unsigned char *bytes = data;
+    for (size_t i = 0; i < size; ++i)
+        hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+    return hash;
+}
+
+int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
+                       RenderScene *out, SceneSummary *summary, char *error, size_t error_size)
+{
+    memset(summary, 0, sizeof *summary);
+    render_scene_init(out);
+    Scene scene;
+    SceneLoadOptions options = {allow_unsupported};
+    if (scene_load(path, &options, &scene, error, error_size))
+        return -1;
+    for (size_t i = 0; i < scene.warning_count && !quiet; ++i)
+        fprintf(stderr, "warning: %s\n", scene.warnings[i]);
+
+    if (scene.film_filename)
+        snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
+    if (scene.sampler)
+        snprintf(summary->sampler, sizeof summary->sampler, "%s", scene.sampler);
+    summary->pixel_samples = scene.spp;
+    summary->regularize = scene.regularize;
+
+    if (width == 0 || height == 0) {
+        width = scene.width;
+        height = scene.height;
+    }
+    float tan_half[2];
+    scene_camera_tan_half_fov(scene.camera.fov, width, height, tan_half);
+    render_scene_set_camera(out, scene.camera.position, scene.camera.forward, scene.camera.right, scene.camera.up,
+                            tan_half[0], tan_half[1], width, height);
+    out->params.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
+    memcpy(out->params.environment, scene.environment, sizeof out->params.environment);
+
+    int failed = 0;
+    for (size_t i = 0; i < scene.material_count && !failed; ++i) {
+        Material m = convert_material(&scene.materials[i]);
+        summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;
+        failed = render_scene_add_material(out, &m) < 0;
+    }
+    for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
+        const SceneTriangle *t = &scene.triangles[i];
+        const SceneShape *shape = &scene.shapes[t->shape];
+        const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
+        failed = render_scene_add_triangle(out, &scene.positions[3 * (size_t)t->vertex[0]],
+                                           &scene.positions[3 * (size_t)t->vertex[1]],
+                                           &scene.positions[3 * (size_t)t->vertex[2]], shape->material,
+                                           light ? light->radiance : NULL, light && light->two_sided,
+                                           shape->flip_normal) != 0;
+    }
+    for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
+        const SceneSphere *sphere = &scene.spheres[i];
+        const SceneShape *shape = &scene.shapes[sphere->shape];
+        const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
+        failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
+                                         light ? light->radiance : NULL, light && light->two_sided,
+                                         shape->flip_normal) != 0;
+    }
+    scene_destroy(&scene);
+    if (failed) {
+        snprintf(error, error_size, "%s: out of memory converting the scene", path);
+        render_scene_destroy(out);
+        return -1;
+    }
+    if (summary->coated_diffuse && !quiet)
+        fprintf(stderr, "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
+                        "over a Lambertian base, without inter-reflection between them\n",
+                path);
+
+    uint64_t hash = 0xcbf29ce484222325ull;
+    RenderParams params = out->params;
+    params.seed = 0;
+    hash = fnv1a(hash, &params, sizeof params);
+    hash = fnv1a(hash, out->materials, (size_t)out->material_count * sizeof *out->materials);
+    hash = fnv1a(hash, out->primitives, (size_t)out->primitive_count * sizeof *out->primitives);
+    hash = fnv1a(hash, out->emitters, (size_t)out->emitter_count * sizeof *out->emitters);
+    snprintf(summary->hash, sizeof summary->hash, "%016llx", (unsigned long long)hash);
+    return 0;
+}

@@ -1,0 +1,29 @@
+/* From a pbrt-v4 scene file to the kernels' scene: reads it with the scene
+ * parser (host/scene) and flattens shapes, materials and lights into a
+ * RenderScene. */
+#ifndef HOST_RENDER_SCENE_CONVERT_H
+#define HOST_RENDER_SCENE_CONVERT_H
+
+#include "render/render_scene.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* What the renderer reports or uses from the scene besides its geometry. */
+typedef struct {
+    char film_filename[1024]; /* Film "filename", "" if none */
+    uint64_t pixel_samples;   /* Sampler "pixelsamples", 0 if none */
+    char sampler[64];         /* the Sampler's name, "" if none */
+    int regularize;           /* Integrator "regularize" was set */
+    int coated_diffuse;       /* some material was approximated */
+    char hash[32];            /* hex digest of the scene text, includes and PLY files */
+} SceneSummary;
+
+/* Loads `path` into `scene` (initialized here, not finalized), at the
+ * Film's resolution or width x height when both are non-zero. Warnings go
+ * to stderr unless quiet. Returns 0, or -1 with a message naming file and
+ * line. */
+int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
+                       RenderScene *scene, SceneSummary *summary, char *error, size_t error_size);
+
+#endif

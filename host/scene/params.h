@@ -1,0 +1,74 @@
+/* A directive's parameter list: `"type name" value` or `"type name" [ values ]`,
+ * checked against its type as it is read ("float fov" [ "x" ] and "rgb L"
+ * with two values are errors), then looked up by name and type. */
+#ifndef HOST_SCENE_PARAMS_H
+#define HOST_SCENE_PARAMS_H
+
+#include "scene/lexer.h"
+
+#include <stddef.h>
+
+typedef enum {
+    PARAM_INTEGER,
+    PARAM_FLOAT,
+    PARAM_POINT2,
+    PARAM_VECTOR2,
+    PARAM_POINT3,  /* also written "point" */
+    PARAM_VECTOR3, /* also "vector" */
+    PARAM_NORMAL3, /* also "normal" */
+    PARAM_RGB,     /* also "color" */
+    PARAM_BLACKBODY,
+    PARAM_SPECTRUM,
+    PARAM_BOOL,
+    PARAM_STRING,
+    PARAM_TEXTURE,
+} ParamType;
+
+typedef struct {
+    ParamType type;
+    char *type_name; /* as written, for messages */
+    char *name;
+    double *numbers; /* numeric types; bools as 0 or 1 */
+    char **strings;  /* string, texture; a spectrum given by name */
+    size_t count;    /* values in numbers or strings */
+    int line;
+    int used;
+} Param;
+
+typedef struct {
+    Param *items;
+    size_t count;
+    const char *file;
+    char owner[96]; /* the directive, e.g. Shape "sphere", for messages */
+    Diagnostics *diag;
+} ParamList;
+
+/* Reads parameters for as long as the next token is a quoted string.
+ * Returns 0, or -1 with an error; free the list either way. */
+int params_parse(Lexer *lexer, const char *owner, ParamList *list);
+void params_free(ParamList *list);
+
+/* Getters return 1 when the parameter is present (value written), 0 when it
+ * is absent (value untouched), -1 on an error (wrong type or count). A
+ * texture or spectral value is unsupported: an error, or with
+ * allow_unsupported a warning and 0 (the default is used). */
+int params_get_float(ParamList *list, const char *name, float *value);
+int params_get_int(ParamList *list, const char *name, int *value);
+int params_get_bool(ParamList *list, const char *name, int *value);
+int params_get_string(ParamList *list, const char *name, const char **value);
+/* An "rgb" triple of non-negative values (at most 1 when is_albedo). */
+int params_get_rgb(ParamList *list, const char *name, int is_albedo, float value[3]);
+/* Any number of values of one numeric type (P, N, indices). */
+int params_get_array(ParamList *list, const char *name, ParamType type, const Param **param);
+
+/* Marks a parameter as read, whatever its type (accepted and ignored). */
+void params_ignore(ParamList *list, const char *name);
+
+/* Every parameter no getter read is unsupported: an error, or one warning
+ * each with allow_unsupported. Returns 0 or -1. */
+int params_check_unused(ParamList *list);
+
+/* "file:line: <owner>: parameter "type name": message". Returns -1. */
+int params_error(ParamList *list, const Param *param, const char *format, ...) SCENE_PRINTF(3, 4);
+
+#endif

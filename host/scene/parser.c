@@ -1,0 +1,1359 @@
+/* The pbrt-v4 directives: a graphics-state stack (transform, material, area
+ * light, orientation) and one handler per directive, which fill a Scene in
+ * world space. See README.md in this directory for the supported subset. */
+#include "scene/lexer.h"
+#include "scene/params.h"
+#include "scene/ply.h"
+#include "scene/scene.h"
+#include "scene/scene_internal.h"
+
+#include <cglm/cglm.h>
+
+#include <errno.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_INCLUDE_DEPTH 32
+
+typedef enum { PUSHED_ATTRIBUTES, PUSHED_TRANSFORM, PUSHED_OBJECT } PushKind;
+
+typedef struct {
+    mat4 ctm;     /* object to world (camera before WorldBegin) */
+    int material; /* index into the scene's materials; -1: pbrt's default */
+    int has_area_light;
+    float area_radiance[3];
+    int area_two_sided;
+    int reverse_orientation;
+    /* Where this state was pushed (kept on the stack only). */
+    PushKind kind;
+    const char *file;
+    int line;
+} GraphicsState;
+
+typedef struct {
+    char *name;
+    int material;
+} NamedMaterial;
+
+typedef struct {
+    Scene *scene;
+    Diagnostics diag;
+    GraphicsState state;
+    GraphicsState *stack;
+    size_t depth, stack_capacity;
+    int in_world;
+    int skipping_object; /* inside an ObjectBegin that allow_unsupported skips */
+    int include_depth;
+    NamedMaterial *named;
+    size_t named_count, named_capacity;
+    int default_material;
+    size_t material_capacity, shape_capacity, area_light_capacity, vertex_capacity, triangle_capacity, sphere_capacity;
+    char **paths; /* every file read, alive until scene_load returns (messages point at them) */
+    size_t path_count, path_capacity;
+    const char *main_path;
+    mat4 camera_from_world;
+    const char *camera_file;
+    int camera_line;
+} Parser;
+
+typedef int (*Handler)(Parser *p, Lexer *lex, const Token *directive);
+
+/* ---------------------------------------------------------------- helpers */
+
+static void directive_name(const Token *t, char *out, size_t size)
+{
+    size_t n = t->length < size - 1 ? t->length : size - 1;
+    memcpy(out, t->text, n);
+    out[n] = '\0';
+}
+
+static int expect_string(Parser *p, Lexer *lex, const Token *directive, const char *what, Token *out)
+{
+    if (lexer_next(lex, out))
+        return -1;
+    if (out->kind == TOKEN_STRING)
+        return 0;
+    char name[32], shown[64];
+    directive_name(directive, name, sizeof name);
+    token_describe(out, shown, sizeof shown);
+    return scene_error(&p->diag, lex->path, out->line, "%s: expected %s as a quoted string, got %s", name, what, shown);
+}
+
+/* Reads `count` numbers; with `brackets`, optionally enclosed in [ ]. */
+static int read_numbers(Parser *p, Lexer *lex, const Token *directive, int count, int brackets, double *out)
+{
+    char name[32], shown[64];
+    directive_name(directive, name, sizeof name);
+    Token t;
+    if (lexer_peek(lex, &t))
+        return -1;
+    int bracketed = brackets && t.kind == TOKEN_OPEN;
+    if (bracketed)
+        lexer_next(lex, &t);
+    for (int i = 0; i < count; ++i) {
+        if (lexer_next(lex, &t))
+            return -1;
+        if (token_number(&t, &out[i]) || fabs(out[i]) > FLT_MAX) {
+            token_describe(&t, shown, sizeof shown);
+            return scene_error(&p->diag, lex->path, t.line, "%s: expected %d numbers, got %s as number %d", name, count,
+                               shown, i + 1);
+        }
+    }
+    if (bracketed) {
+        if (lexer_next(lex, &t))
+            return -1;
+        if (t.kind != TOKEN_CLOSE) {
+            token_describe(&t, shown, sizeof shown);
+            return scene_error(&p->diag, lex->path, t.line, "%s: expected ']' after %d numbers, got %s", name, count,
+                               shown);
+        }
+    }
+    return 0;
+}
+
+static int out_of_memory(Parser *p, const char *file, int line)
+{
+    return scene_error(&p->diag, file, line, "out of memory");
+}
+
+static int require_world(Parser *p, Lexer *lex, const Token *directive, int inside)
+{
+    if (p->in_world == inside)
+        return 0;
+    char name[32];
+    directive_name(directive, name, sizeof name);
+    return scene_error(&p->diag, lex->path, directive->line, "%s must come %s WorldBegin", name,
+                       inside ? "after" : "before");
+}
+
+/* Reads a directive's type string and parameter list; `owner` receives e.g.
+ * Shape "sphere" for messages. */
+static int read_typed_directive(Parser *p, Lexer *lex, const Token *directive, const char *what, Token *type,
+                                ParamList *params)
+{
+    memset(params, 0, sizeof *params);
+    if (expect_string(p, lex, directive, what, type))
+        return -1;
+    char name[32], shown[64], owner[100];
+    directive_name(directive, name, sizeof name);
+    token_describe(type, shown, sizeof shown);
+    snprintf(owner, sizeof owner, "%s %s", name, shown);
+    return params_parse(lex, owner, params);
+}
+
+static void transform_point(mat4 m, const float in[3], float out[3])
+{
+    double x = in[0], y = in[1], z = in[2];
+    double r[4];
+    for (int row = 0; row < 4; ++row)
+        r[row] = m[0][row] * x + m[1][row] * y + m[2][row] * z + m[3][row];
+    double w = r[3];
+    for (int k = 0; k < 3; ++k)
+        out[k] = (float)(w == 1.0 ? r[k] : r[k] / w);
+}
+
+static double det3(mat4 m)
+{
+    return (double)m[0][0] * ((double)m[1][1] * m[2][2] - (double)m[2][1] * m[1][2]) -
+           (double)m[1][0] * ((double)m[0][1] * m[2][2] - (double)m[2][1] * m[0][2]) +
+           (double)m[2][0] * ((double)m[0][1] * m[1][2] - (double)m[1][1] * m[0][2]);
+}
+
+/* Whether m's linear part is a rotation (or reflection) times a uniform
+ * scale; *scale receives that scale (the columns' mean length). */
+static int is_similarity(mat4 m, double *scale)
+{
+    double length[3], largest = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        length[c] = sqrt((double)m[c][0] * m[c][0] + (double)m[c][1] * m[c][1] + (double)m[c][2] * m[c][2]);
+        largest = fmax(largest, length[c]);
+    }
+    *scale = (length[0] + length[1] + length[2]) / 3.0;
+    if (largest == 0.0)
+        return 0;
+    const double tolerance = 1e-4;
+    for (int a = 0; a < 3; ++a) {
+        int b = (a + 1) % 3;
+        double dot = (double)m[a][0] * m[b][0] + (double)m[a][1] * m[b][1] + (double)m[a][2] * m[b][2];
+        if (fabs(length[a] - length[b]) > tolerance * largest || fabs(dot) > tolerance * largest * largest)
+            return 0;
+    }
+    return 1;
+}
+
+static int is_affine(mat4 m)
+{
+    return m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f;
+}
+
+/* ------------------------------------------------------- scene building */
+
+static int add_material(Parser *p, const SceneMaterial *m)
+{
+    Scene *s = p->scene;
+    if (scene_reserve((void **)&s->materials, &p->material_capacity, s->material_count + 1, sizeof *s->materials))
+        return -1;
+    s->materials[s->material_count] = *m;
+    return (int)s->material_count++;
+}
+
+static void default_material(SceneMaterial *m)
+{
+    memset(m, 0, sizeof *m);
+    m->type = SCENE_MATERIAL_DIFFUSE;
+    m->reflectance[0] = m->reflectance[1] = m->reflectance[2] = 0.5f;
+    m->eta = 1.5f;
+    m->remap_roughness = 1;
+}
+
+/* The current material's index, creating pbrt's default (diffuse 0.5) once. */
+static int current_material(Parser *p)
+{
+    if (p->state.material >= 0)
+        return p->state.material;
+    if (p->default_material < 0) {
+        SceneMaterial m;
+        default_material(&m);
+        p->default_material = add_material(p, &m);
+    }
+    return p->default_material;
+}
+
+/* Appends a shape record (with its area light) for the current state. */
+static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t first, size_t count)
+{
+    Scene *s = p->scene;
+    int material = current_material(p);
+    if (material < 0)
+        return -1;
+    if (scene_reserve((void **)&s->shapes, &p->shape_capacity, s->shape_count + 1, sizeof *s->shapes))
+        return -1;
+    SceneShape *shape = &s->shapes[s->shape_count];
+    shape->kind = kind;
+    shape->material = material;
+    shape->area_light = -1;
+    shape->flip_normal = flip_normal;
+    shape->first = first;
+    shape->count = count;
+    if (p->state.has_area_light) {
+        if (scene_reserve((void **)&s->area_lights, &p->area_light_capacity, s->area_light_count + 1,
+                          sizeof *s->area_lights))
+            return -1;
+        SceneAreaLight *light = &s->area_lights[s->area_light_count];
+        memcpy(light->radiance, p->state.area_radiance, sizeof light->radiance);
+        light->two_sided = p->state.area_two_sided;
+        light->shape = (int)s->shape_count;
+        shape->area_light = (int)s->area_light_count++;
+    }
+    s->shape_count++;
+    return 0;
+}
+
+/* Grows positions (and normals, once any mesh has them) to `needed` vertices. */
+static int reserve_vertices(Parser *p, size_t needed, int want_normals)
+{
+    Scene *s = p->scene;
+    size_t old_capacity = p->vertex_capacity;
+    if (scene_reserve((void **)&s->positions, &p->vertex_capacity, needed, 3 * sizeof *s->positions))
+        return -1;
+    if (s->normals && p->vertex_capacity != old_capacity) {
+        float *grown = realloc(s->normals, p->vertex_capacity * 3 * sizeof *grown);
+        if (!grown)
+            return -1;
+        s->normals = grown;
+    }
+    if (want_normals && !s->normals) {
+        s->normals = calloc(p->vertex_capacity * 3, sizeof *s->normals);
+        if (!s->normals)
+            return -1;
+    }
+    return 0;
+}
+
+/* Adds a mesh given in object space under the current transform: checks it,
+ * transforms it to world space and drops zero-area triangles (counted in a
+ * warning). `owner` names the shape in messages. */
+static int add_mesh(Parser *p, const char *file, int line, const char *owner, const float *positions,
+                    size_t vertex_count, const uint32_t *indices, size_t index_count, const float *normals)
+{
+    Scene *s = p->scene;
+    if (vertex_count == 0)
+        return scene_error(&p->diag, file, line, "%s: the mesh has no vertices", owner);
+    if (index_count == 0)
+        return scene_error(&p->diag, file, line, "%s: the mesh has no triangles", owner);
+    if (index_count % 3 != 0)
+        return scene_error(&p->diag, file, line, "%s: %zu vertex indices is not a multiple of 3", owner, index_count);
+    for (size_t i = 0; i < index_count; ++i)
+        if (indices[i] >= vertex_count)
+            return scene_error(&p->diag, file, line, "%s: vertex index %u (number %zu) is out of range: %zu vertices",
+                               owner, indices[i], i, vertex_count);
+    for (size_t i = 0; i < 3 * vertex_count; ++i)
+        if (!isfinite(positions[i]))
+            return scene_error(&p->diag, file, line, "%s: vertex %zu has a non-finite position", owner, i / 3);
+    if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX)
+        return scene_error(&p->diag, file, line, "%s: too many vertices in the scene", owner);
+
+    size_t base = s->vertex_count;
+    if (reserve_vertices(p, base + vertex_count, normals != NULL))
+        return out_of_memory(p, file, line);
+    float *world = s->positions + 3 * base;
+    for (size_t v = 0; v < vertex_count; ++v) {
+        transform_point(p->state.ctm, positions + 3 * v, world + 3 * v);
+        for (int k = 0; k < 3; ++k)
+            if (!isfinite(world[3 * v + k]))
+                return scene_error(&p->diag, file, line, "%s: vertex %zu is not finite in world space", owner, v);
+    }
+    if (s->normals) {
+        float *out = s->normals + 3 * base;
+        memset(out, 0, 3 * vertex_count * sizeof *out);
+        mat4 inverse;
+        glm_mat4_inv(p->state.ctm, inverse);
+        int invertible = det3(p->state.ctm) != 0.0; /* else the triangles have no area either */
+        /* Normals transform by the inverse transpose: n'_r = sum_c inverse[r][c] n_c. */
+        for (size_t v = 0; normals && invertible && v < vertex_count; ++v) {
+            const float *n = normals + 3 * v;
+            double t[3], length = 0.0;
+            for (int r = 0; r < 3; ++r) {
+                t[r] = (double)inverse[r][0] * n[0] + (double)inverse[r][1] * n[1] + (double)inverse[r][2] * n[2];
+                length += t[r] * t[r];
+            }
+            length = sqrt(length);
+            if (!(length > 0.0) || !isfinite(length))
+                continue; /* a zero (or broken) normal stays zero: none */
+            double sign = p->state.reverse_orientation ? -1.0 : 1.0;
+            for (int r = 0; r < 3; ++r)
+                out[3 * v + (size_t)r] = (float)(sign * t[r] / length);
+        }
+    }
+
+    size_t triangles = index_count / 3, kept = 0, first = s->triangle_count;
+    if (scene_reserve((void **)&s->triangles, &p->triangle_capacity, first + triangles, sizeof *s->triangles))
+        return out_of_memory(p, file, line);
+    for (size_t t = 0; t < triangles; ++t) {
+        const uint32_t *tri = indices + 3 * t;
+        const float *a = world + 3 * tri[0], *b = world + 3 * tri[1], *c = world + 3 * tri[2];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+        if (cx == 0.0 && cy == 0.0 && cz == 0.0)
+            continue; /* zero area: harmless to drop, and it has no normal */
+        SceneTriangle *out = &s->triangles[first + kept++];
+        for (int k = 0; k < 3; ++k)
+            out->vertex[k] = (uint32_t)(base + tri[k]);
+        out->shape = (uint32_t)s->shape_count;
+    }
+    if (kept < triangles && scene_warn(&p->diag, file, line, "%s: skipped %zu degenerate (zero-area) triangle%s of %zu",
+                                       owner, triangles - kept, triangles - kept == 1 ? "" : "s", triangles))
+        return -1;
+    if (kept == 0)
+        return 0; /* nothing left to draw: no vertices, no shape */
+    s->vertex_count += vertex_count;
+    s->triangle_count += kept;
+    int swaps_handedness = det3(p->state.ctm) < 0.0;
+    if (add_shape(p, SCENE_SHAPE_TRIANGLES, p->state.reverse_orientation ^ swaps_handedness, first, kept))
+        return out_of_memory(p, file, line);
+    return 0;
+}
+
+/* ------------------------------------------------------------ materials */
+
+static int read_roughness(ParamList *params, SceneMaterial *m, int line, Parser *p)
+{
+    float r = 0.0f;
+    if (params_get_float(params, "roughness", &r) < 0)
+        return -1;
+    m->roughness[0] = m->roughness[1] = r;
+    if (params_get_float(params, "uroughness", &m->roughness[0]) < 0 ||
+        params_get_float(params, "vroughness", &m->roughness[1]) < 0 ||
+        params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
+        return -1;
+    if (m->roughness[0] < 0.0f || m->roughness[1] < 0.0f)
+        return scene_error(&p->diag, params->file, line, "%s: roughness must not be negative", params->owner);
+    return 0;
+}
+
+static int read_eta(ParamList *params, float *eta, int line, Parser *p)
+{
+    if (params_get_float(params, "eta", eta) < 0)
+        return -1;
+    if (!(*eta > 0.0f))
+        return scene_error(&p->diag, params->file, line, "%s: eta must be positive", params->owner);
+    return 0;
+}
+
+/* Fills *m from a material type and its parameters. An unknown type is
+ * unsupported; allow_unsupported substitutes grey diffuse. */
+static int parse_material(Parser *p, const char *type, ParamList *params, int line, SceneMaterial *m)
+{
+    default_material(m);
+    if (strcmp(type, "diffuse") == 0) {
+        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0)
+            return -1;
+    } else if (strcmp(type, "dielectric") == 0) {
+        m->type = SCENE_MATERIAL_DIELECTRIC;
+        if (read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
+            return -1;
+    } else if (strcmp(type, "conductor") == 0) {
+        /* pbrt's default conductor is copper; these are its RGB approximations. */
+        static const float copper_eta[3] = {0.200438f, 0.924033f, 1.10221f};
+        static const float copper_k[3] = {3.91295f, 2.45285f, 2.14219f};
+        m->type = SCENE_MATERIAL_CONDUCTOR;
+        memcpy(m->conductor_eta, copper_eta, sizeof copper_eta);
+        memcpy(m->conductor_k, copper_k, sizeof copper_k);
+        int has_eta = params_get_rgb(params, "eta", 0, m->conductor_eta);
+        int has_k = params_get_rgb(params, "k", 0, m->conductor_k);
+        int has_reflectance = params_get_rgb(params, "reflectance", 1, m->reflectance);
+        if (has_eta < 0 || has_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
+            return -1;
+        if (has_reflectance && (has_eta || has_k))
+            return scene_error(&p->diag, params->file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\"",
+                               params->owner);
+        m->use_reflectance = has_reflectance;
+        if (!has_reflectance)
+            memset(m->reflectance, 0, sizeof m->reflectance);
+    } else if (strcmp(type, "coateddiffuse") == 0) {
+        m->type = SCENE_MATERIAL_COATED_DIFFUSE;
+        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0 || read_eta(params, &m->eta, line, p) ||
+            read_roughness(params, m, line, p))
+            return -1;
+        /* The renderer approximates the layered BSDF; these only tune
+         * pbrt's stochastic evaluation of a clear coating. */
+        params_ignore(params, "thickness");
+        params_ignore(params, "g");
+        params_ignore(params, "maxdepth");
+        params_ignore(params, "nsamples");
+        float albedo[3] = {0, 0, 0};
+        if (params_get_rgb(params, "albedo", 1, albedo) < 0)
+            return -1;
+        if ((albedo[0] > 0 || albedo[1] > 0 || albedo[2] > 0) &&
+            scene_unsupported(&p->diag, params->file, line, "a clear coating is used",
+                              "%s: a coating with a non-zero \"albedo\" is not supported", params->owner))
+            return -1;
+    } else {
+        return scene_unsupported(&p->diag, params->file, line, "grey diffuse (reflectance 0.5) is used instead",
+                                 "Material \"%s\" is not supported (diffuse, dielectric, conductor, coateddiffuse)",
+                                 type);
+    }
+    return params_check_unused(params);
+}
+
+/* ----------------------------------------------------------- directives */
+
+static int parse_file(Parser *p, const char *path, const char *from_file, int from_line);
+
+static int apply_transform(Parser *p, mat4 m)
+{
+    glm_mat4_mul(p->state.ctm, m, p->state.ctm);
+    return 0;
+}
+
+static int on_look_at(Parser *p, Lexer *lex, const Token *d)
+{
+    double v[9];
+    if (read_numbers(p, lex, d, 9, 0, v))
+        return -1;
+    vec3 eye = {(float)v[0], (float)v[1], (float)v[2]}, look = {(float)v[3], (float)v[4], (float)v[5]},
+         up = {(float)v[6], (float)v[7], (float)v[8]};
+    vec3 dir, right, new_up;
+    glm_vec3_sub(look, eye, dir);
+    if (glm_vec3_norm(dir) == 0.0f)
+        return scene_error(&p->diag, lex->path, d->line, "LookAt: the eye and the look-at point are the same");
+    glm_vec3_normalize(dir);
+    glm_vec3_normalize(up);
+    glm_vec3_cross(up, dir, right); /* left-handed: +x = up x forward */
+    if (glm_vec3_norm(right) < 1e-6f)
+        return scene_error(&p->diag, lex->path, d->line, "LookAt: the up vector is parallel to the view direction");
+    glm_vec3_normalize(right);
+    glm_vec3_cross(dir, right, new_up);
+    /* camera_from_world is the inverse of [right up dir eye]: rows right,
+     * up, dir and the translation -R^T eye. */
+    mat4 m = GLM_MAT4_IDENTITY_INIT;
+    for (int c = 0; c < 3; ++c) {
+        m[c][0] = right[c];
+        m[c][1] = new_up[c];
+        m[c][2] = dir[c];
+    }
+    m[3][0] = -glm_vec3_dot(right, eye);
+    m[3][1] = -glm_vec3_dot(new_up, eye);
+    m[3][2] = -glm_vec3_dot(dir, eye);
+    return apply_transform(p, m);
+}
+
+static int on_translate(Parser *p, Lexer *lex, const Token *d)
+{
+    double v[3];
+    if (read_numbers(p, lex, d, 3, 0, v))
+        return -1;
+    vec3 t = {(float)v[0], (float)v[1], (float)v[2]};
+    glm_translate(p->state.ctm, t);
+    return 0;
+}
+
+static int on_scale(Parser *p, Lexer *lex, const Token *d)
+{
+    double v[3];
+    if (read_numbers(p, lex, d, 3, 0, v))
+        return -1;
+    vec3 s = {(float)v[0], (float)v[1], (float)v[2]};
+    glm_scale(p->state.ctm, s);
+    return 0;
+}
+
+static int on_rotate(Parser *p, Lexer *lex, const Token *d)
+{
+    double v[4];
+    if (read_numbers(p, lex, d, 4, 0, v))
+        return -1;
+    vec3 axis = {(float)v[1], (float)v[2], (float)v[3]};
+    if (glm_vec3_norm(axis) == 0.0f)
+        return scene_error(&p->diag, lex->path, d->line, "Rotate: the axis is zero");
+    glm_rotate(p->state.ctm, (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
+    return 0;
+}
+
+/* Transform and ConcatTransform list the matrix column by column (pbrt
+ * stores it transposed), which is cglm's memory order. */
+static int read_matrix(Parser *p, Lexer *lex, const Token *d, mat4 m)
+{
+    double v[16];
+    if (read_numbers(p, lex, d, 16, 1, v))
+        return -1;
+    for (int i = 0; i < 16; ++i)
+        m[i / 4][i % 4] = (float)v[i];
+    return 0;
+}
+
+static int on_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    mat4 m;
+    if (read_matrix(p, lex, d, m))
+        return -1;
+    glm_mat4_copy(m, p->state.ctm);
+    return 0;
+}
+
+static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    mat4 m;
+    if (read_matrix(p, lex, d, m))
+        return -1;
+    return apply_transform(p, m);
+}
+
+static int on_identity(Parser *p, Lexer *lex, const Token *d)
+{
+    (void)lex, (void)d;
+    glm_mat4_identity(p->state.ctm);
+    return 0;
+}
+
+static int on_reverse_orientation(Parser *p, Lexer *lex, const Token *d)
+{
+    (void)lex, (void)d;
+    p->state.reverse_orientation = !p->state.reverse_orientation;
+    return 0;
+}
+
+static int push_state(Parser *p, Lexer *lex, const Token *d, PushKind kind)
+{
+    if (scene_reserve((void **)&p->stack, &p->stack_capacity, p->depth + 1, sizeof *p->stack))
+        return out_of_memory(p, lex->path, d->line);
+    GraphicsState *saved = &p->stack[p->depth++];
+    *saved = p->state;
+    saved->kind = kind;
+    saved->file = lex->path;
+    saved->line = d->line;
+    return 0;
+}
+
+static const char *push_name(PushKind kind)
+{
+    return kind == PUSHED_ATTRIBUTES ? "AttributeBegin" : kind == PUSHED_TRANSFORM ? "TransformBegin" : "ObjectBegin";
+}
+
+static int pop_state(Parser *p, Lexer *lex, const Token *d, PushKind kind)
+{
+    char name[32];
+    directive_name(d, name, sizeof name);
+    if (p->depth == 0)
+        return scene_error(&p->diag, lex->path, d->line, "%s without a matching %s", name, push_name(kind));
+    GraphicsState *saved = &p->stack[p->depth - 1];
+    if (saved->kind != kind)
+        return scene_error(&p->diag, lex->path, d->line, "%s closes the %s at %s:%d", name, push_name(saved->kind),
+                           saved->file, saved->line);
+    p->depth--;
+    if (kind == PUSHED_TRANSFORM)
+        glm_mat4_copy(saved->ctm, p->state.ctm);
+    else
+        p->state = *saved;
+    return 0;
+}
+
+static int on_attribute_begin(Parser *p, Lexer *lex, const Token *d)
+{
+    return push_state(p, lex, d, PUSHED_ATTRIBUTES);
+}
+
+static int on_attribute_end(Parser *p, Lexer *lex, const Token *d)
+{
+    return pop_state(p, lex, d, PUSHED_ATTRIBUTES);
+}
+
+static int on_transform_begin(Parser *p, Lexer *lex, const Token *d)
+{
+    return push_state(p, lex, d, PUSHED_TRANSFORM);
+}
+
+static int on_transform_end(Parser *p, Lexer *lex, const Token *d)
+{
+    return pop_state(p, lex, d, PUSHED_TRANSFORM);
+}
+
+static int on_object_begin(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the object's name", &name))
+        return -1;
+    if (p->skipping_object)
+        return scene_error(&p->diag, lex->path, d->line, "ObjectBegin inside ObjectBegin");
+    if (scene_unsupported(&p->diag, lex->path, d->line, "its shapes are skipped",
+                          "ObjectBegin: object instancing is not supported"))
+        return -1;
+    p->skipping_object = 1;
+    return push_state(p, lex, d, PUSHED_OBJECT);
+}
+
+static int on_object_end(Parser *p, Lexer *lex, const Token *d)
+{
+    if (pop_state(p, lex, d, PUSHED_OBJECT))
+        return -1;
+    p->skipping_object = 0;
+    return 0;
+}
+
+static int on_object_instance(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the object's name", &name))
+        return -1;
+    return scene_unsupported(&p->diag, lex->path, d->line, "skipped",
+                             "ObjectInstance: object instancing is not supported");
+}
+
+static int on_world_begin(Parser *p, Lexer *lex, const Token *d)
+{
+    if (p->in_world)
+        return scene_error(&p->diag, lex->path, d->line, "WorldBegin given twice");
+    if (p->depth > 0)
+        return scene_error(&p->diag, lex->path, d->line, "WorldBegin inside the %s at %s:%d",
+                           push_name(p->stack[p->depth - 1].kind), p->stack[p->depth - 1].file,
+                           p->stack[p->depth - 1].line);
+    p->in_world = 1;
+    glm_mat4_identity(p->state.ctm);
+    return 0;
+}
+
+static int on_world_end(Parser *p, Lexer *lex, const Token *d)
+{
+    (void)p, (void)lex, (void)d; /* pbrt-v3's; pbrt-v4 ends the world at the end of the file */
+    return 0;
+}
+
+static int on_camera(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the camera type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    if (result == 0 && !token_is(&type, "perspective")) {
+        char shown[64];
+        token_describe(&type, shown, sizeof shown);
+        result = scene_error(&p->diag, lex->path, d->line, "Camera %s is not supported (only \"perspective\")", shown);
+    }
+    float fov = 90.0f, lens_radius = 0.0f, ignored = 0.0f;
+    if (result == 0 &&
+        (params_get_float(&params, "fov", &fov) < 0 || params_get_float(&params, "lensradius", &lens_radius) < 0 ||
+         params_get_float(&params, "focaldistance", &ignored) < 0 ||
+         params_get_float(&params, "shutteropen", &ignored) < 0 ||
+         params_get_float(&params, "shutterclose", &ignored) < 0))
+        result = -1;
+    if (result == 0 && !(fov > 0.0f && fov < 180.0f))
+        result =
+            scene_error(&p->diag, lex->path, d->line, "Camera \"perspective\": fov %g is not in (0, 180)", (double)fov);
+    if (result == 0 && lens_radius != 0.0f)
+        result = scene_unsupported(&p->diag, lex->path, d->line, "a pinhole camera is used",
+                                   "Camera \"perspective\": lensradius %g is not supported (depth of field)",
+                                   (double)lens_radius);
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0 && det3(p->state.ctm) == 0.0)
+        result = scene_error(&p->diag, lex->path, d->line, "Camera: the camera transform is singular");
+    if (result == 0) {
+        glm_mat4_copy(p->state.ctm, p->camera_from_world);
+        p->scene->camera.fov = fov;
+        p->camera_file = lex->path;
+        p->camera_line = d->line;
+    }
+    params_free(&params);
+    return result;
+}
+
+static int replace_string(Parser *p, const char *file, int line, char **target, const char *value)
+{
+    char *copy = scene_strndup(value, strlen(value));
+    if (!copy)
+        return out_of_memory(p, file, line);
+    free(*target);
+    *target = copy;
+    return 0;
+}
+
+static int on_film(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the film type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    if (result == 0 && !token_is(&type, "rgb"))
+        result = scene_unsupported(&p->diag, lex->path, d->line, "an \"rgb\" film is used",
+                                   "Film: only \"rgb\" is supported");
+    int width = (int)p->scene->width, height = (int)p->scene->height;
+    const char *filename = NULL;
+    if (result == 0 &&
+        (params_get_int(&params, "xresolution", &width) < 0 || params_get_int(&params, "yresolution", &height) < 0 ||
+         params_get_string(&params, "filename", &filename) < 0))
+        result = -1;
+    if (result == 0 && (width < 1 || height < 1 || width > 65536 || height > 65536))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: resolution %d x %d is out of range", width, height);
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0 && filename)
+        result = replace_string(p, lex->path, d->line, &p->scene->film_filename, filename);
+    if (result == 0) {
+        p->scene->width = (unsigned)width;
+        p->scene->height = (unsigned)height;
+    }
+    params_free(&params);
+    return result;
+}
+
+static int on_sampler(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the sampler type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    int spp = (int)p->scene->spp;
+    if (result == 0 && params_get_int(&params, "pixelsamples", &spp) < 0)
+        result = -1;
+    if (result == 0 && spp < 1)
+        result = scene_error(&p->diag, lex->path, d->line, "Sampler: pixelsamples must be at least 1");
+    if (result == 0) {
+        /* Any sampler is accepted: the renderer uses its own independent
+         * one, so the other parameters (seed, jitter, ...) do not apply. */
+        char *name = scene_strndup(type.text, type.length);
+        if (!name)
+            result = out_of_memory(p, lex->path, d->line);
+        else {
+            free(p->scene->sampler);
+            p->scene->sampler = name;
+            p->scene->spp = (unsigned)spp;
+        }
+    }
+    params_free(&params);
+    return result;
+}
+
+static int on_integrator(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the integrator type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    if (result == 0 && !token_is(&type, "path"))
+        result = scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
+                                   "Integrator: only \"path\" is supported");
+    int max_depth = p->scene->max_depth, regularize = 0;
+    if (result == 0 && (params_get_int(&params, "maxdepth", &max_depth) < 0 ||
+                        params_get_bool(&params, "regularize", &regularize) < 0))
+        result = -1;
+    if (result == 0)
+        params_ignore(&params, "lightsampler"); /* the renderer picks lights its own way */
+    if (result == 0 && max_depth < 0)
+        result = scene_error(&p->diag, lex->path, d->line, "Integrator: maxdepth must not be negative");
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0) {
+        p->scene->max_depth = max_depth;
+        p->scene->regularize = regularize;
+    }
+    params_free(&params);
+    return result;
+}
+
+static int on_pixel_filter(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the filter type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    if (result == 0 && !token_is(&type, "box"))
+        result = scene_unsupported(&p->diag, lex->path, d->line, "a box filter is used",
+                                   "PixelFilter: only \"box\" is supported");
+    if (result == 0)
+        result = params_check_unused(&params);
+    params_free(&params);
+    return result;
+}
+
+static int on_material(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the material type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 1);
+    char *type_name = result == 0 ? scene_strndup(type.text, type.length) : NULL;
+    if (result == 0 && !type_name)
+        result = out_of_memory(p, lex->path, d->line);
+    SceneMaterial m;
+    if (result == 0)
+        result = parse_material(p, type_name, &params, d->line, &m);
+    if (result == 0) {
+        p->state.material = add_material(p, &m);
+        if (p->state.material < 0)
+            result = out_of_memory(p, lex->path, d->line);
+    }
+    free(type_name);
+    params_free(&params);
+    return result;
+}
+
+static int on_make_named_material(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the material's name", &name, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 1);
+    char *name_copy = result == 0 ? scene_strndup(name.text, name.length) : NULL;
+    if (result == 0 && !name_copy)
+        result = out_of_memory(p, lex->path, d->line);
+    for (size_t i = 0; result == 0 && i < p->named_count; ++i)
+        if (strcmp(p->named[i].name, name_copy) == 0)
+            result = scene_error(&p->diag, lex->path, d->line, "MakeNamedMaterial: \"%s\" is defined twice", name_copy);
+    const char *type = NULL;
+    if (result == 0 && params_get_string(&params, "type", &type) < 0)
+        result = -1;
+    if (result == 0 && !type)
+        result =
+            scene_error(&p->diag, lex->path, d->line, "MakeNamedMaterial \"%s\": missing \"string type\"", name_copy);
+    SceneMaterial m;
+    if (result == 0)
+        result = parse_material(p, type, &params, d->line, &m);
+    int index = result == 0 ? add_material(p, &m) : -1;
+    if (result == 0 &&
+        (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named)))
+        result = out_of_memory(p, lex->path, d->line);
+    if (result == 0) {
+        p->named[p->named_count].name = name_copy;
+        p->named[p->named_count++].material = index;
+        name_copy = NULL;
+    }
+    free(name_copy);
+    params_free(&params);
+    return result;
+}
+
+static int on_named_material(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the material's name", &name))
+        return -1;
+    for (size_t i = 0; i < p->named_count; ++i)
+        if (token_is(&name, p->named[i].name)) {
+            p->state.material = p->named[i].material;
+            return 0;
+        }
+    char shown[64];
+    token_describe(&name, shown, sizeof shown);
+    return scene_error(&p->diag, lex->path, d->line, "NamedMaterial: no material named %s", shown);
+}
+
+static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the area light type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 1);
+    if (result == 0 && !token_is(&type, "diffuse")) {
+        p->state.has_area_light = 0;
+        char shown[64];
+        token_describe(&type, shown, sizeof shown);
+        result = scene_unsupported(&p->diag, lex->path, d->line, "the shapes do not emit",
+                                   "AreaLightSource %s is not supported (only \"diffuse\")", shown);
+        params_free(&params);
+        return result;
+    }
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
+    int two_sided = 0;
+    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0 ||
+                        params_get_bool(&params, "twosided", &two_sided) < 0))
+        result = -1;
+    if (result == 0 && scale < 0.0f)
+        result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: scale must not be negative");
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0) {
+        p->state.has_area_light = 1;
+        for (int k = 0; k < 3; ++k)
+            p->state.area_radiance[k] = L[k] * scale;
+        p->state.area_two_sided = two_sided;
+    }
+    params_free(&params);
+    return result;
+}
+
+static int on_light_source(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the light type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 1);
+    if (result == 0 && !token_is(&type, "infinite")) {
+        char shown[64];
+        token_describe(&type, shown, sizeof shown);
+        result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
+                                   "LightSource %s is not supported (only a constant \"infinite\")", shown);
+        params_free(&params);
+        return result;
+    }
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
+    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0))
+        result = -1;
+    if (result == 0 && scale < 0.0f)
+        result = scene_error(&p->diag, lex->path, d->line, "LightSource: scale must not be negative");
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0) {
+        Scene *s = p->scene;
+        s->has_environment = 1;
+        for (int k = 0; k < 3; ++k)
+            s->environment[k] += L[k] * scale;
+    }
+    params_free(&params);
+    return result;
+}
+
+static int shape_sphere(Parser *p, Lexer *lex, const Token *d, ParamList *params)
+{
+    float radius = 1.0f;
+    if (params_get_float(params, "radius", &radius) < 0 || params_check_unused(params))
+        return -1;
+    if (!(radius > 0.0f))
+        return scene_error(&p->diag, lex->path, d->line, "%s: radius must be positive", params->owner);
+    if (!is_affine(p->state.ctm))
+        return scene_error(&p->diag, lex->path, d->line, "%s: a projective transform is not supported", params->owner);
+    double scale;
+    if (!is_similarity(p->state.ctm, &scale)) {
+        if (scene_unsupported(&p->diag, lex->path, d->line,
+                              "the radius is scaled by the cube root of the volume change",
+                              "%s: a non-uniform scale (or shear) would make an ellipsoid", params->owner))
+            return -1;
+        scale = cbrt(fabs(det3(p->state.ctm)));
+    }
+    Scene *s = p->scene;
+    SceneSphere sphere;
+    const float origin[3] = {0.0f, 0.0f, 0.0f};
+    transform_point(p->state.ctm, origin, sphere.center);
+    sphere.radius = (float)(radius * scale);
+    if (!isfinite(sphere.center[0]) || !isfinite(sphere.center[1]) || !isfinite(sphere.center[2]) ||
+        !(sphere.radius > 0.0f) || !isfinite(sphere.radius))
+        return scene_error(&p->diag, lex->path, d->line, "%s: the transformed sphere is degenerate or not finite",
+                           params->owner);
+    if (scene_reserve((void **)&s->spheres, &p->sphere_capacity, s->sphere_count + 1, sizeof *s->spheres))
+        return out_of_memory(p, lex->path, d->line);
+    sphere.shape = (uint32_t)s->shape_count;
+    s->spheres[s->sphere_count] = sphere;
+    /* pbrt keeps a sphere's outward normal under mirroring transforms. */
+    if (add_shape(p, SCENE_SHAPE_SPHERE, p->state.reverse_orientation, s->sphere_count, 1))
+        return out_of_memory(p, lex->path, d->line);
+    s->sphere_count++;
+    return 0;
+}
+
+static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
+{
+    const Param *P = NULL, *indices = NULL, *N = NULL;
+    if (params_get_array(params, "P", PARAM_POINT3, &P) < 0 ||
+        params_get_array(params, "indices", PARAM_INTEGER, &indices) < 0 ||
+        params_get_array(params, "N", PARAM_NORMAL3, &N) < 0)
+        return -1;
+    params_ignore(params, "uv"); /* no textures */
+    if (params_check_unused(params))
+        return -1;
+    if (!P)
+        return scene_error(&p->diag, lex->path, d->line, "%s: missing \"point3 P\"", params->owner);
+    size_t vertex_count = P->count / 3;
+    if (!indices && vertex_count != 3)
+        return scene_error(&p->diag, lex->path, d->line,
+                           "%s: missing \"integer indices\" (needed unless P holds "
+                           "exactly one triangle)",
+                           params->owner);
+    if (N && N->count != P->count)
+        return params_error(params, N, "%zu normals for %zu vertices", N->count / 3, vertex_count);
+    size_t index_count = indices ? indices->count : 3;
+    float *positions = malloc(3 * vertex_count * sizeof *positions + 1);
+    float *normals = N ? malloc(3 * vertex_count * sizeof *normals + 1) : NULL;
+    uint32_t *index = malloc(index_count * sizeof *index + 1);
+    int result = 0;
+    if (!positions || !index || (N && !normals))
+        result = out_of_memory(p, lex->path, d->line);
+    for (size_t i = 0; result == 0 && i < 3 * vertex_count; ++i) {
+        positions[i] = (float)P->numbers[i];
+        if (normals)
+            normals[i] = (float)N->numbers[i];
+    }
+    for (size_t i = 0; result == 0 && i < index_count; ++i) {
+        double v = indices ? indices->numbers[i] : (double)i;
+        if (v < 0.0)
+            result = params_error(params, indices, "negative vertex index %.0f (number %zu)", v, i);
+        else
+            index[i] = (uint32_t)v;
+    }
+    if (result == 0)
+        result = add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals);
+    free(positions);
+    free(normals);
+    free(index);
+    return result;
+}
+
+/* A path relative to the directory of `from` (a file), unless absolute. */
+static char *path_relative_to(const char *from, const char *name)
+{
+    if (name[0] == '/' || !from)
+        return scene_strndup(name, strlen(name));
+    const char *slash = strrchr(from, '/');
+    size_t dir = slash ? (size_t)(slash - from) + 1 : 0;
+    size_t length = strlen(name);
+    char *path = malloc(dir + length + 1);
+    if (path) {
+        memcpy(path, from, dir);
+        memcpy(path + dir, name, length + 1);
+    }
+    return path;
+}
+
+static int file_exists(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (f)
+        fclose(f);
+    return f != NULL;
+}
+
+/* Resolves a file named in `file`: relative to that file's directory, or
+ * failing that to the main file's (pbrt-v4's own rule). */
+static char *resolve_path(Parser *p, const char *file, const char *name)
+{
+    char *path = path_relative_to(file, name);
+    if (path && !file_exists(path)) {
+        char *fallback = path_relative_to(p->main_path, name);
+        if (fallback && file_exists(fallback)) {
+            free(path);
+            return fallback;
+        }
+        free(fallback);
+    }
+    return path;
+}
+
+static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
+{
+    const char *filename = NULL;
+    if (params_get_string(params, "filename", &filename) < 0 || params_check_unused(params))
+        return -1;
+    if (!filename)
+        return scene_error(&p->diag, lex->path, d->line, "%s: missing \"string filename\"", params->owner);
+    char *path = resolve_path(p, lex->path, filename);
+    if (!path)
+        return out_of_memory(p, lex->path, d->line);
+    PlyMesh mesh;
+    char message[256];
+    int result = ply_read(path, &mesh, message, sizeof message);
+    if (result)
+        result = scene_error(&p->diag, lex->path, d->line, "%s: \"%s\": %s", params->owner, path, message);
+    else
+        result = add_mesh(p, lex->path, d->line, params->owner, mesh.positions, mesh.vertex_count, mesh.indices,
+                          3 * mesh.triangle_count, mesh.normals);
+    ply_mesh_destroy(&mesh);
+    free(path);
+    return result;
+}
+
+static int on_shape(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the shape type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 1);
+    if (result == 0 && !p->skipping_object) {
+        if (token_is(&type, "sphere"))
+            result = shape_sphere(p, lex, d, &params);
+        else if (token_is(&type, "trianglemesh"))
+            result = shape_triangle_mesh(p, lex, d, &params);
+        else if (token_is(&type, "plymesh"))
+            result = shape_ply_mesh(p, lex, d, &params);
+        else
+            result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
+                                       "%s is not supported (sphere, trianglemesh, plymesh)", params.owner);
+    }
+    params_free(&params);
+    return result;
+}
+
+static int on_include(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (expect_string(p, lex, d, "the file name", &name))
+        return -1;
+    char *relative = scene_strndup(name.text, name.length);
+    char *path = relative ? resolve_path(p, lex->path, relative) : NULL;
+    free(relative);
+    if (!path)
+        return out_of_memory(p, lex->path, d->line);
+    int result = parse_file(p, path, lex->path, d->line);
+    free(path);
+    return result;
+}
+
+/* pbrt directives this reader does not implement. With allow_unsupported
+ * they are skipped with their arguments (ObjectBegin/End/Instance have
+ * handlers: they must skip the shapes in between). */
+static const char *const unsupported_directives[] = {
+    "Texture",         "MakeNamedMedium", "MediumInterface", "CoordinateSystem", "CoordSysTransform",
+    "ActiveTransform", "TransformTimes",  "Option",          "ColorSpace",       "Attribute",
+};
+
+static int skip_directive(Parser *p, Lexer *lex, const Token *d)
+{
+    char name[32];
+    directive_name(d, name, sizeof name);
+    if (scene_unsupported(&p->diag, lex->path, d->line, "skipped", "%s is not supported", name))
+        return -1;
+    int bare_words = token_is(d, "ActiveTransform") ? 1 : 0; /* ActiveTransform All|StartTime|EndTime */
+    for (;;) {
+        Token t;
+        double number;
+        if (lexer_peek(lex, &t))
+            return -1;
+        if (t.kind == TOKEN_END)
+            return 0;
+        int is_value =
+            t.kind != TOKEN_WORD || token_number(&t, &number) == 0 || token_is(&t, "true") || token_is(&t, "false");
+        if (!is_value && bare_words-- <= 0)
+            return 0; /* the next directive */
+        lexer_next(lex, &t);
+    }
+}
+
+static const struct {
+    const char *name;
+    Handler handler;
+} directives[] = {
+    {"LookAt", on_look_at},
+    {"Translate", on_translate},
+    {"Scale", on_scale},
+    {"Rotate", on_rotate},
+    {"Transform", on_transform},
+    {"ConcatTransform", on_concat_transform},
+    {"Identity", on_identity},
+    {"ReverseOrientation", on_reverse_orientation},
+    {"AttributeBegin", on_attribute_begin},
+    {"AttributeEnd", on_attribute_end},
+    {"TransformBegin", on_transform_begin},
+    {"TransformEnd", on_transform_end},
+    {"ObjectBegin", on_object_begin},
+    {"ObjectEnd", on_object_end},
+    {"ObjectInstance", on_object_instance},
+    {"WorldBegin", on_world_begin},
+    {"WorldEnd", on_world_end},
+    {"Camera", on_camera},
+    {"Film", on_film},
+    {"Sampler", on_sampler},
+    {"Integrator", on_integrator},
+    {"PixelFilter", on_pixel_filter},
+    {"Material", on_material},
+    {"MakeNamedMaterial", on_make_named_material},
+    {"NamedMaterial", on_named_material},
+    {"AreaLightSource", on_area_light_source},
+    {"LightSource", on_light_source},
+    {"Shape", on_shape},
+    {"Include", on_include},
+    {"Import", on_include},
+};
+
+static int parse_directives(Parser *p, Lexer *lex)
+{
+    for (;;) {
+        Token t;
+        if (lexer_next(lex, &t))
+            return -1;
+        if (t.kind == TOKEN_END)
+            return 0;
+        char shown[64];
+        token_describe(&t, shown, sizeof shown);
+        if (t.kind != TOKEN_WORD)
+            return scene_error(&p->diag, lex->path, t.line, "expected a directive, got %s", shown);
+        Handler handler = NULL;
+        for (size_t i = 0; !handler && i < sizeof directives / sizeof directives[0]; ++i)
+            if (token_is(&t, directives[i].name))
+                handler = directives[i].handler;
+        for (size_t i = 0; !handler && i < sizeof unsupported_directives / sizeof unsupported_directives[0]; ++i)
+            if (token_is(&t, unsupported_directives[i]))
+                handler = skip_directive;
+        if (!handler)
+            return scene_error(&p->diag, lex->path, t.line, "unknown directive %s", shown);
+        if (handler(p, lex, &t))
+            return -1;
+    }
+}
+
+static const char *keep_path(Parser *p, const char *path)
+{
+    char *copy = scene_strndup(path, strlen(path));
+    if (!copy || scene_reserve((void **)&p->paths, &p->path_capacity, p->path_count + 1, sizeof *p->paths)) {
+        free(copy);
+        return NULL;
+    }
+    p->paths[p->path_count++] = copy;
+    return copy;
+}
+
+static int parse_file(Parser *p, const char *path, const char *from_file, int from_line)
+{
+    if (p->include_depth >= MAX_INCLUDE_DEPTH)
+        return scene_error(&p->diag, from_file, from_line, "Include: files nested more than %d deep (a cycle?)",
+                           MAX_INCLUDE_DEPTH);
+    char *data = NULL;
+    size_t size = 0;
+    int err = scene_read_file(path, &data, &size);
+    if (err)
+        return from_file ? scene_error(&p->diag, from_file, from_line, "cannot read \"%s\": %s", path, strerror(err))
+                         : scene_error(&p->diag, path, 0, "cannot read: %s", strerror(err));
+    const char *kept = keep_path(p, path);
+    if (!kept) {
+        free(data);
+        return out_of_memory(p, from_file ? from_file : path, from_line);
+    }
+    if (!p->main_path)
+        p->main_path = kept;
+    Lexer lex;
+    lexer_init(&lex, kept, data, size, &p->diag);
+    p->include_depth++;
+    int result = parse_directives(p, &lex);
+    p->include_depth--;
+    if (result == 0 && p->include_depth == 0) {
+        /* The end of the main file: everything opened must be closed. */
+        if (p->depth > 0)
+            result =
+                scene_error(&p->diag, p->stack[p->depth - 1].file, p->stack[p->depth - 1].line,
+                            "%s without a matching end (end of file reached)", push_name(p->stack[p->depth - 1].kind));
+        else if (!p->in_world)
+            result = scene_error(&p->diag, kept, lex.line, "end of file before WorldBegin (truncated file?)");
+    }
+    lexer_destroy(&lex);
+    return result;
+}
+
+/* Turns the camera transform and film size into the camera's basis. */
+static int finish_camera(Parser *p)
+{
+    Scene *s = p->scene;
+    SceneCamera *camera = &s->camera;
+    mat4 world_from_camera;
+    glm_mat4_inv(p->camera_from_world, world_from_camera);
+    int affine = is_affine(p->camera_from_world);
+    if (affine) { /* exact, where the general inverse may round */
+        world_from_camera[0][3] = world_from_camera[1][3] = world_from_camera[2][3] = 0.0f;
+        world_from_camera[3][3] = 1.0f;
+    }
+    memcpy(camera->world_from_camera, world_from_camera, sizeof camera->world_from_camera);
+    const float origin[3] = {0, 0, 0};
+    transform_point(world_from_camera, origin, camera->position);
+    float *axes[3] = {camera->right, camera->up, camera->forward};
+    for (int a = 0; a < 3; ++a) {
+        vec3 v = {world_from_camera[a][0], world_from_camera[a][1], world_from_camera[a][2]};
+        glm_vec3_normalize(v);
+        memcpy(axes[a], v, sizeof v);
+    }
+    double scale;
+    if (!affine || !is_similarity(world_from_camera, &scale)) {
+        if (scene_warn(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
+                       "Camera: the camera transform is not a rotation with a uniform scale; its axes are "
+                       "normalized"))
+            return -1;
+    }
+    scene_camera_tan_half_fov(camera->fov, s->width, s->height, camera->tan_half_fov);
+    return 0;
+}
+
+int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, char *error, size_t error_size)
+{
+    memset(scene, 0, sizeof *scene);
+    if (error && error_size > 0)
+        error[0] = '\0';
+    Parser p;
+    memset(&p, 0, sizeof p);
+    p.scene = scene;
+    p.diag.error = error;
+    p.diag.error_size = error_size;
+    p.diag.allow_unsupported = options ? options->allow_unsupported : 0;
+    p.diag.scene = scene;
+    p.default_material = -1;
+    p.state.material = -1;
+    glm_mat4_identity(p.state.ctm);
+    glm_mat4_identity(p.camera_from_world);
+
+    /* pbrt-v4's defaults for what the file does not say. */
+    scene->width = 1280;
+    scene->height = 720;
+    scene->spp = 16;
+    scene->max_depth = 5;
+    scene->camera.fov = 90.0f;
+    scene->film_filename = scene_strndup("pbrt.exr", 8);
+    scene->sampler = scene_strndup("zsobol", 6);
+    int result = scene->film_filename && scene->sampler ? 0 : scene_error(&p.diag, path, 0, "out of memory");
+
+    if (result == 0)
+        result = parse_file(&p, path, NULL, 0);
+    if (result == 0)
+        result = finish_camera(&p);
+
+    for (size_t i = 0; i < p.named_count; ++i)
+        free(p.named[i].name);
+    free(p.named);
+    free(p.stack);
+    for (size_t i = 0; i < p.path_count; ++i)
+        free(p.paths[i]);
+    free(p.paths);
+    if (result)
+        scene_destroy(scene);
+    return result;
+}

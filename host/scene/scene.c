@@ -1,0 +1,181 @@
+/* The Scene's lifetime, diagnostics, and the small conversions the renderer
+ * needs (fields of view, roughness to alpha). */
+#include "scene/scene_internal.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void scene_destroy(Scene *scene)
+{
+    free(scene->film_filename);
+    free(scene->sampler);
+    free(scene->materials);
+    free(scene->shapes);
+    free(scene->area_lights);
+    free(scene->positions);
+    free(scene->normals);
+    free(scene->triangles);
+    free(scene->spheres);
+    for (size_t i = 0; i < scene->warning_count; ++i)
+        free(scene->warnings[i]);
+    free(scene->warnings);
+    memset(scene, 0, sizeof *scene);
+}
+
+void scene_camera_tan_half_fov(float fov_degrees, unsigned width, unsigned height, float tan_half[2])
+{
+    double t = tan(0.5 * (double)fov_degrees * 3.14159265358979323846 / 180.0);
+    double aspect = (double)width / (double)height;
+    if (aspect > 1.0) { /* pbrt's screen window is [-aspect, aspect] x [-1, 1] */
+        tan_half[0] = (float)(t * aspect);
+        tan_half[1] = (float)t;
+    } else { /* [-1, 1] x [-1 / aspect, 1 / aspect] */
+        tan_half[0] = (float)t;
+        tan_half[1] = (float)(t / aspect);
+    }
+}
+
+void scene_material_alpha(const SceneMaterial *material, float alpha[2])
+{
+    for (int i = 0; i < 2; ++i) {
+        float r = material->roughness[i];
+        alpha[i] = material->remap_roughness ? sqrtf(r) : r;
+    }
+}
+
+static void format_located(char *out, size_t size, const char *file, int line, const char *prefix, const char *format,
+                           va_list args)
+{
+    int n =
+        line > 0 ? snprintf(out, size, "%s:%d: %s", file, line, prefix) : snprintf(out, size, "%s: %s", file, prefix);
+    if (n >= 0 && (size_t)n < size)
+        vsnprintf(out + n, size - (size_t)n, format, args);
+}
+
+int scene_error(Diagnostics *diag, const char *file, int line, const char *format, ...)
+{
+    if (!diag->error || diag->error_size == 0)
+        return -1;
+    va_list args;
+    va_start(args, format);
+    format_located(diag->error, diag->error_size, file, line, "", format, args);
+    va_end(args);
+    return -1;
+}
+
+static int add_warning(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format,
+                       va_list args)
+{
+    char text[512];
+    format_located(text, sizeof text, file, line, "warning: ", format, args);
+    if (substitute) {
+        size_t n = strlen(text);
+        snprintf(text + n, sizeof text - n, "; %s", substitute);
+    }
+    Scene *scene = diag->scene;
+    char *copy = scene_strndup(text, strlen(text));
+    char **grown = copy ? realloc(scene->warnings, (scene->warning_count + 1) * sizeof *grown) : NULL;
+    if (!grown) {
+        free(copy);
+        return scene_error(diag, file, line, "out of memory");
+    }
+    scene->warnings = grown;
+    scene->warnings[scene->warning_count++] = copy;
+    return 0;
+}
+
+int scene_warn(Diagnostics *diag, const char *file, int line, const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    int result = add_warning(diag, file, line, NULL, format, args);
+    va_end(args);
+    return result;
+}
+
+int scene_unsupported(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    int result = -1;
+    if (diag->allow_unsupported)
+        result = add_warning(diag, file, line, substitute, format, args);
+    else if (diag->error && diag->error_size > 0)
+        format_located(diag->error, diag->error_size, file, line, "", format, args);
+    va_end(args);
+    return result;
+}
+
+int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size)
+{
+    if (needed <= *capacity)
+        return 0;
+    size_t grown = *capacity ? *capacity : 16;
+    while (grown < needed) {
+        if (grown > SIZE_MAX / 2)
+            return -1;
+        grown *= 2;
+    }
+    if (grown > SIZE_MAX / item_size)
+        return -1;
+    void *p = realloc(*array, grown * item_size);
+    if (!p)
+        return -1;
+    *array = p;
+    *capacity = grown;
+    return 0;
+}
+
+char *scene_strndup(const char *text, size_t length)
+{
+    char *copy = malloc(length + 1);
+    if (copy) {
+        memcpy(copy, text, length);
+        copy[length] = '\0';
+    }
+    return copy;
+}
+
+int scene_read_file(const char *path, char **data, size_t *size)
+{
+    *data = NULL;
+    *size = 0;
+    FILE *file = fopen(path, "rb");
+    if (!file)
+        return errno ? errno : ENOENT;
+    size_t capacity = 0, length = 0;
+    char *buffer = NULL;
+    int result = 0;
+    for (;;) {
+        if (length + 1 >= capacity) {
+            size_t grown = capacity ? 2 * capacity : 65536;
+            char *p = grown > capacity ? realloc(buffer, grown) : NULL;
+            if (!p) {
+                result = ENOMEM;
+                break;
+            }
+            buffer = p;
+            capacity = grown;
+        }
+        size_t n = fread(buffer + length, 1, capacity - 1 - length, file);
+        length += n;
+        if (n == 0) {
+            if (ferror(file))
+                result = errno ? errno : EIO;
+            break;
+        }
+    }
+    fclose(file);
+    if (result) {
+        free(buffer);
+        return result;
+    }
+    buffer[length] = '\0';
+    *data = buffer;
+    *size = length;
+    return 0;
+}

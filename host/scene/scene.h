@@ -1,0 +1,135 @@
+/* The scene as read from a pbrt-v4 file (the subset in host/scene/README.md):
+ * camera, film, sampling settings, materials and shapes, flattened into world
+ * space. Plain data owned by the Scene; the renderer converts it to the
+ * device layout (kernels/scene_types.h). */
+#ifndef HOST_SCENE_SCENE_H
+#define HOST_SCENE_SCENE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    /* Downgrade unsupported features to warnings, each with the substitute
+     * the README lists (unknown material: grey diffuse; unknown shape or
+     * light: skipped; lensradius > 0: pinhole; ...). */
+    int allow_unsupported;
+} SceneLoadOptions;
+
+/* A perspective camera. pbrt's camera space is left-handed: +z looks into
+ * the scene, +x is the image's right and +y its top (as viewed). */
+typedef struct {
+    float world_from_camera[4][4]; /* column-major, [column][row] like cglm's mat4 */
+    float position[3];
+    float forward[3]; /* unit, camera +z */
+    float right[3];   /* unit, camera +x: toward the image's right */
+    float up[3];      /* unit, camera +y: toward the image's top */
+    float fov;        /* degrees, across the shorter image axis */
+    /* Tangents of the half fields of view (x, y) for the film's size; a ray
+     * through image point (sx, sy) in [-1, 1]^2 (sy = 1 at the top) has
+     * direction forward + sx * t[0] * right + sy * t[1] * up. */
+    float tan_half_fov[2];
+} SceneCamera;
+
+typedef enum {
+    SCENE_MATERIAL_DIFFUSE,
+    SCENE_MATERIAL_DIELECTRIC,
+    SCENE_MATERIAL_CONDUCTOR,
+    SCENE_MATERIAL_COATED_DIFFUSE,
+} SceneMaterialType;
+
+typedef struct {
+    SceneMaterialType type;
+    float reflectance[3];   /* diffuse and coateddiffuse albedo; conductor when use_reflectance */
+    float eta;              /* dielectric, coateddiffuse coating */
+    float conductor_eta[3]; /* conductor, unless use_reflectance (default: copper) */
+    float conductor_k[3];
+    int use_reflectance; /* conductor given by "reflectance" instead of eta and k */
+    float roughness[2];  /* u, v as written (uroughness/vroughness, else roughness) */
+    int remap_roughness; /* pbrt's remaproughness: see scene_material_alpha */
+} SceneMaterial;
+
+typedef enum {
+    SCENE_SHAPE_TRIANGLES,
+    SCENE_SHAPE_SPHERE,
+} SceneShapeKind;
+
+/* One Shape directive. Its surface's front (where its normal points, and
+ * the side a one-sided emitter lights) is, unless flip_normal:
+ * for triangles cross(v1 - v0, v2 - v0) of the world-space vertices, for a
+ * sphere outward. flip_normal is pbrt's ReverseOrientation, for triangles
+ * XOR a handedness-swapping transform (pbrt's rule). */
+typedef struct {
+    SceneShapeKind kind;
+    int material;   /* index into Scene.materials */
+    int area_light; /* index into Scene.area_lights, or -1 */
+    int flip_normal;
+    size_t first; /* triangles [first, first + count); a sphere: its index, count 1 */
+    size_t count;
+} SceneShape;
+
+typedef struct {
+    uint32_t vertex[3]; /* indices into Scene.positions (and normals) */
+    uint32_t shape;     /* index into Scene.shapes */
+} SceneTriangle;
+
+typedef struct {
+    float center[3];
+    float radius;
+    uint32_t shape;
+} SceneSphere;
+
+/* AreaLightSource "diffuse" on one shape: radiance = L * scale. */
+typedef struct {
+    float radiance[3];
+    int two_sided;
+    int shape; /* index into Scene.shapes */
+} SceneAreaLight;
+
+typedef struct {
+    SceneCamera camera;
+    unsigned width, height; /* Film xresolution, yresolution */
+    char *film_filename;
+    char *sampler;  /* the Sampler's name as written; the renderer samples independently */
+    unsigned spp;   /* Sampler pixelsamples */
+    int max_depth;  /* Integrator maxdepth */
+    int regularize; /* Integrator "regularize": recorded, not applied */
+
+    SceneMaterial *materials;
+    size_t material_count;
+    SceneShape *shapes;
+    size_t shape_count;
+    SceneAreaLight *area_lights;
+    size_t area_light_count;
+
+    float *positions; /* world space, 3 floats per vertex */
+    float *normals;   /* NULL, or 3 per vertex: world space, unit; zero where a mesh has none */
+    size_t vertex_count;
+    SceneTriangle *triangles;
+    size_t triangle_count;
+    SceneSphere *spheres;
+    size_t sphere_count;
+
+    int has_environment;
+    float environment[3]; /* LightSource "infinite": constant radiance, L * scale, summed */
+
+    char **warnings; /* "file:line: ..." lines, for the renderer to print */
+    size_t warning_count;
+} Scene;
+
+/* Reads `path` (and the files it includes) into *scene. Returns 0, or -1 with
+ * a one-line "file:line: ..." message in `error` and *scene empty. options may
+ * be NULL (everything unsupported is an error). */
+int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, char *error, size_t error_size);
+
+/* Frees everything the scene owns and empties it; safe on an empty scene. */
+void scene_destroy(Scene *scene);
+
+/* pbrt's rule: fov spans the shorter image axis. Writes the tangents of the
+ * half fields of view along x and y for a width x height image. */
+void scene_camera_tan_half_fov(float fov_degrees, unsigned width, unsigned height, float tan_half[2]);
+
+/* The GGX (Trowbridge-Reitz) alpha along u and v as pbrt-v4 derives it:
+ * sqrt(roughness) when remap_roughness, else roughness itself. */
+void scene_material_alpha(const SceneMaterial *material, float alpha[2]);
+
+#endif

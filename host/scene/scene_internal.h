@@ -1,0 +1,49 @@
+/* Shared by the scene reader's files: diagnostics and growing the Scene's
+ * arrays. Not part of the public API. */
+#ifndef HOST_SCENE_SCENE_INTERNAL_H
+#define HOST_SCENE_SCENE_INTERNAL_H
+
+#include "scene/scene.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+
+#if defined(__GNUC__)
+#define SCENE_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#define SCENE_PRINTF(fmt, args)
+#endif
+
+/* Where messages go: the error buffer, and the scene's warning list. */
+typedef struct {
+    char *error;
+    size_t error_size;
+    int allow_unsupported;
+    Scene *scene;
+} Diagnostics;
+
+/* Writes "file:line: message" (or "file: message" when line <= 0) to the
+ * error buffer. Returns -1, for `return scene_error(...)`. */
+int scene_error(Diagnostics *diag, const char *file, int line, const char *format, ...) SCENE_PRINTF(4, 5);
+
+/* Appends "file:line: warning: message" to the scene's warnings. Returns 0,
+ * or -1 (with an error) when out of memory. */
+int scene_warn(Diagnostics *diag, const char *file, int line, const char *format, ...) SCENE_PRINTF(4, 5);
+
+/* An unsupported feature: an error, or with allow_unsupported a warning
+ * that ends "; <substitute>" (what is used instead). Returns -1 or 0. */
+int scene_unsupported(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format, ...)
+    SCENE_PRINTF(5, 6);
+
+/* Grows *array (of item_size-byte items, *capacity of them) to hold `needed`.
+ * Returns 0, or -1 when out of memory or the size overflows. */
+int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size);
+
+/* Reads the whole of `path` into *data (NUL-terminated, *size bytes before
+ * the NUL). Returns 0, or an errno value. */
+int scene_read_file(const char *path, char **data, size_t *size);
+
+/* A copy of text[0, length) with a terminating NUL, or NULL. */
+char *scene_strndup(const char *text, size_t length);
+
+#endif

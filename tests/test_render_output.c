@@ -1,0 +1,210 @@
+/* The renderer end to end on the repository's scenes: the furnace scene's
+ * analytic value; the EXR holds every layer and its estimators equal the
+ * host reference applied to the set sums read back from the same file, bit
+ * for bit; the image depends only on the seed and the samples, not on how
+ * passes batch them; sample ranges add up exactly. */
+#include "cl/cl_device.h"
+#include "estimator/estimator.h"
+#include "estimator_core.h"
+#include "io/exr_image.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "test_device.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+static ClDevice device;
+
+static int setup(void **state)
+{
+    (void)state;
+    return test_device_open(&device) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    cl_device_close(&device);
+    return 0;
+}
+
+static void load(const char *name, unsigned size, RenderScene *scene)
+{
+    char path[1024], error[1024];
+    snprintf(path, sizeof path, "%s/scenes/%s", GMON_SOURCE_DIR, name);
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, size, size, 1, scene, &summary, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+}
+
+static void render(const RenderScene *scene, RenderSettings *settings, RenderOutput *out)
+{
+    char error[1024];
+    if (renderer_run(&device, scene, settings, out, error, sizeof error))
+        fail_msg("%s", error);
+}
+
+static void test_furnace_scene_matches_analytic_value(void **state)
+{
+    (void)state;
+    RenderScene scene;
+    load("furnace.pbrt", 0, &scene);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 64;
+    RenderOutput out;
+    render(&scene, &settings, &out);
+    /* Emission 1, albedo 0.5, maxdepth 5: 1 + 0.5 + ... + 0.5^5. */
+    const double expected = 1.96875;
+    size_t pixels = (size_t)out.width * out.height;
+    double sum = 0.0, sum2 = 0.0;
+    for (size_t i = 0; i < pixels * 3; ++i) {
+        sum += out.mean[i];
+        sum2 += (double)out.mean[i] * out.mean[i];
+    }
+    double mean = sum / (double)(pixels * 3);
+    double standard_error = sqrt((sum2 / (double)(pixels * 3) - mean * mean) / (double)pixels);
+    printf("  furnace.pbrt: mean %.5f, analytic %.5f, standard error %.5f (tolerance: 5 standard errors)\n", mean,
+           expected, standard_error);
+    assert_true(fabs(mean - expected) <= 5.0 * standard_error);
+    render_output_free(&out);
+    render_scene_destroy(&scene);
+}
+
+static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
+{
+    (void)state;
+    RenderScene scene;
+    load("cornell-glass.pbrt", 24, &scene);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.estimator.set_count = 5;
+    settings.outputs = ESTIMATOR_OUTPUT_ALL;
+    settings.sample_count = 23;
+    settings.seed = 3;
+    RenderOutput out;
+    render(&scene, &settings, &out);
+
+    char path[256], error[1024];
+    snprintf(path, sizeof path, "%s/test_render_output.exr", GMON_BINARY_DIR);
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = (int)out.width;
+    image.height = (int)out.height;
+    image.mean = out.mean;
+    image.mon = out.mon;
+    image.gmon = out.gmon;
+    image.gini = out.gini;
+    image.trim = out.trim;
+    image.nonfinite = out.rejected;
+    image.accumulators = out.accumulators;
+    image.metadata.set_count = out.set_count;
+    image.metadata.sample_count = out.sample_count;
+    image.metadata.seed = settings.seed;
+    assert_int_equal(exr_image_write(path, &image, error, sizeof error), IMAGE_IO_OK);
+
+    ExrImage back;
+    if (exr_image_read(path, &back, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("%s", error);
+    assert_non_null(back.mean);
+    assert_non_null(back.mon);
+    assert_non_null(back.gmon);
+    assert_non_null(back.gini);
+    assert_non_null(back.trim);
+    assert_non_null(back.nonfinite);
+    assert_non_null(back.accumulators);
+    assert_int_equal(back.metadata.set_count, 5);
+    assert_int_equal(back.metadata.sample_count, 23);
+
+    size_t pixels = (size_t)back.width * back.height, values = pixels * 3;
+    float *mean = malloc(values * 4), *mon = malloc(values * 4), *gmon = malloc(values * 4),
+          *gini = malloc(values * 4);
+    int32_t *trim = malloc(values * 4);
+    EstimatorImages images = {mean, mon, gmon, gini, trim, values};
+    EstimatorSettings host = {back.metadata.set_count, GINI_PER_CHANNEL};
+    assert_int_equal(estimator_from_accumulators(&host, back.accumulators, (size_t)5 * 3 * 2 * pixels, pixels,
+                                                 back.metadata.sample_count, &images, error, sizeof error),
+                     ESTIMATOR_OK);
+    assert_memory_equal(mean, back.mean, values * 4);
+    assert_memory_equal(mon, back.mon, values * 4);
+    assert_memory_equal(gmon, back.gmon, values * 4);
+    assert_memory_equal(gini, back.gini, values * 4);
+    assert_memory_equal(trim, back.trim, values * 4);
+    /* A render with light in it: the image is not black. */
+    double total = 0.0;
+    for (size_t i = 0; i < values; ++i)
+        total += mean[i];
+    assert_true(total > 0.0);
+    free(mean);
+    free(mon);
+    free(gmon);
+    free(gini);
+    free(trim);
+    exr_image_free(&back);
+    remove(path);
+    render_output_free(&out);
+    render_scene_destroy(&scene);
+}
+
+static void test_image_independent_of_pass_batching_and_ranges(void **state)
+{
+    (void)state;
+    RenderScene scene;
+    load("cornell-glass.pbrt", 16, &scene);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 24;
+    settings.seed = 11;
+    RenderOutput one_per_pass, big_passes, first_half, second_half;
+    settings.seconds_per_pass = 1e-9; /* every pass one sample per pixel */
+    render(&scene, &settings, &one_per_pass);
+    settings.seconds_per_pass = 1e9; /* one sample, then everything left */
+    render(&scene, &settings, &big_passes);
+    size_t words = (size_t)settings.estimator.set_count * 3 * 2 * one_per_pass.width * one_per_pass.height;
+    assert_memory_equal(one_per_pass.accumulators, big_passes.accumulators, words * 8);
+    assert_memory_equal(one_per_pass.gmon, big_passes.gmon, (size_t)one_per_pass.width * one_per_pass.height * 12);
+
+    /* Samples [0, 10) and [10, 24) rendered apart add up to [0, 24). */
+    settings.sample_count = 10;
+    render(&scene, &settings, &first_half);
+    settings.first_sample = 10;
+    settings.sample_count = 14;
+    render(&scene, &settings, &second_half);
+    const size_t pixels = (size_t)one_per_pass.width * one_per_pass.height;
+    for (size_t i = 0; i < words; ++i) {
+        /* Planes [set][channel][word][pixel]: a low-word plane is followed
+         * by its high-word plane. */
+        if ((i / pixels) % 2)
+            continue;
+        FixedSum a = {first_half.accumulators[i], first_half.accumulators[i + pixels]};
+        FixedSum b = {second_half.accumulators[i], second_half.accumulators[i + pixels]};
+        FixedSum sum = fixed_add(a, b);
+        assert_int_equal(sum.lo, one_per_pass.accumulators[i]);
+        assert_int_equal(sum.hi, one_per_pass.accumulators[i + pixels]);
+    }
+    render_output_free(&one_per_pass);
+    render_output_free(&big_passes);
+    render_output_free(&first_half);
+    render_output_free(&second_half);
+    render_scene_destroy(&scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_furnace_scene_matches_analytic_value),
+        cmocka_unit_test(test_exr_estimates_equal_host_reference_on_its_sums),
+        cmocka_unit_test(test_image_independent_of_pass_batching_and_ranges),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}

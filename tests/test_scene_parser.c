@@ -1,0 +1,1051 @@
+/* The pbrt-v4 scene reader: every directive and parameter type, transform
+ * math against hand-computed values, ASCII and binary PLY, Include/Import
+ * paths, and bad inputs, each of which must fail with a "file:line:"
+ * message (never a crash: this test runs under ASan and UBSan). */
+#define _POSIX_C_SOURCE 200809L
+
+#include "scene/scene.h"
+
+#include <errno.h>
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#ifndef GMON_SOURCE_DIR
+#define GMON_SOURCE_DIR "."
+#endif
+
+/* ------------------------------------------------------------ fixtures */
+
+static char temp_dir[64];
+static char *created[512]; /* files and directories to remove, in creation order */
+static int created_count;
+
+static const char *temp_path(const char *relative)
+{
+    static char path[4][512];
+    static int next;
+    char *out = path[next++ % 4];
+    snprintf(out, sizeof path[0], "%s/%s", temp_dir, relative);
+    return out;
+}
+
+static void remember(const char *path)
+{
+    for (int i = 0; i < created_count; ++i)
+        if (strcmp(created[i], path) == 0)
+            return;
+    assert_true(created_count < (int)(sizeof created / sizeof created[0]));
+    created[created_count] = malloc(strlen(path) + 1);
+    strcpy(created[created_count++], path);
+}
+
+/* Writes temp_dir/relative, creating its directories. Returns the path. */
+static const char *write_bytes(const char *relative, const void *data, size_t size)
+{
+    char dir[512];
+    for (const char *slash = strchr(relative, '/'); slash; slash = strchr(slash + 1, '/')) {
+        snprintf(dir, sizeof dir, "%s/%.*s", temp_dir, (int)(slash - relative), relative);
+        if (mkdir(dir, 0700) == 0)
+            remember(dir);
+    }
+    const char *path = temp_path(relative);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    fclose(f);
+    remember(path);
+    return path;
+}
+
+static const char *write_text(const char *relative, const char *text)
+{
+    return write_bytes(relative, text, strlen(text));
+}
+
+static int setup(void **state)
+{
+    (void)state;
+    strcpy(temp_dir, "/tmp/gmon-scene-XXXXXX");
+    return mkdtemp(temp_dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    for (int i = created_count - 1; i >= 0; --i) {
+        remove(created[i]);
+        free(created[i]);
+    }
+    created_count = 0;
+    return rmdir(temp_dir);
+}
+
+static char error[1024];
+
+/* Writes `text` to temp_dir/name and loads it; returns scene_load's result. */
+static int load_text(const char *name, const char *text, Scene *scene, int allow_unsupported)
+{
+    SceneLoadOptions options = {.allow_unsupported = allow_unsupported};
+    error[0] = '\0';
+    return scene_load(write_text(name, text), &options, scene, error, sizeof error);
+}
+
+/* Loads text that must succeed without warnings. */
+static void load_ok(const char *text, Scene *scene)
+{
+    if (load_text("ok.pbrt", text, scene, 0) != 0)
+        fail_msg("unexpected error: %s", error);
+    for (size_t i = 0; i < scene->warning_count; ++i)
+        print_message("warning: %s\n", scene->warnings[i]);
+    assert_int_equal(scene->warning_count, 0);
+}
+
+/* Loads text that must fail with "<file>:<line>:" and `needle` in the message. */
+static void load_fails(const char *text, int line, const char *needle)
+{
+    Scene scene;
+    char name[64], location[600];
+    static int counter;
+    snprintf(name, sizeof name, "bad%d.pbrt", counter++);
+    int result = load_text(name, text, &scene, 0);
+    if (result == 0)
+        fail_msg("%s loaded, expected an error with \"%s\"", name, needle);
+    snprintf(location, sizeof location, "%s:%d: ", temp_path(name), line);
+    if (strncmp(error, location, strlen(location)) != 0 || !strstr(error, needle))
+        fail_msg("error \"%s\"; expected it to start with \"%s\" and contain \"%s\"", error, location, needle);
+    assert_int_equal(scene.shape_count, 0); /* emptied on failure */
+    assert_null(scene.triangles);
+    scene_destroy(&scene);
+}
+
+static int has_warning(const Scene *scene, const char *needle)
+{
+    for (size_t i = 0; i < scene->warning_count; ++i)
+        if (strstr(scene->warnings[i], needle))
+            return 1;
+    return 0;
+}
+
+#define assert_near(actual, expected, tolerance)                                                                       \
+    do {                                                                                                               \
+        double a_ = (actual), e_ = (expected);                                                                         \
+        if (!(fabs(a_ - e_) <= (tolerance)))                                                                           \
+            fail_msg("%s = %.9g, expected %.9g", #actual, a_, e_);                                                     \
+    } while (0)
+
+static void assert_vec3(const float *v, double x, double y, double z)
+{
+    assert_near(v[0], x, 1e-5);
+    assert_near(v[1], y, 1e-5);
+    assert_near(v[2], z, 1e-5);
+}
+
+static const float *vertex(const Scene *s, size_t triangle, int corner)
+{
+    return s->positions + 3 * s->triangles[triangle].vertex[corner];
+}
+
+#define WORLD "WorldBegin\n"
+#define TRIANGLE "Shape \"trianglemesh\" \"point3 P\" [ 1 0 0  0 1 0  0 0 1 ] \"integer indices\" [ 0 1 2 ]\n"
+
+/* --------------------------------------------------- camera and options */
+
+static void test_defaults(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD, &s);
+    assert_int_equal(s.width, 1280);
+    assert_int_equal(s.height, 720);
+    assert_string_equal(s.film_filename, "pbrt.exr");
+    assert_string_equal(s.sampler, "zsobol");
+    assert_int_equal(s.spp, 16);
+    assert_int_equal(s.max_depth, 5);
+    assert_int_equal(s.regularize, 0);
+    assert_near(s.camera.fov, 90, 0);
+    assert_vec3(s.camera.position, 0, 0, 0);
+    assert_vec3(s.camera.forward, 0, 0, 1);
+    assert_vec3(s.camera.right, 1, 0, 0);
+    assert_vec3(s.camera.up, 0, 1, 0);
+    assert_near(s.camera.tan_half_fov[1], 1.0, 1e-6); /* 90 degrees across the shorter (vertical) axis */
+    assert_near(s.camera.tan_half_fov[0], 1280.0 / 720.0, 1e-6);
+    assert_int_equal(s.shape_count, 0);
+    assert_int_equal(s.has_environment, 0);
+    scene_destroy(&s);
+}
+
+/* pbrt's LookAt is left-handed: right = up x forward. Looking down -z with
+ * +y up, the image's right is world -x (the Cornell box's red wall at
+ * x = +1 appears on the left). */
+static void test_look_at_basis(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("LookAt 0 1 3.9   0 1 0   0 1 0\nCamera \"perspective\" \"float fov\" [ 36 ]\n" WORLD, &s);
+    assert_vec3(s.camera.position, 0, 1, 3.9);
+    assert_vec3(s.camera.forward, 0, 0, -1);
+    assert_vec3(s.camera.right, -1, 0, 0);
+    assert_vec3(s.camera.up, 0, 1, 0);
+    assert_near(s.camera.fov, 36, 1e-6);
+    /* world_from_camera maps camera-space points: (1, 0, 0) is one unit to the right. */
+    float(*m)[4] = s.camera.world_from_camera;
+    assert_near(m[0][0] + m[3][0], -1, 1e-6);
+    assert_near(m[0][1] + m[3][1], 1, 1e-6);
+    assert_near(m[0][2] + m[3][2], 3.9, 1e-6);
+    scene_destroy(&s);
+
+    /* A general view: an orthonormal basis with pbrt's left-handed rule
+     * up x forward = right. */
+    load_ok("LookAt 1 2 3  4 -2 5  0 0 1\nCamera \"perspective\"\n" WORLD, &s);
+    const float *f = s.camera.forward, *r = s.camera.right, *u = s.camera.up;
+    double len = sqrt(9.0 + 16.0 + 4.0);
+    assert_vec3(f, 3 / len, -4 / len, 2 / len);
+    assert_vec3(r, u[1] * f[2] - u[2] * f[1], u[2] * f[0] - u[0] * f[2], u[0] * f[1] - u[1] * f[0]);
+    assert_near(r[0] * f[0] + r[1] * f[1] + r[2] * f[2], 0, 1e-6);
+    assert_true(u[2] > 0); /* the up hint is +z */
+    scene_destroy(&s);
+}
+
+static void test_fov_spans_shorter_axis(void **state)
+{
+    (void)state;
+    Scene s;
+    double t30 = tan(30.0 * 3.14159265358979323846 / 180.0);
+    load_ok("Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100\n"
+            "Camera \"perspective\" \"float fov\" 60\n" WORLD,
+            &s);
+    assert_near(s.camera.tan_half_fov[0], 2 * t30, 1e-6);
+    assert_near(s.camera.tan_half_fov[1], t30, 1e-6);
+    scene_destroy(&s);
+    load_ok("Film \"rgb\" \"integer xresolution\" 100 \"integer yresolution\" 200\n"
+            "Camera \"perspective\" \"float fov\" 60\n" WORLD,
+            &s);
+    assert_near(s.camera.tan_half_fov[0], t30, 1e-6);
+    assert_near(s.camera.tan_half_fov[1], 2 * t30, 1e-6);
+    scene_destroy(&s);
+    float t[2];
+    scene_camera_tan_half_fov(90, 64, 64, t);
+    assert_near(t[0], 1, 1e-6);
+    assert_near(t[1], 1, 1e-6);
+}
+
+static void test_camera_transforms(void **state)
+{
+    (void)state;
+    Scene s;
+    /* The CTM at Camera is camera-from-world: Translate 0 0 5 puts the
+     * world 5 units ahead, so the camera sits at z = -5. */
+    load_ok("Translate 0 0 5\nCamera \"perspective\"\n" WORLD, &s);
+    assert_vec3(s.camera.position, 0, 0, -5);
+    assert_vec3(s.camera.forward, 0, 0, 1);
+    scene_destroy(&s);
+    /* Scale -1 1 1 before LookAt mirrors the image, as in pbrt. */
+    load_ok("Scale -1 1 1\nLookAt 0 1 3.9   0 1 0   0 1 0\nCamera \"perspective\"\n" WORLD, &s);
+    assert_vec3(s.camera.right, 1, 0, 0);
+    assert_vec3(s.camera.forward, 0, 0, -1);
+    assert_vec3(s.camera.position, 0, 1, 3.9);
+    scene_destroy(&s);
+    /* A non-uniform scale in the camera transform is a warning. */
+    assert_int_equal(load_text("cam.pbrt", "Scale 1 2 1\nCamera \"perspective\"\n" WORLD, &s, 0), 0);
+    assert_true(has_warning(&s, "camera transform"));
+    scene_destroy(&s);
+}
+
+static void test_lens_radius(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("Camera \"perspective\" \"float lensradius\" 0 \"float focaldistance\" 3\n" WORLD, &s);
+    scene_destroy(&s);
+    load_fails("\nCamera \"perspective\" \"float lensradius\" 0.1\n" WORLD, 2, "lensradius");
+    assert_int_equal(load_text("lens.pbrt", "Camera \"perspective\" \"float lensradius\" 0.1\n" WORLD, &s, 1), 0);
+    assert_true(has_warning(&s, "pinhole"));
+    assert_true(strncmp(s.warnings[0], temp_path("lens.pbrt"), strlen(temp_path("lens.pbrt"))) == 0);
+    scene_destroy(&s);
+}
+
+static void test_film_sampler_integrator_filter(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("Film \"rgb\" \"integer xresolution\" [ 64 ] \"integer yresolution\" [ 32 ] \"string filename\" \"o.exr\"\n"
+            "Sampler \"halton\" \"integer pixelsamples\" 8 \"integer seed\" 3\n"
+            "Integrator \"path\" \"integer maxdepth\" [ 7 ] \"bool regularize\" true \"string lightsampler\" \"bvh\"\n"
+            "PixelFilter \"box\"\n" WORLD,
+            &s);
+    assert_int_equal(s.width, 64);
+    assert_int_equal(s.height, 32);
+    assert_string_equal(s.film_filename, "o.exr");
+    assert_string_equal(s.sampler, "halton");
+    assert_int_equal(s.spp, 8);
+    assert_int_equal(s.max_depth, 7);
+    assert_int_equal(s.regularize, 1);
+    scene_destroy(&s);
+    load_fails("Film \"rgb\" \"integer xresolution\" 0\n" WORLD, 1, "resolution");
+    load_fails("Sampler \"independent\" \"integer pixelsamples\" 0\n" WORLD, 1, "pixelsamples");
+    load_fails("PixelFilter \"gaussian\"\n" WORLD, 1, "box");
+    load_fails("Integrator \"bdpt\"\n" WORLD, 1, "path");
+    load_fails("Camera \"orthographic\"\n" WORLD, 1, "perspective");
+    load_fails(WORLD "Camera \"perspective\"\n", 2, "before WorldBegin");
+    assert_int_equal(
+        load_text("opt.pbrt", "Integrator \"volpath\"\nPixelFilter \"gaussian\"\nFilm \"gbuffer\"\n" WORLD, &s, 1), 0);
+    assert_int_equal(s.warning_count, 3);
+    scene_destroy(&s);
+}
+
+/* ----------------------------------------------------------- transforms */
+
+static void test_translate_then_scale(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "Translate 1 2 3\nScale 2 2 2\n" TRIANGLE, &s);
+    assert_int_equal(s.triangle_count, 1);
+    assert_int_equal(s.vertex_count, 3);
+    /* x_world = T * S * x: scale first, then translate. */
+    assert_vec3(vertex(&s, 0, 0), 3, 2, 3);
+    assert_vec3(vertex(&s, 0, 1), 1, 4, 3);
+    assert_vec3(vertex(&s, 0, 2), 1, 2, 5);
+    scene_destroy(&s);
+}
+
+static void test_rotate(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "Rotate 90 0 0 1\n" TRIANGLE, &s);
+    assert_vec3(vertex(&s, 0, 0), 0, 1, 0);
+    assert_vec3(vertex(&s, 0, 1), -1, 0, 0);
+    assert_vec3(vertex(&s, 0, 2), 0, 0, 1);
+    scene_destroy(&s);
+    load_ok(WORLD "Rotate 90 0 2 0\n" TRIANGLE, &s); /* the axis is normalized */
+    assert_vec3(vertex(&s, 0, 0), 0, 0, -1);
+    assert_vec3(vertex(&s, 0, 2), 1, 0, 0);
+    scene_destroy(&s);
+}
+
+static void test_transform_concat_identity(void **state)
+{
+    (void)state;
+    Scene s;
+    /* The matrix is listed column by column: the translation comes last. */
+    load_ok(WORLD "Transform [ 1 0 0 0  0 1 0 0  0 0 1 0  5 6 7 1 ]\n" TRIANGLE
+                  "ConcatTransform 2 0 0 0  0 2 0 0  0 0 2 0  0 0 0 1\n" TRIANGLE "Identity\n" TRIANGLE
+                  "Translate 9 9 9\nTransform [ 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1 ]\n" TRIANGLE,
+            &s);
+    assert_int_equal(s.triangle_count, 4);
+    assert_vec3(vertex(&s, 0, 0), 6, 6, 7);
+    assert_vec3(vertex(&s, 1, 0), 7, 6, 7);
+    assert_vec3(vertex(&s, 1, 1), 5, 8, 7);
+    assert_vec3(vertex(&s, 2, 0), 1, 0, 0);
+    assert_vec3(vertex(&s, 3, 0), 1, 0, 0); /* Transform replaces the CTM */
+    scene_destroy(&s);
+}
+
+static void test_attribute_and_transform_blocks(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "AttributeBegin\n  Translate 1 0 0\n  Material \"dielectric\"\n" TRIANGLE "AttributeEnd\n" TRIANGLE
+                  "TransformBegin\n  Translate 0 5 0\n  Material \"conductor\"\n" TRIANGLE "TransformEnd\n" TRIANGLE,
+            &s);
+    assert_int_equal(s.shape_count, 4);
+    assert_vec3(vertex(&s, 0, 0), 2, 0, 0);
+    assert_int_equal(s.materials[s.shapes[0].material].type, SCENE_MATERIAL_DIELECTRIC);
+    assert_vec3(vertex(&s, 1, 0), 1, 0, 0); /* restored transform and material */
+    assert_int_equal(s.materials[s.shapes[1].material].type, SCENE_MATERIAL_DIFFUSE);
+    assert_near(s.materials[s.shapes[1].material].reflectance[0], 0.5, 0);
+    assert_vec3(vertex(&s, 2, 0), 1, 5, 0);
+    assert_vec3(vertex(&s, 3, 0), 1, 0, 0); /* TransformEnd restores only the transform */
+    assert_int_equal(s.materials[s.shapes[3].material].type, SCENE_MATERIAL_CONDUCTOR);
+    scene_destroy(&s);
+    load_fails(WORLD "AttributeBegin\nTransformEnd\n", 3, "AttributeBegin");
+    load_fails(WORLD "AttributeEnd\n", 2, "without a matching");
+    load_fails(WORLD "\nAttributeBegin\n" TRIANGLE, 3, "without a matching end");
+    load_fails("AttributeBegin\nWorldBegin\nAttributeEnd\n", 2, "inside the AttributeBegin");
+}
+
+/* ------------------------------------------------------------ materials */
+
+static const SceneMaterial *material_of_shape(const Scene *s, size_t shape)
+{
+    return &s->materials[s->shapes[shape].material];
+}
+
+static void test_materials(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(
+        WORLD
+        "Material \"diffuse\" \"rgb reflectance\" [ 0.1 0.2 0.3 ]\n" TRIANGLE
+        "Material \"dielectric\" \"float eta\" 1.33 \"float roughness\" 0.25 \"bool remaproughness\" false\n" TRIANGLE
+        "Material \"dielectric\" \"float uroughness\" 0.04 \"float vroughness\" 0.09\n" TRIANGLE
+        "Material \"conductor\" \"rgb eta\" [ 0.2 0.9 1.1 ] \"rgb k\" [ 3.9 2.4 2.1 ] \"float roughness\" "
+        "0.1\n" TRIANGLE "Material \"conductor\" \"rgb reflectance\" [ 0.9 0.8 0.5 ]\n" TRIANGLE
+        "Material \"conductor\"\n" TRIANGLE
+        "Material \"coateddiffuse\" \"rgb reflectance\" [ 0.4 0.5 0.6 ] \"float roughness\" 0 "
+        "\"float eta\" 1.6 \"float thickness\" 0.02\n" TRIANGLE,
+        &s);
+    assert_int_equal(s.shape_count, 7);
+    const SceneMaterial *m = material_of_shape(&s, 0);
+    assert_int_equal(m->type, SCENE_MATERIAL_DIFFUSE);
+    assert_vec3(m->reflectance, 0.1, 0.2, 0.3);
+
+    float alpha[2];
+    m = material_of_shape(&s, 1);
+    assert_int_equal(m->type, SCENE_MATERIAL_DIELECTRIC);
+    assert_near(m->eta, 1.33, 1e-6);
+    assert_near(m->roughness[0], 0.25, 1e-7);
+    assert_near(m->roughness[1], 0.25, 1e-7);
+    assert_int_equal(m->remap_roughness, 0);
+    scene_material_alpha(m, alpha);
+    assert_near(alpha[0], 0.25, 1e-7);
+
+    m = material_of_shape(&s, 2);
+    assert_near(m->eta, 1.5, 0); /* pbrt's default */
+    assert_int_equal(m->remap_roughness, 1);
+    scene_material_alpha(m, alpha);
+    assert_near(alpha[0], 0.2, 1e-6); /* sqrt(0.04) */
+    assert_near(alpha[1], 0.3, 1e-6);
+
+    m = material_of_shape(&s, 3);
+    assert_int_equal(m->type, SCENE_MATERIAL_CONDUCTOR);
+    assert_int_equal(m->use_reflectance, 0);
+    assert_vec3(m->conductor_eta, 0.2, 0.9, 1.1);
+    assert_vec3(m->conductor_k, 3.9, 2.4, 2.1);
+    assert_near(m->roughness[0], 0.1, 1e-7);
+
+    m = material_of_shape(&s, 4);
+    assert_int_equal(m->use_reflectance, 1);
+    assert_vec3(m->reflectance, 0.9, 0.8, 0.5);
+
+    m = material_of_shape(&s, 5); /* pbrt's default conductor: copper */
+    assert_int_equal(m->use_reflectance, 0);
+    assert_true(m->conductor_k[0] > m->conductor_k[2] && m->conductor_eta[0] < m->conductor_eta[2]);
+
+    m = material_of_shape(&s, 6);
+    assert_int_equal(m->type, SCENE_MATERIAL_COATED_DIFFUSE);
+    assert_vec3(m->reflectance, 0.4, 0.5, 0.6);
+    assert_near(m->eta, 1.6, 1e-6);
+    scene_destroy(&s);
+
+    load_fails(WORLD "Material \"conductor\" \"rgb reflectance\" [ 1 1 1 ] \"rgb k\" [ 1 1 1 ]\n", 2, "either");
+    load_fails(WORLD "Material \"diffuse\" \"rgb reflectance\" [ 1.5 0 0 ]\n", 2, "above 1");
+    load_fails(WORLD "Material \"dielectric\" \"float eta\" -1\n", 2, "eta");
+    load_fails(WORLD "Material \"dielectric\" \"spectrum eta\" \"glass-BK7\"\n", 2, "spectrum");
+    load_fails(WORLD "Material \"diffuse\" \"texture reflectance\" \"checks\"\n", 2, "texture");
+    load_fails(WORLD "Material \"mix\"\n", 2, "Material \"mix\" is not supported");
+    load_fails("Material \"diffuse\"\n" WORLD, 1, "after WorldBegin");
+}
+
+static void test_named_materials(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "MakeNamedMaterial \"red\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.6 0.1 0.1 ]\n"
+                  "MakeNamedMaterial \"glass\" \"string type\" [ \"dielectric\" ]\n"
+                  "NamedMaterial \"red\"\n" TRIANGLE "NamedMaterial \"glass\"\n" TRIANGLE,
+            &s);
+    assert_vec3(material_of_shape(&s, 0)->reflectance, 0.6, 0.1, 0.1);
+    assert_int_equal(material_of_shape(&s, 1)->type, SCENE_MATERIAL_DIELECTRIC);
+    scene_destroy(&s);
+    load_fails(WORLD "NamedMaterial \"nothing\"\n", 2, "no material named \"nothing\"");
+    load_fails(WORLD "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
+                     "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n",
+               3, "defined twice");
+    load_fails(WORLD "MakeNamedMaterial \"a\" \"rgb reflectance\" [ 1 1 1 ]\n", 2, "string type");
+}
+
+/* --------------------------------------------------------------- lights */
+
+static void test_area_lights_and_orientation(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD
+            "AttributeBegin\n"
+            "  AreaLightSource \"diffuse\" \"rgb L\" [ 1 2 3 ] \"float scale\" 2 \"bool twosided\" \"true\"\n" TRIANGLE
+            "AttributeEnd\n"
+            "AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [ 4 4 4 ]\n  ReverseOrientation\n" TRIANGLE
+            "AttributeEnd\n" TRIANGLE                   /* 2: no light, not reversed */
+            "AttributeBegin\n  Scale -1 1 1\n" TRIANGLE /* 3: a mirror flips a mesh's normal back (pbrt) */
+            "  Shape \"sphere\"\n"                      /* 4: spheres stay outward under mirrors */
+            "  ReverseOrientation\n" TRIANGLE           /* 5: both: not flipped */
+            "AttributeEnd\n"
+            "AttributeBegin\n  ReverseOrientation\n  Shape \"sphere\"\nAttributeEnd\n", /* 6 */
+            &s);
+    assert_int_equal(s.shape_count, 7);
+    assert_int_equal(s.area_light_count, 2);
+    const SceneAreaLight *light = &s.area_lights[s.shapes[0].area_light];
+    assert_vec3(light->radiance, 2, 4, 6);
+    assert_int_equal(light->two_sided, 1);
+    assert_int_equal(light->shape, 0);
+    assert_int_equal(s.shapes[0].flip_normal, 0);
+    light = &s.area_lights[s.shapes[1].area_light];
+    assert_vec3(light->radiance, 4, 4, 4);
+    assert_int_equal(light->two_sided, 0);
+    assert_int_equal(light->shape, 1);
+    assert_int_equal(s.shapes[1].flip_normal, 1);
+    assert_int_equal(s.shapes[2].area_light, -1);
+    assert_int_equal(s.shapes[2].flip_normal, 0);
+    assert_int_equal(s.shapes[3].flip_normal, 1);
+    assert_int_equal(s.shapes[4].kind, SCENE_SHAPE_SPHERE);
+    assert_int_equal(s.shapes[4].flip_normal, 0);
+    assert_int_equal(s.shapes[5].flip_normal, 0);
+    assert_int_equal(s.shapes[6].flip_normal, 1);
+    scene_destroy(&s);
+    load_fails(WORLD "AreaLightSource \"diffuse\" \"blackbody L\" [ 6500 ]\n", 2, "blackbody");
+    load_fails(WORLD "AreaLightSource \"diffuse\" \"rgb L\" [ 1 -1 1 ]\n", 2, "negative");
+    load_fails(WORLD "AreaLightSource \"diffuse\" \"float power\" 10\n", 2, "float power");
+    load_fails(WORLD "AreaLightSource \"projector\"\n", 2, "projector");
+}
+
+static void test_infinite_light(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "LightSource \"infinite\" \"rgb L\" [ 0.5 0.25 1 ] \"float scale\" [ 2 ]\n", &s);
+    assert_int_equal(s.has_environment, 1);
+    assert_vec3(s.environment, 1, 0.5, 2);
+    scene_destroy(&s);
+    load_ok(WORLD "LightSource \"infinite\"\n", &s); /* pbrt's default: L = 1 */
+    assert_vec3(s.environment, 1, 1, 1);
+    scene_destroy(&s);
+    load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n", 2, "filename");
+    load_fails(WORLD "LightSource \"infinite\" \"spectrum L\" [ 300 1 800 1 ]\n", 2, "spectrum L");
+    load_fails(WORLD "LightSource \"point\"\n", 2, "LightSource \"point\" is not supported");
+}
+
+/* --------------------------------------------------------------- shapes */
+
+static void test_spheres(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD
+            "Shape \"sphere\"\n"
+            "AttributeBegin\n  Translate 1 2 3\n  Scale 2 2 2\n  Shape \"sphere\" \"float radius\" 0.5\nAttributeEnd\n"
+            "AttributeBegin\n  Rotate 30 1 1 0\n  Scale -3 -3 -3\n  Shape \"sphere\" \"float radius\" [ 2 ]\n"
+            "AttributeEnd\n",
+            &s);
+    assert_int_equal(s.sphere_count, 3);
+    assert_vec3(s.spheres[0].center, 0, 0, 0);
+    assert_near(s.spheres[0].radius, 1, 0);
+    assert_vec3(s.spheres[1].center, 1, 2, 3);
+    assert_near(s.spheres[1].radius, 1, 1e-6);
+    assert_near(s.spheres[2].radius, 6, 1e-5);
+    for (uint32_t i = 0; i < 3; ++i) {
+        assert_int_equal(s.spheres[i].shape, i);
+        assert_int_equal(s.shapes[i].kind, SCENE_SHAPE_SPHERE);
+        assert_int_equal(s.shapes[i].first, i);
+        assert_int_equal(s.shapes[i].count, 1);
+    }
+    scene_destroy(&s);
+    load_fails(WORLD "Scale 1 2 1\nShape \"sphere\"\n", 3, "non-uniform");
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" 0\n", 2, "radius");
+    load_fails(WORLD "Shape \"sphere\" \"float zmax\" 0.5\n", 2, "unsupported parameter \"float zmax\"");
+    assert_int_equal(load_text("ellipsoid.pbrt", WORLD "Scale 1 2 1\nShape \"sphere\"\n", &s, 1), 0);
+    assert_true(has_warning(&s, "non-uniform"));
+    assert_near(s.spheres[0].radius, cbrt(2.0), 1e-6);
+    scene_destroy(&s);
+}
+
+static void test_trianglemesh_normals_and_uv(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "AttributeBegin\n  Scale 2 1 1\n"
+                  "  Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ]\n" /* indices optional for 3 */
+                  "    \"normal N\" [ 1 1 0  0 0 1  0 0 2 ] \"point2 uv\" [ 0 0 1 0 0 1 ]\n"
+                  "AttributeEnd\n" TRIANGLE "ReverseOrientation\n"
+                  "Shape \"trianglemesh\" \"point P\" [ 0 0 0  1 0 0  0 1 0 ] \"normal3 N\" [ 0 0 1 0 0 1 0 0 1 ]\n",
+            &s);
+    assert_int_equal(s.shape_count, 3);
+    assert_non_null(s.normals);
+    /* The inverse transpose of diag(2, 1, 1) turns (1, 1, 0) into (0.5, 1, 0). */
+    double n = sqrt(1.25);
+    assert_vec3(s.normals + 0, 0.5 / n, 1 / n, 0);
+    assert_vec3(s.normals + 3, 0, 0, 1);
+    assert_vec3(s.normals + 6, 0, 0, 1);   /* normalized */
+    assert_vec3(s.normals + 9, 0, 0, 0);   /* the second mesh has none */
+    assert_vec3(s.normals + 18, 0, 0, -1); /* ReverseOrientation flips normals, as pbrt-v4 does */
+    assert_vec3(vertex(&s, 0, 1), 2, 0, 0);
+    scene_destroy(&s);
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"normal N\" [ 0 0 1 ]\n", 2,
+               "normals for 3 vertices");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 1 1 1 ]\n", 2, "indices");
+    load_fails(WORLD "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ]\n", 2, "point3 P");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ ]\n", 2,
+               "no triangles");
+    load_fails(WORLD "Shape \"disk\"\n", 2, "Shape \"disk\" is not supported");
+}
+
+static void test_bad_mesh_data(void **state)
+{
+    (void)state;
+    load_fails(WORLD "Shape \"trianglemesh\"\n  \"point3 P\" [ 0 0 0  1 0 0  nan 1 0 ] \"integer indices\" [ 0 1 2 ]\n",
+               3, "finite number");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  inf 1 0 ] \"integer indices\" [ 0 1 2 ]\n", 2,
+               "finite number");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  1e39 1 0 ] \"integer indices\" [ 0 1 2 ]\n",
+               2, "too large");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 3 ]\n", 2,
+               "out of range");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 -1 ]\n", 2,
+               "negative");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1 2 0 ]\n", 2,
+               "not a multiple of 3");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0 ] \"integer indices\" [ 0 1.5 2 ]\n", 2,
+               "integer");
+    load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 ] \"integer indices\" [ 0 1 2 ]\n", 2,
+               "multiple of 3");
+}
+
+static void test_degenerate_triangles_are_skipped(void **state)
+{
+    (void)state;
+    Scene s;
+    const char *text =
+        WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0  2 0 0 ]\n"
+              "  \"integer indices\" [ 0 1 2   0 0 1   0 1 3   2 1 0 ]\n" /* repeated, collinear */
+              "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  1 1 1  2 2 2 ] \"integer indices\" [ 0 1 2 ]\n"
+              "Scale 1 0 0\n" TRIANGLE; /* flattened to a line */
+    assert_int_equal(load_text("degenerate.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.triangle_count, 2);
+    assert_int_equal(s.shape_count, 1); /* shapes with nothing left are dropped */
+    assert_int_equal(s.shapes[0].count, 2);
+    assert_int_equal(s.warning_count, 3);
+    char location[600];
+    snprintf(location, sizeof location, "%s:2: warning: ", temp_path("degenerate.pbrt"));
+    assert_true(strncmp(s.warnings[0], location, strlen(location)) == 0);
+    assert_non_null(strstr(s.warnings[0], "skipped 2 degenerate (zero-area) triangles of 4"));
+    assert_non_null(strstr(s.warnings[1], "skipped 1 degenerate (zero-area) triangle of 1"));
+    assert_vec3(vertex(&s, 1, 0), 0, 1, 0); /* the kept "2 1 0" */
+    scene_destroy(&s);
+}
+
+/* ---------------------------------------------------- parameter syntax */
+
+static void test_parameter_syntax(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("# a comment line\n"
+            "Film \"rgb\" \"integer xresolution\" 10 # trailing comment\n"
+            "  \"integer yresolution\" [ 20 ] \"string filename\" \"a \\\"quoted\\\" name.exr\"\n"
+            "Camera \"perspective\" \"float fov\" [45]\n" WORLD
+            "AreaLightSource \"diffuse\" \"color L\" [1 1 1] \"bool twosided\" [ true ]\n"
+            "Shape \"sphere\" \"float radius\" 2\n"
+            "AreaLightSource \"diffuse\" \"bool twosided\" \"false\"\n"
+            "Shape \"sphere\" \"float radius\" 1e-1\n"
+            "Shape\"sphere\"\"float radius\"[3]\n", /* no spaces needed around strings and brackets */
+            &s);
+    assert_int_equal(s.width, 10);
+    assert_int_equal(s.height, 20);
+    assert_string_equal(s.film_filename, "a \"quoted\" name.exr");
+    assert_near(s.camera.fov, 45, 0);
+    assert_int_equal(s.area_lights[0].two_sided, 1);
+    assert_int_equal(s.area_lights[1].two_sided, 0);
+    assert_near(s.spheres[0].radius, 2, 0);
+    assert_near(s.spheres[1].radius, 0.1, 1e-7);
+    assert_near(s.spheres[2].radius, 3, 0);
+    scene_destroy(&s);
+}
+
+static void test_wrong_parameters(void **state)
+{
+    (void)state;
+    load_fails("Camera \"perspective\" \"float fov\" [ \"x\" ]\n" WORLD, 1,
+               "\"float fov\": expected a finite number, got \"x\"");
+    load_fails(WORLD "\nAreaLightSource \"diffuse\" \"rgb L\" [ 1 1 ]\n", 3, "\"rgb L\": expected a multiple of 3");
+    load_fails("Camera \"perspective\" \"integer fov\" 45\n" WORLD, 1, "wrong type, expected \"float fov\"");
+    load_fails("Camera \"perspective\" \"float fov\" [ 45 50 ]\n" WORLD, 1, "expected 1 value, got 2");
+    load_fails("Camera \"perspective\" \"floot fov\" 45\n" WORLD, 1, "unknown parameter type \"floot\"");
+    load_fails("Camera \"perspective\" \"fov\" 45\n" WORLD, 1, "malformed parameter");
+    load_fails("Camera \"perspective\" \"float fov\" 45 \"float fov\" 50\n" WORLD, 1, "given twice");
+    load_fails(WORLD "AreaLightSource \"diffuse\" \"bool twosided\" 1\n", 2, "true or false");
+    load_fails("Film \"rgb\" \"string filename\" out.exr\n" WORLD, 1, "quoted string");
+    load_fails("Camera \"perspective\" \"float fov\" 190\n" WORLD, 1, "fov");
+    load_fails("Camera \"perspective\" \"float screenwindow\" [ -1 1 -1 1 ]\n" WORLD, 1, "screenwindow");
+    load_fails(WORLD "LightSource \"infinite\" \"spectrum L\" \"stdillum-D65\"\n", 2, "spectrum");
+    load_fails("Camera perspective\n" WORLD, 1, "quoted string");
+    load_fails("LookAt 0 0 0  0 0 1  0 0 1\n" WORLD, 1, "parallel");
+    load_fails("LookAt 0 0 0  0 0 0  0 1 0\n" WORLD, 1, "same");
+    load_fails("Translate 1 2\n" WORLD, 2, "expected 3 numbers");
+    load_fails("Rotate 10 0 0 0\n" WORLD, 1, "axis");
+    load_fails("Transform [ 1 0 0 0 ]\n" WORLD, 1, "expected 16 numbers");
+    load_fails("Transform [ 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 1 ]\n" WORLD, 1, "expected ']'");
+}
+
+static void test_truncated_and_malformed_files(void **state)
+{
+    (void)state;
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1", 2, "unterminated '['");
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1\nShape \"sphere\"\n", 2, "unterminated '['");
+    load_fails("Film \"rgb\" \"string filename\" \"abc\n" WORLD, 1, "unterminated string");
+    load_fails("Film \"rgb\" \"string filename\" \"abc", 1, "unterminated string");
+    load_fails(WORLD "Shape", 2, "expected the shape type as a quoted string, got end of file");
+    load_fails(WORLD "Shape \"sphere\" \"float radius\"", 2, "expected a value or '[', got end of file");
+    load_fails("LookAt 0 0 0  0 0 1", 1, "expected 9 numbers, got end of file");
+    load_fails("Camera \"perspective\"\n\n", 3, "end of file before WorldBegin");
+    load_fails("WorldBegin\nWorldBegin\n", 2, "twice");
+    load_fails(WORLD "Frobnicate 1 2\n", 2, "unknown directive 'Frobnicate'");
+    load_fails(WORLD "\"sphere\"\n", 2, "expected a directive");
+    load_fails(WORLD "]\n", 2, "expected a directive");
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" [ [ 1 ] ]\n", 2, "inside a list");
+    load_fails("Film \"rgb\" \"string filename\" \"bad \\q escape\"\n" WORLD, 1, "escape");
+    load_fails(WORLD "Texture \"t\" \"spectrum\" \"checkerboard\"\n", 2, "Texture is not supported");
+    load_fails(WORLD "ObjectBegin \"o\"\n", 2, "instancing");
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1 ] ]\n", 2, "expected a directive, got ']'");
+}
+
+static void test_allow_unsupported_substitutes(void **state)
+{
+    (void)state;
+    Scene s;
+    const char *text =
+        "Camera \"perspective\" \"float lensradius\" 0.5\n" WORLD
+        "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
+        "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
+        "Shape \"disk\" \"float radius\" 1\n"                                        /* skipped */
+        "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n"                                /* skipped */
+        "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
+        "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
+        "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
+        "MediumInterface \"\" \"fog\"\nActiveTransform All\nTransformTimes 0 1\n";
+    assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
+    assert_int_equal(s.shape_count, 4);
+    assert_int_equal(s.triangle_count, 3);
+    assert_int_equal(s.sphere_count, 1);
+    assert_int_equal(s.area_light_count, 0);
+    assert_int_equal(s.has_environment, 0);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_vec3(material_of_shape(&s, 0)->reflectance, 0.5, 0.5, 0.5);
+    assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
+    assert_true(has_warning(&s, "pinhole"));
+    assert_true(has_warning(&s, "Texture is not supported; skipped"));
+    assert_true(has_warning(&s, "Material \"hair\" is not supported"));
+    assert_true(has_warning(&s, "Shape \"disk\" is not supported"));
+    assert_true(has_warning(&s, "LightSource \"point\""));
+    assert_true(has_warning(&s, "goniometric"));
+    assert_true(has_warning(&s, "ObjectInstance"));
+    assert_true(has_warning(&s, "phimax"));
+    assert_true(has_warning(&s, "ActiveTransform"));
+    for (size_t i = 0; i < s.warning_count; ++i)
+        assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
+    scene_destroy(&s);
+}
+
+/* ------------------------------------------------------------------ PLY */
+
+static void test_ply_ascii(void **state)
+{
+    (void)state;
+    write_text("mesh/ascii.ply", "ply\r\n"
+                                 "format ascii 1.0\n"
+                                 "comment made by hand, with words like element and property\n"
+                                 "element vertex 5\n"
+                                 "property float x\nproperty float y\nproperty double z\n"
+                                 "property float nx\nproperty float ny\nproperty float nz\n"
+                                 "property float u\n"
+                                 "element face 2\n"
+                                 "property list uchar int vertex_indices\n"
+                                 "property int flags\n"
+                                 "element edge 1\n"
+                                 "property int vertex1\nproperty int vertex2\n"
+                                 "end_header\n"
+                                 "0 0 0  0 0 1  0.5\n1 0 0 0 0 1 0\n1 1 0 0 0 1 0\n0 1 0 0 0 1 0\n2 2 2 0 0 1 0\n"
+                                 "4 0 1 2 3  7\n"
+                                 "3 4 0 1  0\n"
+                                 "0 1\n");
+    Scene s;
+    load_ok(WORLD "Translate 0 0 1\nShape \"plymesh\" \"string filename\" \"mesh/ascii.ply\"\n", &s);
+    assert_int_equal(s.vertex_count, 5);
+    assert_int_equal(s.triangle_count, 3); /* the quad is two triangles */
+    assert_vec3(vertex(&s, 0, 0), 0, 0, 1);
+    assert_vec3(vertex(&s, 0, 1), 1, 0, 1);
+    assert_vec3(vertex(&s, 0, 2), 1, 1, 1);
+    assert_vec3(vertex(&s, 1, 0), 0, 0, 1);
+    assert_vec3(vertex(&s, 1, 1), 1, 1, 1);
+    assert_vec3(vertex(&s, 1, 2), 0, 1, 1);
+    assert_vec3(vertex(&s, 2, 0), 2, 2, 3);
+    assert_non_null(s.normals);
+    assert_vec3(s.normals + 3 * 4, 0, 0, 1);
+    scene_destroy(&s);
+}
+
+static size_t put(unsigned char *out, const void *value, size_t size, int big_endian)
+{
+    const unsigned char *bytes = value;
+    uint16_t one = 1;
+    int host_little = *(const unsigned char *)&one == 1;
+    for (size_t i = 0; i < size; ++i)
+        out[i] = (big_endian == host_little) ? bytes[size - 1 - i] : bytes[i];
+    return size;
+}
+
+/* A binary PLY: a unit quad (as one quad face) plus a triangle, positions
+ * as float or double, indices as a `list_type` list of `index_type`. */
+static size_t binary_ply(unsigned char *out, int big_endian, int doubles, const char *count_type,
+                         const char *index_type, float poison)
+{
+    int n = sprintf((char *)out,
+                    "ply\nformat %s 1.0\nelement vertex 5\nproperty %s x\nproperty %s y\nproperty %s z\n"
+                    "property uchar red\nelement face 2\nproperty list %s %s vertex_indices\nend_header\n",
+                    big_endian ? "binary_big_endian" : "binary_little_endian", doubles ? "double" : "float",
+                    doubles ? "double" : "float", doubles ? "double" : "float", count_type, index_type);
+    size_t size = (size_t)n;
+    const float p[5][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, poison}};
+    for (int v = 0; v < 5; ++v) {
+        for (int k = 0; k < 3; ++k) {
+            if (doubles) {
+                double d = p[v][k];
+                size += put(out + size, &d, 8, big_endian);
+            } else {
+                size += put(out + size, &p[v][k], 4, big_endian);
+            }
+        }
+        out[size++] = 200; /* red */
+    }
+    const int faces[2][5] = {{4, 0, 1, 2, 3}, {3, 4, 0, 1, 0}};
+    for (int f = 0; f < 2; ++f)
+        for (int k = 0; k <= faces[f][0]; ++k) {
+            const char *type = k == 0 ? count_type : index_type;
+            uint32_t value = (uint32_t)faces[f][k];
+            if (strcmp(type, "uchar") == 0) {
+                out[size++] = (unsigned char)value;
+            } else if (strcmp(type, "ushort") == 0) {
+                uint16_t v16 = (uint16_t)value;
+                size += put(out + size, &v16, 2, big_endian);
+            } else {
+                size += put(out + size, &value, 4, big_endian);
+            }
+        }
+    return size;
+}
+
+static void test_ply_binary(void **state)
+{
+    (void)state;
+    static const struct {
+        int big_endian, doubles;
+        const char *count_type, *index_type;
+    } cases[] = {
+        {0, 0, "uchar", "int"}, {0, 1, "uchar", "uint"},  {1, 0, "uchar", "int"},
+        {1, 1, "int", "uint"},  {0, 0, "uint", "ushort"}, {1, 0, "uchar", "uchar"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        unsigned char data[1024];
+        size_t size =
+            binary_ply(data, cases[c].big_endian, cases[c].doubles, cases[c].count_type, cases[c].index_type, 5.0f);
+        write_bytes("binary.ply", data, size);
+        Scene s;
+        load_ok(WORLD "Scale 2 2 2\nShape \"plymesh\" \"string filename\" [ \"binary.ply\" ]\n", &s);
+        assert_int_equal(s.vertex_count, 5);
+        assert_int_equal(s.triangle_count, 3);
+        assert_null(s.normals);
+        assert_vec3(vertex(&s, 0, 2), 2, 2, 0);
+        assert_vec3(vertex(&s, 1, 2), 0, 2, 0);
+        assert_vec3(vertex(&s, 2, 0), 0, 0, 10);
+        scene_destroy(&s);
+
+        /* Every truncation is an error, never a crash. */
+        for (size_t cut = 0; cut < size; cut += 1 + cut / 64) {
+            write_bytes("binary.ply", data, cut);
+            assert_int_equal(
+                load_text("cut.pbrt", WORLD "Shape \"plymesh\" \"string filename\" \"binary.ply\"\n", &s, 0), -1);
+            assert_non_null(strstr(error, "cut.pbrt:2: "));
+        }
+    }
+}
+
+static void test_ply_errors(void **state)
+{
+    (void)state;
+    unsigned char data[1024];
+    size_t size = binary_ply(data, 0, 0, "uchar", "int", NAN);
+    write_bytes("nan.ply", data, size);
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"nan.ply\"\n", 2, "vertex 4 has a non-finite position");
+    load_fails(WORLD "\nShape \"plymesh\" \"string filename\" \"missing.ply\"\n", 3, "missing.ply");
+
+    static const struct {
+        const char *text, *needle;
+    } bad[] = {
+        {"hello\n", "not a PLY file"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty flt x\nend_header\n", "header line 4"},
+        {"ply\nformat ascii 2.0\nend_header\n", "header line 2"},
+        {"ply\nformat ascii 1.0\nproperty float x\nend_header\n", "property before any element"},
+        {"ply\nformat ascii 1.0\nelement vertex -3\nend_header\n", "bad element"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "without end_header"},
+        {"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nelement face 0\n"
+         "property list uchar int vertex_indices\nend_header\n0 0\n",
+         "lacks x, y or z"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar float vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n",
+         "integer list"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n5 0 1 2 0 1\n",
+         "only triangles and quads"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1 7\n",
+         "out of range"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 x 0 1 0\n3 0 1 2\n",
+         "malformed number"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1\n",
+         "unexpected end of file"},
+        {"ply\nformat ascii 1.0\nelement vertex 99999999\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n",
+         "more than the file holds"},
+        {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "end_header\n0 0 0 1 0 0 0 1 0\n",
+         "no face element"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        write_text("bad.ply", bad[i].text);
+        load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n", 2, bad[i].needle);
+    }
+}
+
+/* ------------------------------------------------------ Include, Import */
+
+static void test_include_and_import(void **state)
+{
+    (void)state;
+    Scene s;
+    /* tests/data/scenes: main.pbrt includes sub/camera.pbrt, imports
+     * sub/geometry.pbrt, which includes part.pbrt and reads quad.ply, both
+     * beside it in sub/. */
+    SceneLoadOptions options = {0};
+    int result = scene_load(GMON_SOURCE_DIR "/tests/data/scenes/main.pbrt", &options, &s, error, sizeof error);
+    if (result)
+        fail_msg("%s", error);
+    assert_int_equal(s.warning_count, 0);
+    assert_vec3(s.camera.position, 0, 0, -5);
+    assert_int_equal(s.spp, 4);
+    assert_int_equal(s.triangle_count, 3);   /* part.pbrt's triangle and quad.ply's two */
+    assert_vec3(vertex(&s, 0, 0), 11, 0, 0); /* the including file's Translate applies */
+    assert_int_equal(s.materials[s.shapes[1].material].type, SCENE_MATERIAL_DIELECTRIC);
+    scene_destroy(&s);
+    load_fails(WORLD "\nInclude \"inc/none.pbrt\"\n", 3, "none.pbrt");
+}
+
+/* An error inside an included file names that file and its line. */
+static void test_error_in_included_file(void **state)
+{
+    (void)state;
+    Scene s;
+    char location[600];
+    write_text("inc2/child.pbrt", "# child\n\nShape \"sphere\" \"float radius\" -1\n");
+    assert_int_equal(load_text("top.pbrt", WORLD "Include \"inc2/child.pbrt\"\n", &s, 0), -1);
+    snprintf(location, sizeof location, "%s:3: ", temp_path("inc2/child.pbrt"));
+    if (strncmp(error, location, strlen(location)) != 0)
+        fail_msg("error \"%s\" does not start with \"%s\"", error, location);
+
+    write_text("cycle.pbrt", "\nInclude \"cycle.pbrt\"\n");
+    assert_int_equal(load_text("top.pbrt", WORLD "Include \"cycle.pbrt\"\n", &s, 0), -1);
+    snprintf(location, sizeof location, "%s:2: ", temp_path("cycle.pbrt"));
+    if (strncmp(error, location, strlen(location)) != 0 || !strstr(error, "nested"))
+        fail_msg("error \"%s\" does not start with \"%s\"", error, location);
+}
+
+/* ----------------------------------------------------- robustness, repo */
+
+/* Every prefix of a valid scene loads or fails with file:line, never crashes. */
+static void test_every_truncation_fails_cleanly(void **state)
+{
+    (void)state;
+    const char *text = "LookAt 0 1 3.9   0 1 0   0 1 0\nCamera \"perspective\" \"float fov\" [ 36 ]\n"
+                       "Film \"rgb\" \"string filename\" [ \"a.exr\" ]\n" WORLD
+                       "MakeNamedMaterial \"white\" \"string type\" \"diffuse\" \"rgb reflectance\" [ 0.7 0.7 0.7 ]\n"
+                       "AttributeBegin\n  NamedMaterial \"white\"\n  AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n"
+                       "  Translate 1 0 0\n  " TRIANGLE "AttributeEnd\n";
+    size_t length = strlen(text);
+    char *prefix = malloc(length + 1);
+    char location[600];
+    snprintf(location, sizeof location, "%s:", temp_path("prefix.pbrt"));
+    for (size_t n = 0; n <= length; ++n) {
+        memcpy(prefix, text, n);
+        prefix[n] = '\0';
+        Scene s;
+        if (load_text("prefix.pbrt", prefix, &s, 0) == 0) {
+            scene_destroy(&s);
+            continue;
+        }
+        if (strncmp(error, location, strlen(location)) != 0)
+            fail_msg("prefix %zu: error \"%s\" lacks \"%s\"", n, error, location);
+        const char *line = error + strlen(location);
+        assert_true(*line >= '1' && *line <= '9');
+    }
+    free(prefix);
+}
+
+static void test_repository_scenes(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"cornell-diffuse", "cornell-glass", "narrow-gap", "furnace"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/scenes/%s.pbrt", GMON_SOURCE_DIR, names[i]);
+        Scene s;
+        if (scene_load(path, NULL, &s, error, sizeof error))
+            fail_msg("%s", error);
+        assert_int_equal(s.warning_count, 0);
+        assert_true(s.shape_count > 0);
+        assert_true(s.area_light_count > 0);
+        if (strncmp(names[i], "cornell", 7) == 0) {
+            assert_vec3(s.camera.right, -1, 0, 0); /* the red wall (x = +1) on the image's left */
+            assert_int_equal(s.width, 256);
+        }
+        scene_destroy(&s);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_look_at_basis),
+        cmocka_unit_test(test_fov_spans_shorter_axis),
+        cmocka_unit_test(test_camera_transforms),
+        cmocka_unit_test(test_lens_radius),
+        cmocka_unit_test(test_film_sampler_integrator_filter),
+        cmocka_unit_test(test_translate_then_scale),
+        cmocka_unit_test(test_rotate),
+        cmocka_unit_test(test_transform_concat_identity),
+        cmocka_unit_test(test_attribute_and_transform_blocks),
+        cmocka_unit_test(test_materials),
+        cmocka_unit_test(test_named_materials),
+        cmocka_unit_test(test_area_lights_and_orientation),
+        cmocka_unit_test(test_infinite_light),
+        cmocka_unit_test(test_spheres),
+        cmocka_unit_test(test_trianglemesh_normals_and_uv),
+        cmocka_unit_test(test_bad_mesh_data),
+        cmocka_unit_test(test_degenerate_triangles_are_skipped),
+        cmocka_unit_test(test_parameter_syntax),
+        cmocka_unit_test(test_wrong_parameters),
+        cmocka_unit_test(test_truncated_and_malformed_files),
+        cmocka_unit_test(test_allow_unsupported_substitutes),
+        cmocka_unit_test(test_ply_ascii),
+        cmocka_unit_test(test_ply_binary),
+        cmocka_unit_test(test_ply_errors),
+        cmocka_unit_test(test_include_and_import),
+        cmocka_unit_test(test_error_in_included_file),
+        cmocka_unit_test(test_every_truncation_fails_cleanly),
+        cmocka_unit_test(test_repository_scenes),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
