@@ -95,9 +95,10 @@ KERNEL_FN int intersect_sphere(const Ray *ray, const GLOBAL Primitive *p, float 
     return 0;
 }
 
-/* Slab test against a node's box with the ray's reciprocal direction. */
+/* Slab test against a node's box with the ray's reciprocal direction:
+ * returns 1 and the entry distance if the ray meets the box before t_max. */
 KERNEL_FN int intersect_box(const GLOBAL BvhNode *node, const float *origin, const float *inverse_direction,
-                            float t_max)
+                            float t_max, float *t_entry)
 {
     float near_t = 0.0f, far_t = t_max;
     for (int i = 0; i < 3; ++i) {
@@ -108,6 +109,7 @@ KERNEL_FN int intersect_box(const GLOBAL BvhNode *node, const float *origin, con
         near_t = lo > near_t ? lo : near_t;
         far_t = hi < far_t ? hi : far_t;
     }
+    *t_entry = near_t;
     return near_t <= far_t;
 }
 
@@ -125,7 +127,9 @@ KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, flo
 }
 
 /* Nearest hit in (t_min, t_max). With any_hit, returns at the first hit
- * (shadow rays). Returns 1 if something was hit. */
+ * (shadow rays). Returns 1 if something was hit. Children are tested from
+ * their parent; the nearer one is visited first and the other is pushed
+ * only if the ray meets it. */
 KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive *primitives, const Ray *ray,
                             float t_min, float t_max, int any_hit, Hit *hit)
 {
@@ -139,27 +143,31 @@ KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive 
     int stack[BVH_STACK_SIZE];
     int top = 0;
     int node_index = 0;
+    float entry = 0.0f;
+    if (!intersect_box(nodes, ray->origin, inverse_direction, t_max, &entry))
+        return 0;
     for (;;) {
         const GLOBAL BvhNode *node = nodes + node_index;
-        if (intersect_box(node, ray->origin, inverse_direction, hit->t)) {
-            if (node->count >= 0) { /* a leaf; 0 only in an empty scene */
-                for (int i = node->first; i < node->first + node->count; ++i)
-                    if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
-                        hit->primitive = i;
-                        if (any_hit)
-                            return 1;
-                    }
-            } else {
-                /* Visit the nearer child first: the right one when the ray
-                 * runs backwards along the split axis. */
-                int axis = -node->count - 1;
-                int near_child = node_index + 1, far_child = node->first;
-                if (ray->direction[axis] < 0.0f) {
-                    near_child = node->first;
-                    far_child = node_index + 1;
+        if (node->count >= 0) { /* a leaf; 0 only in an empty scene */
+            for (int i = node->first; i < node->first + node->count; ++i)
+                if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
+                    hit->primitive = i;
+                    if (any_hit)
+                        return 1;
                 }
-                stack[top++] = far_child; /* the builder bounds the depth */
+        } else {
+            int left = node_index + 1, right = node->first;
+            float left_entry = 0.0f, right_entry = 0.0f;
+            int hit_left = intersect_box(nodes + left, ray->origin, inverse_direction, hit->t, &left_entry);
+            int hit_right = intersect_box(nodes + right, ray->origin, inverse_direction, hit->t, &right_entry);
+            if (hit_left && hit_right) {
+                int near_child = left_entry <= right_entry ? left : right;
+                stack[top++] = near_child == left ? right : left; /* the builder bounds the depth */
                 node_index = near_child;
+                continue;
+            }
+            if (hit_left || hit_right) {
+                node_index = hit_left ? left : right;
                 continue;
             }
         }
