@@ -223,7 +223,7 @@ static int render(const Options *o)
     render_output_free(&out);
     cl_device_close(&device);
     render_scene_destroy(&scene);
-    return status;
+    return status == 0 && interrupted ? 130 : status;
 }
 
 /* Recomputes the estimators of an EXR written with --write-sets. */

@@ -62,7 +62,8 @@ static const char help_text[] =
     "                       (also: environment variable GMON_KERNEL_DIR)\n"
     "  --help               this text\n"
     "\n"
-    "Exit status: 0 success, 1 render or I/O failure, 2 bad command line.\n";
+    "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
+    "by Ctrl-C (after writing the image of the samples done).\n";
 
 const char *options_help(void)
 {
