@@ -199,12 +199,72 @@ static void test_image_independent_of_pass_batching_and_ranges(void **state)
     render_scene_destroy(&scene);
 }
 
+/* The image mean of one channel and its Monte Carlo standard error. Each
+ * pixel's variance is estimated from the spread of its M set means (the
+ * sets are independent), so image structure does not count as noise. */
+static void image_mean(const RenderOutput *out, int channel, double *mean, double *standard_error)
+{
+    size_t pixels = (size_t)out->width * out->height;
+    int m = out->set_count;
+    double sum = 0.0, variance = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+        double set_means[EST_MAX_SETS], average = 0.0, spread = 0.0;
+        for (int j = 0; j < m; ++j) {
+            FixedSum s = {out->accumulators[accumulator_index((uint32_t)j, (uint32_t)channel, 0, p, pixels)],
+                          out->accumulators[accumulator_index((uint32_t)j, (uint32_t)channel, 1, p, pixels)]};
+            uint64_t n_j = (out->sample_count - (uint64_t)j + (uint64_t)m - 1) / (uint64_t)m;
+            set_means[j] = fixed_to_float(s) / (double)n_j;
+            average += set_means[j] / m;
+        }
+        for (int j = 0; j < m; ++j)
+            spread += (set_means[j] - average) * (set_means[j] - average);
+        sum += out->mean[3 * p + (size_t)channel];
+        variance += spread / (m - 1) / m; /* variance of the pixel's mean */
+    }
+    *mean = sum / (double)pixels;
+    *standard_error = sqrt(variance) / (double)pixels;
+}
+
+/* Next-event estimation with MIS and BSDF sampling alone estimate the same
+ * image: their means agree within the combined standard error. */
+static void test_nee_and_bsdf_sampling_agree(void **state)
+{
+    (void)state;
+    const char *scenes[] = {"cornell-diffuse.pbrt", "cornell-glass.pbrt"};
+    for (int s = 0; s < 2; ++s) {
+        RenderOutput outputs[2];
+        for (int nee = 0; nee <= 1; ++nee) {
+            RenderScene scene;
+            load(scenes[s], 32, &scene);
+            scene.params.flags = nee ? RENDER_NEE : 0u;
+            RenderSettings settings;
+            render_settings_default(&settings);
+            settings.sample_count = 126; /* a multiple of M: equal set counts */
+            settings.seed = 5;
+            render(&scene, &settings, &outputs[nee]);
+            render_scene_destroy(&scene);
+        }
+        for (int c = 0; c < 3; ++c) {
+            double m0, e0, m1, e1;
+            image_mean(&outputs[0], c, &m0, &e0);
+            image_mean(&outputs[1], c, &m1, &e1);
+            double error = sqrt(e0 * e0 + e1 * e1);
+            printf("  %s channel %d: BSDF only %.5f, NEE %.5f, difference %.2f standard errors\n", scenes[s], c, m0,
+                   m1, fabs(m0 - m1) / error);
+            assert_true(fabs(m0 - m1) <= 5.0 * error);
+        }
+        render_output_free(&outputs[0]);
+        render_output_free(&outputs[1]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_furnace_scene_matches_analytic_value),
         cmocka_unit_test(test_exr_estimates_equal_host_reference_on_its_sums),
         cmocka_unit_test(test_image_independent_of_pass_batching_and_ranges),
+        cmocka_unit_test(test_nee_and_bsdf_sampling_agree),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
