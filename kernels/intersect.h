@@ -31,34 +31,38 @@ KERNEL_FN void cross3(const float *a, const float *b, float *out)
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Moller-Trumbore; hits in (t_min, t_max) only. */
+/* Moller-Trumbore on a triangle stored as a vertex and two edges; hits in
+ * (t_min, t_max) only. The barycentric tests run before the one division,
+ * on values scaled by the determinant. */
 KERNEL_FN int intersect_triangle(const Ray *ray, const GLOBAL Primitive *p, float t_min, float t_max, float *t_out,
                                  float *u_out, float *v_out)
 {
     float e1[3], e2[3], s[3], pv[3], q[3];
     for (int i = 0; i < 3; ++i) {
-        e1[i] = p->b[i] - p->a[i];
-        e2[i] = p->c[i] - p->a[i];
+        e1[i] = p->b[i];
+        e2[i] = p->c[i];
         s[i] = ray->origin[i] - p->a[i];
     }
     cross3(ray->direction, e2, pv);
     float det = dot3(e1, pv);
     if (det == 0.0f)
         return 0;
-    float inv = 1.0f / det;
-    float u = dot3(s, pv) * inv;
-    if (u < 0.0f || u > 1.0f)
+    float sign = det < 0.0f ? -1.0f : 1.0f;
+    det *= sign;
+    float u = dot3(s, pv) * sign;
+    if (u < 0.0f || u > det)
         return 0;
     cross3(s, e1, q);
-    float v = dot3(ray->direction, q) * inv;
-    if (v < 0.0f || u + v > 1.0f)
+    float v = dot3(ray->direction, q) * sign;
+    if (v < 0.0f || u + v > det)
         return 0;
-    float t = dot3(e2, q) * inv;
+    float inv = 1.0f / det;
+    float t = dot3(e2, q) * sign * inv;
     if (!(t > t_min && t < t_max))
         return 0;
     *t_out = t;
-    *u_out = u;
-    *v_out = v;
+    *u_out = u * inv;
+    *v_out = v * inv;
     return 1;
 }
 

@@ -36,8 +36,7 @@ KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
     if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE)
         n = v_normalize(v_sub(position, vec3_from_global(p->a)));
     else
-        n = v_normalize(v_cross(v_sub(vec3_from_global(p->b), vec3_from_global(p->a)),
-                                v_sub(vec3_from_global(p->c), vec3_from_global(p->a))));
+        n = v_normalize(v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
     return (p->kind & PRIM_FLIP_NORMAL) ? v_scale(n, -1.0f) : n;
 }
 
@@ -49,10 +48,11 @@ KERNEL_FN Vec3 sample_primitive(__global const Primitive *p, float u1, float u2)
         float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PI_F * u2;
         return v_add(vec3_from_global(p->a), v_scale(vec3(r * cos(phi), r * sin(phi), z), p->b[0]));
     }
+    /* Barycentrics (1 - su, u2 su, su - u2 su) are uniform over the area. */
     float su = sqrt(u1);
-    float b0 = 1.0f - su, b1 = u2 * su;
-    return v_add(v_add(v_scale(vec3_from_global(p->a), b0), v_scale(vec3_from_global(p->b), b1)),
-                 v_scale(vec3_from_global(p->c), 1.0f - b0 - b1));
+    float b1 = u2 * su, b2 = su - b1;
+    return v_add(vec3_from_global(p->a),
+                 v_add(v_scale(vec3_from_global(p->b), b1), v_scale(vec3_from_global(p->c), b2)));
 }
 
 /* Radiance leaving emitter `e` at normal n toward direction w (unit). */

@@ -10,8 +10,9 @@
 #define PRIM_TRIANGLE 0u
 #define PRIM_SPHERE 1u
 
-/* A triangle (a, b, c are its vertices) or a sphere (a is the centre,
- * b[0] the radius). 48 bytes. */
+/* A triangle (a is its first vertex, b and c the edges to the second and
+ * third, which saves the intersection test two subtractions) or a sphere
+ * (a is the centre, b[0] the radius). 48 bytes. */
 typedef struct {
     float a[3];
     uint32_t kind;

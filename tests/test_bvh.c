@@ -33,10 +33,10 @@ static Primitive *random_scene(int count, TestRng *rng)
             p[i].b[0] = uniform(rng, 0.05f, 0.6f);
         } else {
             p[i].kind = PRIM_TRIANGLE;
-            for (int k = 0; k < 3; ++k) {
+            for (int k = 0; k < 3; ++k) { /* a vertex and two edges */
                 p[i].a[k] = centre[k] + uniform(rng, -1, 1);
-                p[i].b[k] = centre[k] + uniform(rng, -1, 1);
-                p[i].c[k] = centre[k] + uniform(rng, -1, 1);
+                p[i].b[k] = uniform(rng, -1, 1);
+                p[i].c[k] = uniform(rng, -1, 1);
             }
         }
     }

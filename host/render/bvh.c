@@ -65,9 +65,14 @@ static Box primitive_box(const Primitive *p)
             b.upper[i] = p->a[i] + p->b[0];
         }
     } else {
+        float second[3], third[3];
+        for (int i = 0; i < 3; ++i) {
+            second[i] = p->a[i] + p->b[i];
+            third[i] = p->a[i] + p->c[i];
+        }
         box_grow_point(&b, p->a);
-        box_grow_point(&b, p->b);
-        box_grow_point(&b, p->c);
+        box_grow_point(&b, second);
+        box_grow_point(&b, third);
     }
     return b;
 }

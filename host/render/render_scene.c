@@ -73,8 +73,10 @@ int render_scene_add_triangle(RenderScene *scene, const float a[3], const float 
     Primitive p;
     memset(&p, 0, sizeof p);
     memcpy(p.a, a, sizeof p.a);
-    memcpy(p.b, b, sizeof p.b);
-    memcpy(p.c, c, sizeof p.c);
+    for (int i = 0; i < 3; ++i) {
+        p.b[i] = b[i] - a[i];
+        p.c[i] = c[i] - a[i];
+    }
     p.kind = PRIM_TRIANGLE | (flip_normal ? PRIM_FLIP_NORMAL : 0u);
     p.material = material;
     double e1[3], e2[3];
