@@ -96,8 +96,8 @@ int main(int argc, char **argv)
 
     printf("device:     %s (%s, %u compute units)\n", device.info.name, device.info.platform_name,
            device.info.compute_units);
-    printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, M = %d\n", scene_path, width, height, max_depth,
-           spp, bsdf_only ? "BSDF sampling only" : "NEE + MIS", settings.estimator.set_count);
+    printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, M = %d\n", scene_path, width, height, max_depth, spp,
+           bsdf_only ? "BSDF sampling only" : "NEE + MIS", settings.estimator.set_count);
     printf("primitives: %d, BVH nodes %d, depth %d\n", scene.bvh.primitive_count, scene.bvh.node_count,
            scene.bvh.depth);
     double samples_per_second[100], rays_per_second[100], seconds[100];

@@ -64,7 +64,7 @@ static int open_device(const char *spec, ClDevice *device)
     int chosen = 0;
     if (spec && strcmp(spec, "all") != 0) {
         chosen = -1;
-        cl_device_type wanted = strcmp(spec, "cpu") == 0 ? CL_DEVICE_TYPE_CPU
+        cl_device_type wanted = strcmp(spec, "cpu") == 0   ? CL_DEVICE_TYPE_CPU
                                 : strcmp(spec, "gpu") == 0 ? CL_DEVICE_TYPE_GPU
                                                            : 0;
         for (int i = 0; i < count && wanted && chosen < 0; ++i)
@@ -136,8 +136,9 @@ static int render(const Options *o)
         return 1;
     }
     if (!o->quiet && strcmp(summary.sampler, "independent") != 0 && summary.sampler[0])
-        fprintf(stderr, "gmonrt: note: Sampler \"%s\" replaced by an independent sampler (median of means needs "
-                        "independent samples)\n",
+        fprintf(stderr,
+                "gmonrt: note: Sampler \"%s\" replaced by an independent sampler (median of means needs "
+                "independent samples)\n",
                 summary.sampler);
     if (!o->quiet && summary.regularize)
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");

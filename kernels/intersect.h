@@ -14,9 +14,9 @@ typedef struct {
 } Ray;
 
 typedef struct {
-    float t;         /* distance along the ray; t_max if no hit */
+    float t; /* distance along the ray; t_max if no hit */
     int32_t primitive;
-    float u, v;      /* triangle barycentrics of b and c */
+    float u, v; /* triangle barycentrics of b and c */
 } Hit;
 
 KERNEL_FN float dot3(const float *a, const float *b)
@@ -121,7 +121,7 @@ KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, flo
 {
     float t = 0.0f, u = 0.0f, v = 0.0f;
     int found = (p->kind & PRIM_KIND_MASK) == PRIM_TRIANGLE ? intersect_triangle(ray, p, t_min, t_max, &t, &u, &v)
-                                         : intersect_sphere(ray, p, t_min, t_max, &t);
+                                                            : intersect_sphere(ray, p, t_min, t_max, &t);
     if (found) {
         hit->t = t;
         hit->u = u;

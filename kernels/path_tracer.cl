@@ -157,9 +157,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
     const int use_nee = (params->flags & RENDER_NEE) != 0;
     float sx = 2.0f * ((float)x + rng_uniform(key, 0)) / (float)params->width - 1.0f;
     float sy = 1.0f - 2.0f * ((float)y + rng_uniform(key, 1)) / (float)params->height;
-    Vec3 direction = v_normalize(v_add(vec3_from_global(params->camera_forward),
-                                       v_add(v_scale(vec3_from_global(params->camera_right), sx),
-                                             v_scale(vec3_from_global(params->camera_up), sy))));
+    Vec3 direction = v_normalize(
+        v_add(vec3_from_global(params->camera_forward), v_add(v_scale(vec3_from_global(params->camera_right), sx),
+                                                              v_scale(vec3_from_global(params->camera_up), sy))));
     Vec3 origin = vec3_from_global(params->camera_position);
 
     Vec3 radiance = vec3(0.0f, 0.0f, 0.0f), throughput = vec3(1.0f, 1.0f, 1.0f);
@@ -172,8 +172,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
         int unweighted = depth == 0 || specular_bounce || !use_nee;
         if (!bvh_intersect(scene->nodes, scene->primitives, &ray, 0.0f, INFINITY, 0, &hit)) {
             Vec3 le = vec3_from_global(params->environment);
-            float weight = unweighted ? 1.0f
-                                      : power_heuristic(previous_pdf, params->environment_pick / (4.0f * PI_F));
+            float weight = unweighted ? 1.0f : power_heuristic(previous_pdf, params->environment_pick / (4.0f * PI_F));
             radiance = v_add(radiance, v_scale(v_mul(throughput, le), weight));
             break;
         }
@@ -188,8 +187,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
             float weight = 1.0f;
             if (!unweighted) {
                 float cos_light = fabs(v_dot(n, wo_world));
-                float light_pdf = (1.0f - params->environment_pick) * e->pick_probability * hit.t * hit.t /
-                                  (cos_light * e->area);
+                float light_pdf =
+                    (1.0f - params->environment_pick) * e->pick_probability * hit.t * hit.t / (cos_light * e->area);
                 weight = cos_light > 0.0f ? power_heuristic(previous_pdf, light_pdf) : 0.0f;
             }
             radiance = v_add(radiance, v_scale(v_mul(throughput, le), weight));
@@ -221,8 +220,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
         }
 
         BsdfSample bs;
-        if (!bsdf_sample(material, wo, rng_uniform(key, dim + 3), rng_uniform(key, dim + 4),
-                         rng_uniform(key, dim + 5), &bs))
+        if (!bsdf_sample(material, wo, rng_uniform(key, dim + 3), rng_uniform(key, dim + 4), rng_uniform(key, dim + 5),
+                         &bs))
             break;
         throughput = v_mul(throughput, v_scale(bs.f, fabs(bs.wi.z) / bs.pdf));
         previous_pdf = bs.pdf;
@@ -250,9 +249,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
  * counters cover just those pixels (one device's share). */
 __kernel void render_samples(__global const RenderParams *params, __global const BvhNode *nodes,
                              __global const Primitive *primitives, __global const Material *materials,
-                             __global const Emitter *emitters, __global ulong *accumulators,
-                             __global uint *rejected, __global ulong *ray_counts, ulong first_sample,
-                             uint sample_count, ulong first_pixel, ulong pixel_count)
+                             __global const Emitter *emitters, __global ulong *accumulators, __global uint *rejected,
+                             __global ulong *ray_counts, ulong first_sample, uint sample_count, ulong first_pixel,
+                             ulong pixel_count)
 {
     ulong local_pixel = get_global_id(0);
     if (local_pixel >= pixel_count)

@@ -49,7 +49,7 @@ typedef struct {
     uint32_t type;
     float alpha_x;
     float alpha_y;
-    float eta; /* dielectric / coating index of refraction */
+    float eta;            /* dielectric / coating index of refraction */
     float reflectance[3]; /* diffuse albedo, coated base albedo */
     float pad0;
     float conductor_eta[3];
@@ -85,9 +85,9 @@ typedef struct {
     uint32_t max_depth;
     float camera_forward[3];
     uint32_t seed;
-    float environment[3];    /* constant infinite light radiance */
+    float environment[3]; /* constant infinite light radiance */
     uint32_t emitter_count;
-    float environment_pick;  /* chance light sampling picks the environment */
+    float environment_pick; /* chance light sampling picks the environment */
     uint32_t flags;
     uint32_t pad[2];
 } RenderParams;

@@ -74,9 +74,8 @@ static float set_mean(const uint64_t *accumulators, int channel)
 static void accumulate_range(uint64_t *accumulators, size_t first, size_t count)
 {
     for (size_t i = first; i < first + count; ++i)
-        assert_int_equal(accumulate_sample(accumulators, 0, 1, 0, streams[3 * i], streams[3 * i + 1],
-                                           streams[3 * i + 2]),
-                         0);
+        assert_int_equal(
+            accumulate_sample(accumulators, 0, 1, 0, streams[3 * i], streams[3 * i + 1], streams[3 * i + 2]), 0);
 }
 
 static void test_plain_float_sum_fails_the_bar(void **state)
@@ -102,8 +101,7 @@ static void test_host_accumulation_is_accurate(void **state)
     accumulate_range(accumulators, 0, SAMPLES);
     for (int c = 0; c < 3; ++c) {
         double error = relative_error(set_mean(accumulators, c), c);
-        printf("  host accumulation,   %-20s mean %.9Lg relative error %.3e\n", stream_names[c], exact_mean[c],
-               error);
+        printf("  host accumulation,   %-20s mean %.9Lg relative error %.3e\n", stream_names[c], exact_mean[c], error);
         assert_true(error <= 1e-6);
     }
 }
@@ -117,7 +115,8 @@ static void test_split_accumulation_merges_exactly(void **state)
     accumulate_range(first, 0, 3333333);
     accumulate_range(second, 3333333, SAMPLES - 3333333);
     for (int c = 0; c < 3; ++c) {
-        FixedSum a = {first[accumulator_index(0, (uint32_t)c, 0, 0, 1)], first[accumulator_index(0, (uint32_t)c, 1, 0, 1)]};
+        FixedSum a = {first[accumulator_index(0, (uint32_t)c, 0, 0, 1)],
+                      first[accumulator_index(0, (uint32_t)c, 1, 0, 1)]};
         FixedSum b = {second[accumulator_index(0, (uint32_t)c, 0, 0, 1)],
                       second[accumulator_index(0, (uint32_t)c, 1, 0, 1)]};
         FixedSum merged = fixed_add(a, b);
@@ -145,8 +144,8 @@ static void test_device_accumulation_is_accurate(void **state)
     cl_mem acc = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof accumulators,
                                 accumulators, &err);
     assert_int_equal(err, CL_SUCCESS);
-    cl_mem rej = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof rejected,
-                                &rejected, &err);
+    cl_mem rej =
+        clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, sizeof rejected, &rejected, &err);
     assert_int_equal(err, CL_SUCCESS);
     cl_ulong length = SAMPLES, first = 0, pixels = 1;
     assert_int_equal(clSetKernelArg(kernel, 0, sizeof in, &in), CL_SUCCESS);
@@ -157,9 +156,9 @@ static void test_device_accumulation_is_accurate(void **state)
     assert_int_equal(clSetKernelArg(kernel, 5, sizeof rej, &rej), CL_SUCCESS);
     size_t global = 1;
     assert_int_equal(clEnqueueNDRangeKernel(device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL), CL_SUCCESS);
-    assert_int_equal(clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, sizeof accumulators, accumulators, 0, NULL,
-                                         NULL),
-                     CL_SUCCESS);
+    assert_int_equal(
+        clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, sizeof accumulators, accumulators, 0, NULL, NULL),
+        CL_SUCCESS);
     assert_int_equal(clEnqueueReadBuffer(device.queue, rej, CL_TRUE, 0, sizeof rejected, &rejected, 0, NULL, NULL),
                      CL_SUCCESS);
     assert_int_equal(rejected, 0);

@@ -68,8 +68,8 @@ static void check_material(const Case *c)
                 float pdf = 0.0f;
                 Vec3 f = bsdf_eval(&c->material, wo, s.wi, &pdf);
                 if (fabsf(pdf - s.pdf) > 1e-3f * s.pdf || fabsf(f.x - s.f.x) > 1e-3f * s.f.x)
-                    fail_msg("%s: sample and eval disagree at wo.z=%g: pdf %g vs %g, f %g vs %g", c->name,
-                             (double)wo.z, (double)s.pdf, (double)pdf, (double)s.f.x, (double)f.x);
+                    fail_msg("%s: sample and eval disagree at wo.z=%g: pdf %g vs %g, f %g vs %g", c->name, (double)wo.z,
+                             (double)s.pdf, (double)pdf, (double)s.f.x, (double)f.x);
             }
         }
         energy /= n;
@@ -89,8 +89,8 @@ static void check_material(const Case *c)
             }
         integral /= (double)grid * grid;
         double success_rate = (double)successes / n;
-        printf("  %-28s wo.z=%5.2f  energy %.4f  success %.4f  pdf integral %s%.4f\n", c->name, (double)wo.z,
-               energy, success_rate, has_delta ? "(delta) " : "", has_delta ? success_rate : integral);
+        printf("  %-28s wo.z=%5.2f  energy %.4f  success %.4f  pdf integral %s%.4f\n", c->name, (double)wo.z, energy,
+               success_rate, has_delta ? "(delta) " : "", has_delta ? success_rate : integral);
         assert_true(energy <= 1.0 + 0.01);
         if (c->material.type == MAT_DIFFUSE)
             assert_true(fabs(energy - 0.7) < 0.01);

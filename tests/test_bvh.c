@@ -108,8 +108,8 @@ static void check_against_brute_force(int count, int ray_count, int min_hits, ui
             assert_int_equal(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 1e-4f, end, 1, &any), blocked);
         }
     }
-    printf("  %d primitives: %d nodes, depth %d, largest leaf %d, %d/%d rays hit\n", count, bvh.node_count,
-           bvh.depth, bvh.largest_leaf, hits, ray_count);
+    printf("  %d primitives: %d nodes, depth %d, largest leaf %d, %d/%d rays hit\n", count, bvh.node_count, bvh.depth,
+           bvh.largest_leaf, hits, ray_count);
     assert_true(hits >= min_hits);
     bvh_destroy(&bvh);
     free(primitives);

@@ -10,8 +10,8 @@
 
 #include <cmocka.h>
 
-#define PARSE(options, error, ...)                                                                                 \
-    options_parse((int)(sizeof((char *[]){"gmonrt", __VA_ARGS__}) / sizeof(char *)),                             \
+#define PARSE(options, error, ...)                                                                                     \
+    options_parse((int)(sizeof((char *[]){"gmonrt", __VA_ARGS__}) / sizeof(char *)),                                   \
                   (char *[]){"gmonrt", __VA_ARGS__}, options, error, sizeof error)
 
 static void test_defaults(void **state)

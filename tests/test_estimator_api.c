@@ -75,15 +75,14 @@ static void expect_invalid(Call call)
 }
 
 /* The valid call, from sums, from accumulators and the conversion. */
-static EstimatorStatus from_sums(const EstimatorSettings *settings, const float *sums, size_t length,
-                                 size_t pixels, EstimatorImages *images, char *message, size_t message_size)
+static EstimatorStatus from_sums(const EstimatorSettings *settings, const float *sums, size_t length, size_t pixels,
+                                 EstimatorImages *images, char *message, size_t message_size)
 {
     return estimator_from_sums(settings, sums, length, pixels, 100, images, message, message_size);
 }
 
-static EstimatorStatus from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
-                                         size_t length, size_t pixels, EstimatorImages *images, char *message,
-                                         size_t message_size)
+static EstimatorStatus from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators, size_t length,
+                                         size_t pixels, EstimatorImages *images, char *message, size_t message_size)
 {
     return estimator_from_accumulators(settings, accumulators, length, pixels, 100, images, message, message_size);
 }
@@ -134,8 +133,8 @@ static EstimatorStatus accumulators_with_bad_settings(char *message, size_t size
 
 static EstimatorStatus conversion_with_bad_set_count(char *message, size_t size)
 {
-    return estimator_sums_from_accumulators(bad_settings.set_count, fixture.accumulators, WORDS, PIXELS,
-                                            fixture.sums, SUMS, message, size);
+    return estimator_sums_from_accumulators(bad_settings.set_count, fixture.accumulators, WORDS, PIXELS, fixture.sums,
+                                            SUMS, message, size);
 }
 
 static void test_set_count_out_of_range(void **state)
@@ -249,8 +248,7 @@ static EstimatorStatus accumulators_input_short(char *message, size_t size)
 /* Accumulators are two words per value: a float-sized count is too short. */
 static EstimatorStatus accumulators_counted_as_floats(char *message, size_t size)
 {
-    return from_accumulators(&fixture.settings, fixture.accumulators, SUMS, PIXELS, &fixture.images, message,
-                             size);
+    return from_accumulators(&fixture.settings, fixture.accumulators, SUMS, PIXELS, &fixture.images, message, size);
 }
 
 static EstimatorStatus conversion_input_short(char *message, size_t size)
@@ -277,8 +275,7 @@ static EstimatorStatus sums_output_short(char *message, size_t size)
 
 static EstimatorStatus accumulators_output_short(char *message, size_t size)
 {
-    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS, PIXELS, &short_outputs, message,
-                             size);
+    return from_accumulators(&fixture.settings, fixture.accumulators, WORDS, PIXELS, &short_outputs, message, size);
 }
 
 static EstimatorStatus conversion_output_short(char *message, size_t size)

@@ -105,8 +105,7 @@ static void test_kernel_equals_host_on_all_cases(void **state)
                 assert_int_equal(estimator_from_sums(&settings, c.sums, values, c.pixel_count, c.sample_count,
                                                      &host.view, message, sizeof message),
                                  ESTIMATOR_OK);
-                assert_int_equal(estimator_program_run(program, c.sums, 0, c.pixel_count, c.sample_count,
-                                                       &kernel.view),
+                assert_int_equal(estimator_program_run(program, c.sums, 0, c.pixel_count, c.sample_count, &kernel.view),
                                  0);
                 char what[128];
                 snprintf(what, sizeof what, "M=%d mode=%d case '%s'", set_counts[mi], mode, c.name);
@@ -169,8 +168,7 @@ static void device_accumulate(cl_kernel kernel, cl_mem accumulators, cl_mem reje
     assert_int_equal(clSetKernelArg(kernel, 4, sizeof pixels, &pixels), CL_SUCCESS);
     assert_int_equal(clSetKernelArg(kernel, 5, sizeof rejected, &rejected), CL_SUCCESS);
     size_t global = pixel_count;
-    assert_int_equal(clEnqueueNDRangeKernel(device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL),
-                     CL_SUCCESS);
+    assert_int_equal(clEnqueueNDRangeKernel(device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL), CL_SUCCESS);
     assert_int_equal(clFinish(device.queue), CL_SUCCESS);
     clReleaseMemObject(in);
     free(slice);
@@ -191,9 +189,8 @@ static void test_streams_with_nan_and_inf(void **state)
         for (size_t p = 0; p < pixel_count; ++p)
             for (size_t i = 0; i < length; ++i) {
                 const float *rgb = samples + (p * length + i) * 3;
-                host_rejected[p] += (uint32_t)accumulate_sample(host_acc, p, pixel_count,
-                                                                set_of_sample(i, (uint32_t)m), rgb[0], rgb[1],
-                                                                rgb[2]);
+                host_rejected[p] += (uint32_t)accumulate_sample(host_acc, p, pixel_count, set_of_sample(i, (uint32_t)m),
+                                                                rgb[0], rgb[1], rgb[2]);
             }
 
         /* Device: the same stream in two passes of unequal length. */
@@ -205,8 +202,8 @@ static void test_streams_with_nan_and_inf(void **state)
         cl_kernel kernel = clCreateKernel(program, "accumulate_stream", &err);
         assert_int_equal(err, CL_SUCCESS);
         uint64_t *zero = calloc(words, sizeof(uint64_t));
-        cl_mem acc = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                                    words * sizeof(uint64_t), zero, &err);
+        cl_mem acc = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, words * sizeof(uint64_t),
+                                    zero, &err);
         assert_int_equal(err, CL_SUCCESS);
         cl_mem rejected = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                          pixel_count * sizeof(uint32_t), zero, &err);
@@ -217,9 +214,9 @@ static void test_streams_with_nan_and_inf(void **state)
 
         uint64_t *device_acc = malloc(words * sizeof(uint64_t));
         uint32_t *device_rejected = malloc(pixel_count * sizeof(uint32_t));
-        assert_int_equal(clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc, 0,
-                                             NULL, NULL),
-                         CL_SUCCESS);
+        assert_int_equal(
+            clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc, 0, NULL, NULL),
+            CL_SUCCESS);
         assert_int_equal(clEnqueueReadBuffer(device.queue, rejected, CL_TRUE, 0, pixel_count * sizeof(uint32_t),
                                              device_rejected, 0, NULL, NULL),
                          CL_SUCCESS);
@@ -238,9 +235,9 @@ static void test_streams_with_nan_and_inf(void **state)
             Images host, kern;
             images_init(&host, pixel_count);
             images_init(&kern, pixel_count);
-            assert_int_equal(estimator_from_accumulators(&settings, host_acc, words, pixel_count, length,
-                                                         &host.view, NULL, 0),
-                             ESTIMATOR_OK);
+            assert_int_equal(
+                estimator_from_accumulators(&settings, host_acc, words, pixel_count, length, &host.view, NULL, 0),
+                ESTIMATOR_OK);
             assert_int_equal(estimator_program_run(est, device_acc, 1, pixel_count, length, &kern.view), 0);
             char what[96];
             snprintf(what, sizeof what, "stream M=%d mode=%d", m, mode);

@@ -135,8 +135,8 @@ static void report(ReferenceTally *tally, const EstimatorCase *c, int mode_index
                    const char *quantity, double got, long double want)
 {
     if (tally->failures++ < DETAILED_FAILURES) {
-        print_error("M = %d, case \"%s\", %s, pixel %zu, channel %d: %s = %.9g, reference %.12Lg\n",
-                    c->set_count, c->name, mode_names[mode_index], pixel, channel, quantity, got, want);
+        print_error("M = %d, case \"%s\", %s, pixel %zu, channel %d: %s = %.9g, reference %.12Lg\n", c->set_count,
+                    c->name, mode_names[mode_index], pixel, channel, quantity, got, want);
         print_channel_sums(c, pixel, channel);
     }
 }
@@ -250,8 +250,8 @@ static void test_outputs_finite_and_within_set_means(void **state)
                             if (failures++ < DETAILED_FAILURES) {
                                 print_error("M = %d, case \"%s\", %s, pixel %zu, channel %d: %s = %a outside "
                                             "[t_1, t_m] = [%a, %a]\n",
-                                            c.set_count, c.name, mode_names[mode], p, ch, names[v],
-                                            (double)values[v], (double)lo, (double)hi);
+                                            c.set_count, c.name, mode_names[mode], p, ch, names[v], (double)values[v],
+                                            (double)lo, (double)hi);
                                 print_channel_sums(&c, p, ch);
                             }
                         }
@@ -266,8 +266,8 @@ static void test_outputs_finite_and_within_set_means(void **state)
 
 /* All set means equal to `value` in every channel: G = 0 exactly and every
  * estimate is that value, bit for bit. */
-static int check_all_equal(int set_count, GiniMode mode, const float *sums, size_t pixel_count,
-                           uint64_t sample_count, const float *value, const char *what)
+static int check_all_equal(int set_count, GiniMode mode, const float *sums, size_t pixel_count, uint64_t sample_count,
+                           const float *value, const char *what)
 {
     Outputs o;
     outputs_init(&o, pixel_count);
@@ -307,8 +307,8 @@ static void test_all_equal_means_give_that_value_exactly(void **state)
 {
     (void)state;
     /* One sample per set, so a set mean is its sum: any float works. */
-    static const float any_value[] = {FLT_MAX, -FLT_MAX, 0.1f, -3.75f, 1e-30f, 5 * FLT_TRUE_MIN, FLT_MIN,
-                                      3e38f,   -7e-42f,  0.0f, 1.0f};
+    static const float any_value[] = {FLT_MAX, -FLT_MAX, 0.1f,    -3.75f, 1e-30f, 5 * FLT_TRUE_MIN,
+                                      FLT_MIN, 3e38f,    -7e-42f, 0.0f,   1.0f};
     /* Unequal counts (n = 3M + 1): dyadic values keep n_j * value exact. */
     static const float dyadic_value[] = {0.375f, -1.5f, 1024.0f, 0x1p-130f, -0x1p-100f, 0x1.8p100f, 0.0f};
     const size_t any_count = sizeof any_value / sizeof any_value[0];
@@ -416,8 +416,12 @@ static void test_power_of_two_scaling_is_exact(void **state)
 {
     (void)state;
     /* The cases whose values stay in the normal range at every scale. */
-    static const EstimatorCaseKind kinds[] = {CASE_RANDOM,      CASE_ZEROS,    CASE_ALL_EQUAL,
-                                              CASE_ONE_OUTLIER, CASE_NEGATIVE, CASE_MIXED_SIGNS,
+    static const EstimatorCaseKind kinds[] = {CASE_RANDOM,
+                                              CASE_ZEROS,
+                                              CASE_ALL_EQUAL,
+                                              CASE_ONE_OUTLIER,
+                                              CASE_NEGATIVE,
+                                              CASE_MIXED_SIGNS,
                                               CASE_FEWER_SAMPLES_THAN_SETS};
     static const int exponents[] = {-20, -3, 5, 40};
     int failures = 0;
@@ -537,13 +541,11 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
             if (test_rng_next(&rng) % 32 == 0) {
                 /* One bad channel rejects the whole sample. */
                 rgb[test_rng_next(&rng) % 3] = unusable[test_rng_next(&rng) % 6];
-                assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1],
-                                                   rgb[2]),
+                assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1], rgb[2]),
                                  1);
                 continue;
             }
-            assert_int_equal(
-                accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1], rgb[2]), 0);
+            assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1], rgb[2]), 0);
             for (int ch = 0; ch < 3; ++ch)
                 exact[plane_index(set, ch, p, pixel_count)] += rgb[ch];
         }
@@ -598,14 +600,14 @@ static void test_accumulated_sums_round_ties_to_even(void **state)
         float samples[3];
         float expected;
     } cases[] = {
-        {{1.0f, 0x1p-24f, 0.0f}, 1.0f},                      /* tie, even below */
-        {{1.0f, 0x1p-23f, 0x1p-24f}, 1.0f + 0x1p-22f},       /* tie, even above */
-        {{1.0f, 0x1p-24f, 0x1p-56f}, 1.0f + 0x1p-23f},       /* just above a tie */
-        {{1.0f, 0x1p-24f, -0x1p-56f}, 1.0f},                 /* just below a tie */
-        {{-1.0f, -0x1p-24f, 0.0f}, -1.0f},                   /* negative tie */
-        {{-1.0f, -0x1p-23f, -0x1p-24f}, -1.0f - 0x1p-22f},   /* negative tie, up */
+        {{1.0f, 0x1p-24f, 0.0f}, 1.0f},                       /* tie, even below */
+        {{1.0f, 0x1p-23f, 0x1p-24f}, 1.0f + 0x1p-22f},        /* tie, even above */
+        {{1.0f, 0x1p-24f, 0x1p-56f}, 1.0f + 0x1p-23f},        /* just above a tie */
+        {{1.0f, 0x1p-24f, -0x1p-56f}, 1.0f},                  /* just below a tie */
+        {{-1.0f, -0x1p-24f, 0.0f}, -1.0f},                    /* negative tie */
+        {{-1.0f, -0x1p-23f, -0x1p-24f}, -1.0f - 0x1p-22f},    /* negative tie, up */
         {{0x1.fffffep37f, 0x1.fffffep37f, 0x1p14f}, 0x1p39f}, /* tie, carry into the exponent */
-        {{0x1p-56f, -0x1p-56f, 0.0f}, 0.0f},                 /* cancels exactly */
+        {{0x1p-56f, -0x1p-56f, 0.0f}, 0.0f},                  /* cancels exactly */
     };
     const size_t count = sizeof cases / sizeof cases[0];
     /* One pixel per case, M = 1, the case's samples in channel 0. */
@@ -678,14 +680,14 @@ static void test_fixed_point_rounds_values_below_the_grid(void **state)
         float x;
         float expected;
     } cases[] = {
-        {0x1p-57f, 0x1p-56f},     /* half a unit: away from zero */
+        {0x1p-57f, 0x1p-56f}, /* half a unit: away from zero */
         {-0x1p-57f, -0x1p-56f},
-        {0x1p-58f, 0.0f},         /* a quarter: down */
-        {0x1.8p-57f, 0x1p-56f},   /* 0.75 units */
-        {0x1.8p-56f, 0x1p-55f},   /* 1.5 units: tie, away */
-        {0x1.4p-56f, 0x1p-56f},   /* 1.25 units */
+        {0x1p-58f, 0.0f},            /* a quarter: down */
+        {0x1.8p-57f, 0x1p-56f},      /* 0.75 units */
+        {0x1.8p-56f, 0x1p-55f},      /* 1.5 units: tie, away */
+        {0x1.4p-56f, 0x1p-56f},      /* 1.25 units */
         {0x1.000002p-40f, 0x1p-40f}, /* bits below 2^-56 dropped */
-        {FLT_TRUE_MIN, 0.0f},     /* denormals vanish */
+        {FLT_TRUE_MIN, 0.0f},        /* denormals vanish */
         {-FLT_MIN, 0.0f},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {

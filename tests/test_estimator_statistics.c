@@ -83,8 +83,12 @@ static Scores run_distribution(Draw draw, double truth, uint64_t seed)
         for (int r = 0; r < 3; ++r) {
             EstimatorSettings settings = {SETS, runs[r].mode};
             int is_default = runs[r].mode == GINI_PER_CHANNEL;
-            EstimatorImages images = {is_default ? image[MEAN] : NULL, is_default ? image[MON] : NULL,
-                                      image[runs[r].gmon_slot], NULL, NULL, 3 * BATCH};
+            EstimatorImages images = {is_default ? image[MEAN] : NULL,
+                                      is_default ? image[MON] : NULL,
+                                      image[runs[r].gmon_slot],
+                                      NULL,
+                                      NULL,
+                                      3 * BATCH};
             char message[256] = "";
             EstimatorStatus status = estimator_from_accumulators(&settings, accumulators, words, BATCH, SAMPLES,
                                                                  &images, message, sizeof message);

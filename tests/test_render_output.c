@@ -127,8 +127,7 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
     assert_int_equal(back.metadata.sample_count, 23);
 
     size_t pixels = (size_t)back.width * back.height, values = pixels * 3;
-    float *mean = malloc(values * 4), *mon = malloc(values * 4), *gmon = malloc(values * 4),
-          *gini = malloc(values * 4);
+    float *mean = malloc(values * 4), *mon = malloc(values * 4), *gmon = malloc(values * 4), *gini = malloc(values * 4);
     int32_t *trim = malloc(values * 4);
     EstimatorImages images = {mean, mon, gmon, gini, trim, values};
     EstimatorSettings host = {back.metadata.set_count, GINI_PER_CHANNEL};
@@ -249,8 +248,8 @@ static void test_nee_and_bsdf_sampling_agree(void **state)
             image_mean(&outputs[0], c, &m0, &e0);
             image_mean(&outputs[1], c, &m1, &e1);
             double error = sqrt(e0 * e0 + e1 * e1);
-            printf("  %s channel %d: BSDF only %.5f, NEE %.5f, difference %.2f standard errors\n", scenes[s], c, m0,
-                   m1, fabs(m0 - m1) / error);
+            printf("  %s channel %d: BSDF only %.5f, NEE %.5f, difference %.2f standard errors\n", scenes[s], c, m0, m1,
+                   fabs(m0 - m1) / error);
             assert_true(fabs(m0 - m1) <= 5.0 * error);
         }
         render_output_free(&outputs[0]);

@@ -27,13 +27,13 @@ const char *cl_last_error(void);
 /* Makes cl_report_error record without printing (tests of the reporting). */
 void cl_set_error_printing(int enabled);
 
-#define CL_CHECK(call, label)                                                                                    \
-    do {                                                                                                         \
-        cl_int cl_check_code_ = (call);                                                                          \
-        if (cl_check_code_ != CL_SUCCESS) {                                                                      \
-            cl_report_error(#call, cl_check_code_, __FILE__, __LINE__);                                          \
-            goto label;                                                                                          \
-        }                                                                                                        \
+#define CL_CHECK(call, label)                                                                                          \
+    do {                                                                                                               \
+        cl_int cl_check_code_ = (call);                                                                                \
+        if (cl_check_code_ != CL_SUCCESS) {                                                                            \
+            cl_report_error(#call, cl_check_code_, __FILE__, __LINE__);                                                \
+            goto label;                                                                                                \
+        }                                                                                                              \
     } while (0)
 
 #endif

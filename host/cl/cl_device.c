@@ -33,8 +33,8 @@ int cl_devices_enumerate(ClDeviceInfo *devices, int capacity)
             info->platform = platforms[p];
             info->id = ids[d];
             cl_device_fp_config fp = 0;
-            CL_CHECK(clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof info->platform_name,
-                                       info->platform_name, NULL),
+            CL_CHECK(clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof info->platform_name, info->platform_name,
+                                       NULL),
                      fail);
             CL_CHECK(clGetDeviceInfo(ids[d], CL_DEVICE_NAME, sizeof info->name, info->name, NULL), fail);
             CL_CHECK(clGetDeviceInfo(ids[d], CL_DEVICE_TYPE, sizeof info->type, &info->type, NULL), fail);
@@ -100,8 +100,8 @@ static void print_build_log(const ClDevice *device, cl_program program, const ch
     char *log = malloc(size + 1);
     if (log && clGetProgramBuildInfo(program, device->info.id, CL_PROGRAM_BUILD_LOG, size, log, NULL) == CL_SUCCESS)
         log[size] = '\0';
-    fprintf(stderr, "OpenCL program '%s' failed to build on device '%s' (%s)\n  options: %s\n  build log:\n%s\n",
-            name, device->info.name, device->info.platform_name, options, log ? log : "(unavailable)");
+    fprintf(stderr, "OpenCL program '%s' failed to build on device '%s' (%s)\n  options: %s\n  build log:\n%s\n", name,
+            device->info.name, device->info.platform_name, options, log ? log : "(unavailable)");
     free(log);
 }
 

@@ -6,64 +6,63 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char help_text[] =
-    "usage: gmonrt [options] [scene.pbrt]\n"
-    "       gmonrt estimate [options] render.exr\n"
-    "       gmonrt --list-devices\n"
-    "\n"
-    "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
-    "G-MoN estimates of the same samples to one EXR, plus a PNG preview. With no\n"
-    "scene, renders the default scene (a Cornell box with a glass sphere and a small,\n"
-    "very bright light). `estimate` recomputes the estimators from an EXR written\n"
-    "with --write-sets (for example with another Gini mode).\n"
-    "\n"
-    "Sampling\n"
-    "  --spp N              samples per pixel (default: the scene's Sampler\n"
-    "                       \"pixelsamples\", else 64). Sampling is always independent\n"
-    "                       uniform random, as median of means requires.\n"
-    "  --seed N             random seed (default 0); the image depends only on the\n"
-    "                       seed and the sample range, never on passes or devices\n"
-    "  --first-sample N     first sample index of the range rendered (default 0)\n"
-    "  --time SECONDS       stop after the pass that reaches this render time\n"
-    "  --integrator MODE    nee: next-event estimation with MIS (default);\n"
-    "                       bsdf: BSDF sampling only (the firefly-prone case)\n"
-    "  --maxdepth N         override the scene's Integrator \"maxdepth\"\n"
-    "  --resolution WxH     override the scene's Film resolution\n"
-    "\n"
-    "Estimators\n"
-    "  --sets M             number of sets for MoN and G-MoN, 1..64 (default 21)\n"
-    "  --estimators LIST    comma-separated subset of mean,mon,gmon (default all)\n"
-    "  --gini-mode MODE     channel: G and trim per channel (default);\n"
-    "                       pixel: one G per pixel, the mean of the channels' G;\n"
-    "                       luminance: sort and trim whole sets by luminance\n"
-    "  --diagnostics        add layers: Gini G, trim count c, non-finite samples\n"
-    "  --write-sets         add the exact per-set sums, for `estimate` and merging\n"
-    "\n"
-    "Output\n"
-    "  --outfile PATH       EXR file (default: the scene's Film \"filename\" with an\n"
-    "                       .exr extension, else render.exr); the PNG preview goes\n"
-    "                       beside it with a .png extension\n"
-    "  --preview NAME       estimator shown in the PNG: mean, mon or gmon (default\n"
-    "                       gmon, or the only one requested)\n"
-    "  --exposure X         PNG exposure multiplier (default 1)\n"
-    "  --quiet              no progress bar and no summary line\n"
-    "\n"
-    "Devices\n"
-    "  --list-devices       list OpenCL devices and exit\n"
-    "  --device SPEC        all, cpu, gpu, or comma-separated indices from\n"
-    "                       --list-devices (default: the first device)\n"
-    "\n"
-    "Scene input\n"
-    "  --allow-unsupported  turn errors on unsupported scene features into warnings,\n"
-    "                       each with a documented substitute\n"
-    "\n"
-    "Developer\n"
-    "  --kernel-dir DIR     load OpenCL sources from DIR instead of the embedded copies\n"
-    "                       (also: environment variable GMON_KERNEL_DIR)\n"
-    "  --help               this text\n"
-    "\n"
-    "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
-    "by Ctrl-C (after writing the image of the samples done).\n";
+static const char help_text[] = "usage: gmonrt [options] [scene.pbrt]\n"
+                                "       gmonrt estimate [options] render.exr\n"
+                                "       gmonrt --list-devices\n"
+                                "\n"
+                                "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
+                                "G-MoN estimates of the same samples to one EXR, plus a PNG preview. With no\n"
+                                "scene, renders the default scene (a Cornell box with a glass sphere and a small,\n"
+                                "very bright light). `estimate` recomputes the estimators from an EXR written\n"
+                                "with --write-sets (for example with another Gini mode).\n"
+                                "\n"
+                                "Sampling\n"
+                                "  --spp N              samples per pixel (default: the scene's Sampler\n"
+                                "                       \"pixelsamples\", else 64). Sampling is always independent\n"
+                                "                       uniform random, as median of means requires.\n"
+                                "  --seed N             random seed (default 0); the image depends only on the\n"
+                                "                       seed and the sample range, never on passes or devices\n"
+                                "  --first-sample N     first sample index of the range rendered (default 0)\n"
+                                "  --time SECONDS       stop after the pass that reaches this render time\n"
+                                "  --integrator MODE    nee: next-event estimation with MIS (default);\n"
+                                "                       bsdf: BSDF sampling only (the firefly-prone case)\n"
+                                "  --maxdepth N         override the scene's Integrator \"maxdepth\"\n"
+                                "  --resolution WxH     override the scene's Film resolution\n"
+                                "\n"
+                                "Estimators\n"
+                                "  --sets M             number of sets for MoN and G-MoN, 1..64 (default 21)\n"
+                                "  --estimators LIST    comma-separated subset of mean,mon,gmon (default all)\n"
+                                "  --gini-mode MODE     channel: G and trim per channel (default);\n"
+                                "                       pixel: one G per pixel, the mean of the channels' G;\n"
+                                "                       luminance: sort and trim whole sets by luminance\n"
+                                "  --diagnostics        add layers: Gini G, trim count c, non-finite samples\n"
+                                "  --write-sets         add the exact per-set sums, for `estimate` and merging\n"
+                                "\n"
+                                "Output\n"
+                                "  --outfile PATH       EXR file (default: the scene's Film \"filename\" with an\n"
+                                "                       .exr extension, else render.exr); the PNG preview goes\n"
+                                "                       beside it with a .png extension\n"
+                                "  --preview NAME       estimator shown in the PNG: mean, mon or gmon (default\n"
+                                "                       gmon, or the only one requested)\n"
+                                "  --exposure X         PNG exposure multiplier (default 1)\n"
+                                "  --quiet              no progress bar and no summary line\n"
+                                "\n"
+                                "Devices\n"
+                                "  --list-devices       list OpenCL devices and exit\n"
+                                "  --device SPEC        all, cpu, gpu, or comma-separated indices from\n"
+                                "                       --list-devices (default: the first device)\n"
+                                "\n"
+                                "Scene input\n"
+                                "  --allow-unsupported  turn errors on unsupported scene features into warnings,\n"
+                                "                       each with a documented substitute\n"
+                                "\n"
+                                "Developer\n"
+                                "  --kernel-dir DIR     load OpenCL sources from DIR instead of the embedded copies\n"
+                                "                       (also: environment variable GMON_KERNEL_DIR)\n"
+                                "  --help               this text\n"
+                                "\n"
+                                "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
+                                "by Ctrl-C (after writing the image of the samples done).\n";
 
 const char *options_help(void)
 {
@@ -149,18 +148,18 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
             value = equals + 1;
             flag = name;
         }
-#define NEEDS_VALUE()                                                                                              \
-    do {                                                                                                           \
-        if (!value) {                                                                                              \
-            if (i + 1 >= argc)                                                                                     \
-                return fail(error, size, "%s needs a value (see --help)", flag, NULL);                            \
-            value = argv[++i];                                                                                     \
-        }                                                                                                          \
+#define NEEDS_VALUE()                                                                                                  \
+    do {                                                                                                               \
+        if (!value) {                                                                                                  \
+            if (i + 1 >= argc)                                                                                         \
+                return fail(error, size, "%s needs a value (see --help)", flag, NULL);                                 \
+            value = argv[++i];                                                                                         \
+        }                                                                                                              \
     } while (0)
         uint64_t number = 0;
         double real = 0.0;
-        static const char *const switches[] = {"--help", "-h", "--list-devices", "--quiet", "--diagnostics",
-                                               "--write-sets", "--allow-unsupported"};
+        static const char *const switches[] = {"--help",        "-h",           "--list-devices",     "--quiet",
+                                               "--diagnostics", "--write-sets", "--allow-unsupported"};
         for (size_t k = 0; value && k < sizeof switches / sizeof switches[0]; ++k)
             if (strcmp(flag, switches[k]) == 0)
                 return fail(error, size, "%s takes no value", flag, NULL);
@@ -269,9 +268,11 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     if (o->command == COMMAND_ESTIMATE && !o->input)
         return fail(error, size, "estimate needs an EXR file written with --write-sets", NULL, NULL);
     if (!o->preview) {
-        o->preview = (o->outputs & ESTIMATOR_OUTPUT_GMON) ? "gmon" : (o->outputs & ESTIMATOR_OUTPUT_MON) ? "mon" : "mean";
+        o->preview = (o->outputs & ESTIMATOR_OUTPUT_GMON)  ? "gmon"
+                     : (o->outputs & ESTIMATOR_OUTPUT_MON) ? "mon"
+                                                           : "mean";
     } else {
-        int bit = strcmp(o->preview, "mean") == 0 ? ESTIMATOR_OUTPUT_MEAN
+        int bit = strcmp(o->preview, "mean") == 0  ? ESTIMATOR_OUTPUT_MEAN
                   : strcmp(o->preview, "mon") == 0 ? ESTIMATOR_OUTPUT_MON
                                                    : ESTIMATOR_OUTPUT_GMON;
         if (!(o->outputs & bit))

@@ -16,23 +16,23 @@ typedef enum {
 
 typedef struct {
     Command command;
-    const char *input;        /* scene file (render) or EXR (estimate); NULL: default scene */
-    const char *outfile;      /* EXR path; NULL: from the scene's Film, else render.exr */
-    uint64_t spp;             /* 0: the scene's Sampler pixelsamples */
+    const char *input;   /* scene file (render) or EXR (estimate); NULL: default scene */
+    const char *outfile; /* EXR path; NULL: from the scene's Film, else render.exr */
+    uint64_t spp;        /* 0: the scene's Sampler pixelsamples */
     uint32_t seed;
     int quiet;
     EstimatorSettings estimator; /* --sets, --gini-mode */
-    int outputs;              /* --estimators: ESTIMATOR_OUTPUT_* */
-    int diagnostics;          /* --diagnostics: Gini, trim count, non-finite count layers */
-    int write_sets;           /* --write-sets: exact per-set sums in the EXR */
-    const char *preview;      /* estimator shown in the PNG: mean, mon or gmon */
-    float exposure;           /* PNG exposure multiplier */
-    double time_budget;       /* --time seconds, 0: none */
-    unsigned width, height;   /* --resolution, 0: the scene's */
-    int max_depth;            /* --maxdepth, -1: the scene's */
-    int bsdf_only;            /* --integrator bsdf */
-    const char *devices;      /* --device: all, cpu, gpu or indices; NULL: first device */
-    uint64_t first_sample;    /* --first-sample: start of the sample range */
+    int outputs;                 /* --estimators: ESTIMATOR_OUTPUT_* */
+    int diagnostics;             /* --diagnostics: Gini, trim count, non-finite count layers */
+    int write_sets;              /* --write-sets: exact per-set sums in the EXR */
+    const char *preview;         /* estimator shown in the PNG: mean, mon or gmon */
+    float exposure;              /* PNG exposure multiplier */
+    double time_budget;          /* --time seconds, 0: none */
+    unsigned width, height;      /* --resolution, 0: the scene's */
+    int max_depth;               /* --maxdepth, -1: the scene's */
+    int bsdf_only;               /* --integrator bsdf */
+    const char *devices;         /* --device: all, cpu, gpu or indices; NULL: first device */
+    uint64_t first_sample;       /* --first-sample: start of the sample range */
     int allow_unsupported;
     const char *kernel_dir;
 } Options;

@@ -32,8 +32,8 @@ static EstimatorStatus check_common(const EstimatorSettings *settings, size_t in
     if (pixel_count > SIZE_MAX / needed)
         return invalid(message, message_size, "pixel count %zu is too large", pixel_count);
     if (input_length < needed * pixel_count)
-        return invalid(message, message_size, "input holds %zu values, %zu needed (M = %d, %zu pixels)",
-                       input_length, needed * pixel_count, settings->set_count, pixel_count);
+        return invalid(message, message_size, "input holds %zu values, %zu needed (M = %d, %zu pixels)", input_length,
+                       needed * pixel_count, settings->set_count, pixel_count);
     if (!images)
         return invalid(message, message_size, "images is NULL");
     if (!images->mean && !images->mon && !images->gmon && !images->gini && !images->trim)
@@ -61,14 +61,13 @@ static void store(const PixelEstimates *e, size_t pixel, EstimatorImages *images
     }
 }
 
-EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums,
-                                    size_t set_sums_length, size_t pixel_count, uint64_t sample_count,
-                                    EstimatorImages *images, char *message, size_t message_size)
+EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums, size_t set_sums_length,
+                                    size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
+                                    size_t message_size)
 {
     if (!set_sums)
         return invalid(message, message_size, "set sums are NULL");
-    EstimatorStatus status =
-        check_common(settings, set_sums_length, 1, pixel_count, images, message, message_size);
+    EstimatorStatus status = check_common(settings, set_sums_length, 1, pixel_count, images, message, message_size);
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
@@ -96,14 +95,12 @@ static void sums_of_pixel(const uint64_t *accumulators, uint32_t m, size_t pixel
 }
 
 EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
-                                            size_t accumulators_length, size_t pixel_count,
-                                            uint64_t sample_count, EstimatorImages *images, char *message,
-                                            size_t message_size)
+                                            size_t accumulators_length, size_t pixel_count, uint64_t sample_count,
+                                            EstimatorImages *images, char *message, size_t message_size)
 {
     if (!accumulators)
         return invalid(message, message_size, "accumulators are NULL");
-    EstimatorStatus status =
-        check_common(settings, accumulators_length, 2, pixel_count, images, message, message_size);
+    EstimatorStatus status = check_common(settings, accumulators_length, 2, pixel_count, images, message, message_size);
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
@@ -128,8 +125,7 @@ EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *
     if (pixel_count > SIZE_MAX / (2 * values))
         return invalid(message, message_size, "pixel count %zu is too large", pixel_count);
     if (accumulators_length < 2 * values * pixel_count || set_sums_length < values * pixel_count)
-        return invalid(message, message_size, "buffers too short for M = %d and %zu pixels", set_count,
-                       pixel_count);
+        return invalid(message, message_size, "buffers too short for M = %d and %zu pixels", set_count, pixel_count);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
         sums_of_pixel(accumulators, (uint32_t)set_count, p, pixel_count, sums);

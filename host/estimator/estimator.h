@@ -29,7 +29,7 @@ enum {
 };
 
 typedef struct {
-    int set_count;      /* M, 1..64 */
+    int set_count; /* M, 1..64 */
     GiniMode gini_mode;
 } EstimatorSettings;
 
@@ -51,15 +51,14 @@ typedef enum {
 /* Estimates every pixel from float set sums (set_sums_length >= M * 3 *
  * pixel_count). On a bad argument returns ESTIMATOR_INVALID_ARGUMENT and puts
  * a one-line reason in `message` (may be NULL). */
-EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums,
-                                    size_t set_sums_length, size_t pixel_count, uint64_t sample_count,
-                                    EstimatorImages *images, char *message, size_t message_size);
+EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums, size_t set_sums_length,
+                                    size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
+                                    size_t message_size);
 
 /* The same from exact accumulators (length >= M * 3 * 2 * pixel_count). */
 EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
-                                            size_t accumulators_length, size_t pixel_count,
-                                            uint64_t sample_count, EstimatorImages *images, char *message,
-                                            size_t message_size);
+                                            size_t accumulators_length, size_t pixel_count, uint64_t sample_count,
+                                            EstimatorImages *images, char *message, size_t message_size);
 
 /* Converts accumulators to float set sums (nearest float, as the kernels
  * do). */

@@ -67,8 +67,8 @@ static int add_primitive(RenderScene *scene, const Primitive *p, const float *em
     return 0;
 }
 
-int render_scene_add_triangle(RenderScene *scene, const float a[3], const float b[3], const float c[3],
-                              int material, const float *emission, int two_sided, int flip_normal)
+int render_scene_add_triangle(RenderScene *scene, const float a[3], const float b[3], const float c[3], int material,
+                              const float *emission, int two_sided, int flip_normal)
 {
     Primitive p;
     memset(&p, 0, sizeof p);
@@ -84,8 +84,7 @@ int render_scene_add_triangle(RenderScene *scene, const float a[3], const float 
         e1[i] = (double)b[i] - a[i];
         e2[i] = (double)c[i] - a[i];
     }
-    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-           cz = e1[0] * e2[1] - e1[1] * e2[0];
+    double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2], cz = e1[0] * e2[1] - e1[1] * e2[0];
     float area = (float)(0.5 * sqrt(cx * cx + cy * cy + cz * cz));
     return add_primitive(scene, &p, emission, two_sided, area);
 }
@@ -102,9 +101,9 @@ int render_scene_add_sphere(RenderScene *scene, const float centre[3], float rad
     return add_primitive(scene, &p, emission, two_sided, (float)(4.0 * 3.14159265358979323846 * radius * radius));
 }
 
-void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3],
-                             const float right[3], const float up[3], float tan_half_fov_x, float tan_half_fov_y,
-                             unsigned width, unsigned height)
+void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3], const float right[3],
+                             const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
+                             unsigned height)
 {
     RenderParams *p = &scene->params;
     for (int i = 0; i < 3; ++i) {
@@ -145,8 +144,8 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
         e->pick_cdf = i + 1 == scene->emitter_count ? 2.0f : (float)running; /* the last catches u = 1 - eps */
     }
     RenderParams *params = &scene->params;
-    int has_environment = params->environment[0] > 0.0f || params->environment[1] > 0.0f ||
-                          params->environment[2] > 0.0f;
+    int has_environment =
+        params->environment[0] > 0.0f || params->environment[1] > 0.0f || params->environment[2] > 0.0f;
     params->emitter_count = (uint32_t)scene->emitter_count;
     params->environment_pick = has_environment ? (scene->emitter_count > 0 ? 0.5f : 1.0f) : 0.0f;
     return 0;

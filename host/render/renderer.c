@@ -46,8 +46,8 @@ typedef struct {
 
 static void release_buffers(DeviceBuffers *b)
 {
-    cl_mem *all[] = {&b->params,       &b->nodes,    &b->primitives, &b->materials, &b->emitters,
-                     &b->accumulators, &b->rejected, &b->rays,       &b->images[0], &b->images[1],
+    cl_mem *all[] = {&b->params,       &b->nodes,     &b->primitives, &b->materials, &b->emitters,
+                     &b->accumulators, &b->rejected,  &b->rays,       &b->images[0], &b->images[1],
                      &b->images[2],    &b->images[3], &b->images[4]};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
         if (*all[i]) {
@@ -75,8 +75,8 @@ static cl_mem zeroed(ClDevice *device, size_t bytes, cl_int *err)
     return m;
 }
 
-int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSettings *s, RenderOutput *out,
-                 char *error, size_t error_size)
+int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSettings *s, RenderOutput *out, char *error,
+                 size_t error_size)
 {
     memset(out, 0, sizeof *out);
     const int m = s->estimator.set_count;
@@ -122,8 +122,7 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     CL_CHECK(err, cl_failed);
     b.nodes = upload(device, scene->bvh.nodes, (size_t)scene->bvh.node_count * sizeof(BvhNode), &err);
     CL_CHECK(err, cl_failed);
-    b.primitives =
-        upload(device, scene->bvh.primitives, (size_t)scene->bvh.primitive_count * sizeof(Primitive), &err);
+    b.primitives = upload(device, scene->bvh.primitives, (size_t)scene->bvh.primitive_count * sizeof(Primitive), &err);
     CL_CHECK(err, cl_failed);
     b.materials = upload(device, scene->materials, (size_t)scene->material_count * sizeof(Material), &err);
     CL_CHECK(err, cl_failed);
@@ -203,8 +202,7 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     clReleaseEvent(estimated);
     for (int i = 0; i < 5; ++i)
         if (b.images[i])
-            CL_CHECK(clEnqueueReadBuffer(device->queue, b.images[i], CL_TRUE, 0, image_bytes, *hosts[i], 0, NULL,
-                                         NULL),
+            CL_CHECK(clEnqueueReadBuffer(device->queue, b.images[i], CL_TRUE, 0, image_bytes, *hosts[i], 0, NULL, NULL),
                      cl_failed);
 
     out->accumulators = malloc(words * sizeof(uint64_t));
@@ -214,8 +212,8 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
         free(rays);
         goto out_of_memory;
     }
-    CL_CHECK(clEnqueueReadBuffer(device->queue, b.accumulators, CL_TRUE, 0, words * sizeof(uint64_t),
-                                 out->accumulators, 0, NULL, NULL),
+    CL_CHECK(clEnqueueReadBuffer(device->queue, b.accumulators, CL_TRUE, 0, words * sizeof(uint64_t), out->accumulators,
+                                 0, NULL, NULL),
              cl_failed);
     CL_CHECK(clEnqueueReadBuffer(device->queue, b.rejected, CL_TRUE, 0, pixels * sizeof(uint32_t), out->rejected, 0,
                                  NULL, NULL),

@@ -33,7 +33,8 @@ static Material convert_material(const SceneMaterial *in)
                 /* pbrt-v4: a reflectance r is a conductor with eta = 1 and
                  * k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence
                  * reflectance is r. */
-                float r = in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
+                float r =
+                    in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
                 m.conductor_eta[c] = 1.0f;
                 m.conductor_k[c] = 2.0f * sqrtf(r) / sqrtf(1.0f - r);
             } else {
@@ -95,19 +96,18 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
         const SceneTriangle *t = &scene.triangles[i];
         const SceneShape *shape = &scene.shapes[t->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed = render_scene_add_triangle(out, &scene.positions[3 * (size_t)t->vertex[0]],
-                                           &scene.positions[3 * (size_t)t->vertex[1]],
-                                           &scene.positions[3 * (size_t)t->vertex[2]], shape->material,
-                                           light ? light->radiance : NULL, light && light->two_sided,
-                                           shape->flip_normal) != 0;
+        failed = render_scene_add_triangle(
+                     out, &scene.positions[3 * (size_t)t->vertex[0]], &scene.positions[3 * (size_t)t->vertex[1]],
+                     &scene.positions[3 * (size_t)t->vertex[2]], shape->material, light ? light->radiance : NULL,
+                     light && light->two_sided, shape->flip_normal) != 0;
     }
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
         const SceneShape *shape = &scene.shapes[sphere->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
-                                         light ? light->radiance : NULL, light && light->two_sided,
-                                         shape->flip_normal) != 0;
+        failed =
+            render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
+                                    light ? light->radiance : NULL, light && light->two_sided, shape->flip_normal) != 0;
     }
     scene_destroy(&scene);
     if (failed) {
@@ -116,8 +116,9 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
         return -1;
     }
     if (summary->coated_diffuse && !quiet)
-        fprintf(stderr, "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
-                        "over a Lambertian base, without inter-reflection between them\n",
+        fprintf(stderr,
+                "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
+                "over a Lambertian base, without inter-reflection between them\n",
                 path);
 
     uint64_t hash = 0xcbf29ce484222325ull;

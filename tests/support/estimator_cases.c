@@ -8,8 +8,16 @@
 #include <stdlib.h>
 
 static const char *const case_names[CASE_COUNT] = {
-    "random", "zeros", "all equal", "one outlier", "FLT_MAX", "denormals", "magnitudes 1e-30..1e30",
-    "negative means", "mixed signs", "fewer samples than sets",
+    "random",
+    "zeros",
+    "all equal",
+    "one outlier",
+    "FLT_MAX",
+    "denormals",
+    "magnitudes 1e-30..1e30",
+    "negative means",
+    "mixed signs",
+    "fewer samples than sets",
 };
 
 uint64_t estimator_case_set_samples(uint64_t n, int m, int j)
