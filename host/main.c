@@ -7,6 +7,7 @@
 #include "estimator/estimator.h"
 #include "io/exr_image.h"
 #include "io/png_image.h"
+#include "render/render_exr.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -192,25 +193,13 @@ static int render(const Options *o)
     const char *exr_path = o->outfile ? o->outfile : (summary.film_filename[0] ? summary.film_filename : "render.exr");
     char exr_name[4096];
     replace_extension(exr_path, ".exr", exr_name, sizeof exr_name);
-    ExrImage image;
-    memset(&image, 0, sizeof image);
-    image.width = (int)out.width;
-    image.height = (int)out.height;
-    image.mean = out.mean;
-    image.mon = out.mon;
-    image.gmon = out.gmon;
-    image.gini = out.gini;
-    image.trim = out.trim;
-    image.nonfinite = o->diagnostics ? out.rejected : NULL;
-    image.accumulators = o->write_sets ? out.accumulators : NULL;
-    image.metadata.software = "gmonrt";
-    image.metadata.set_count = out.set_count;
-    image.metadata.sample_count = out.sample_count;
-    image.metadata.seed = o->seed;
-    image.metadata.first_sample = out.first_sample;
+    ExrImage image = render_output_exr(&out);
+    if (!o->diagnostics)
+        image.nonfinite = NULL;
+    if (!o->write_sets)
+        image.accumulators = NULL;
     image.metadata.scene_path = scene_path;
     image.metadata.scene_hash = summary.hash;
-    image.metadata.gini_mode = o->estimator.gini_mode;
     status = write_outputs(o, exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon));
 
     if (!o->quiet) {

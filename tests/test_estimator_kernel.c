@@ -24,21 +24,6 @@
 static const int set_counts[] = {1, 2, 3, 4, 20, 21, 64};
 #define SET_COUNTS (int)(sizeof set_counts / sizeof set_counts[0])
 
-static ClDevice device;
-
-static int setup(void **state)
-{
-    (void)state;
-    return test_device_open(&device) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    cl_device_close(&device);
-    return 0;
-}
-
 typedef struct {
     float *mean, *mon, *gmon, *gini;
     int32_t *trim;
@@ -89,11 +74,12 @@ static void assert_images_identical(const Images *a, const Images *b, size_t pix
 static void test_kernel_equals_host_on_all_cases(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     int compared = 0;
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
         for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
             EstimatorSettings settings = {set_counts[mi], (GiniMode)mode};
-            EstimatorProgram *program = estimator_program_new(&device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+            EstimatorProgram *program = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
             assert_non_null(program);
             for (int kind = 0; kind < CASE_COUNT; ++kind) {
                 EstimatorCase c = estimator_case_make((EstimatorCaseKind)kind, set_counts[mi], 1);
@@ -157,7 +143,7 @@ static void device_accumulate(cl_kernel kernel, cl_mem accumulators, cl_mem reje
     float *slice = malloc(pixel_count * length * 3 * sizeof(float));
     for (size_t p = 0; p < pixel_count; ++p)
         memcpy(slice + p * length * 3, samples + (p * total + first) * 3, length * 3 * sizeof(float));
-    cl_mem in = clCreateBuffer(device.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+    cl_mem in = clCreateBuffer(test_device.context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
                                pixel_count * length * 3 * sizeof(float), slice, &err);
     assert_int_equal(err, CL_SUCCESS);
     cl_ulong stream_length = length, first_sample = first, pixels = pixel_count;
@@ -168,8 +154,9 @@ static void device_accumulate(cl_kernel kernel, cl_mem accumulators, cl_mem reje
     assert_int_equal(clSetKernelArg(kernel, 4, sizeof pixels, &pixels), CL_SUCCESS);
     assert_int_equal(clSetKernelArg(kernel, 5, sizeof rejected, &rejected), CL_SUCCESS);
     size_t global = pixel_count;
-    assert_int_equal(clEnqueueNDRangeKernel(device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL), CL_SUCCESS);
-    assert_int_equal(clFinish(device.queue), CL_SUCCESS);
+    assert_int_equal(clEnqueueNDRangeKernel(test_device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL),
+                     CL_SUCCESS);
+    assert_int_equal(clFinish(test_device.queue), CL_SUCCESS);
     clReleaseMemObject(in);
     free(slice);
 }
@@ -177,6 +164,7 @@ static void device_accumulate(cl_kernel kernel, cl_mem accumulators, cl_mem reje
 static void test_streams_with_nan_and_inf(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     const size_t pixel_count = 61, length = 300;
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
         const int m = set_counts[mi];
@@ -196,16 +184,16 @@ static void test_streams_with_nan_and_inf(void **state)
         /* Device: the same stream in two passes of unequal length. */
         char options[64];
         snprintf(options, sizeof options, "-DEST_SETS=%d", m);
-        cl_program program = cl_program_build(&device, "estimator", options, NULL);
+        cl_program program = cl_program_build(&test_device, "estimator", options, NULL);
         assert_non_null(program);
         cl_int err = CL_SUCCESS;
         cl_kernel kernel = clCreateKernel(program, "accumulate_stream", &err);
         assert_int_equal(err, CL_SUCCESS);
         uint64_t *zero = calloc(words, sizeof(uint64_t));
-        cl_mem acc = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, words * sizeof(uint64_t),
-                                    zero, &err);
+        cl_mem acc = clCreateBuffer(test_device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                                    words * sizeof(uint64_t), zero, &err);
         assert_int_equal(err, CL_SUCCESS);
-        cl_mem rejected = clCreateBuffer(device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+        cl_mem rejected = clCreateBuffer(test_device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
                                          pixel_count * sizeof(uint32_t), zero, &err);
         assert_int_equal(err, CL_SUCCESS);
         /* Two passes of unequal length, as a progressive render batches. */
@@ -214,10 +202,10 @@ static void test_streams_with_nan_and_inf(void **state)
 
         uint64_t *device_acc = malloc(words * sizeof(uint64_t));
         uint32_t *device_rejected = malloc(pixel_count * sizeof(uint32_t));
-        assert_int_equal(
-            clEnqueueReadBuffer(device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc, 0, NULL, NULL),
-            CL_SUCCESS);
-        assert_int_equal(clEnqueueReadBuffer(device.queue, rejected, CL_TRUE, 0, pixel_count * sizeof(uint32_t),
+        assert_int_equal(clEnqueueReadBuffer(test_device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc,
+                                             0, NULL, NULL),
+                         CL_SUCCESS);
+        assert_int_equal(clEnqueueReadBuffer(test_device.queue, rejected, CL_TRUE, 0, pixel_count * sizeof(uint32_t),
                                              device_rejected, 0, NULL, NULL),
                          CL_SUCCESS);
         assert_memory_equal(device_acc, host_acc, words * sizeof(uint64_t));
@@ -230,7 +218,7 @@ static void test_streams_with_nan_and_inf(void **state)
         /* And the estimates of those sums, from the accumulators. */
         for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
             EstimatorSettings settings = {m, (GiniMode)mode};
-            EstimatorProgram *est = estimator_program_new(&device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+            EstimatorProgram *est = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
             assert_non_null(est);
             Images host, kern;
             images_init(&host, pixel_count);
@@ -268,5 +256,5 @@ int main(void)
         cmocka_unit_test(test_kernel_equals_host_on_all_cases),
         cmocka_unit_test(test_streams_with_nan_and_inf),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -17,21 +17,6 @@
 
 #include <cmocka.h>
 
-static ClDevice device;
-
-static int setup(void **state)
-{
-    (void)state;
-    return test_device_open(&device) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    cl_device_close(&device);
-    return 0;
-}
-
 static Material diffuse(float albedo)
 {
     Material m;
@@ -59,7 +44,7 @@ static void render_and_check(RenderScene *scene, int nee, unsigned max_depth, do
     settings.sample_count = 64;
     settings.seed = 7;
     RenderOutput out;
-    int status = renderer_run(&device, scene, &settings, &out, error, sizeof error);
+    int status = renderer_run(&test_device, scene, &settings, &out, error, sizeof error);
     if (status != 0)
         fail_msg("%s: %s", name, error);
     size_t pixels = (size_t)out.width * out.height;
@@ -104,6 +89,7 @@ static void closed_sphere(int nee, unsigned max_depth)
 static void test_closed_emitting_sphere(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     closed_sphere(1, 5);
     closed_sphere(0, 5);
     closed_sphere(1, 60);
@@ -114,6 +100,7 @@ static void test_closed_emitting_sphere(void **state)
 static void test_diffuse_sphere_in_environment(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     for (int nee = 0; nee <= 1; ++nee) {
         RenderScene scene;
         render_scene_init(&scene);
@@ -134,6 +121,7 @@ static void test_diffuse_sphere_in_environment(void **state)
 static void test_glass_sphere_in_environment(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     RenderScene scene;
     render_scene_init(&scene);
     Material glass;
@@ -157,5 +145,5 @@ int main(void)
         cmocka_unit_test(test_diffuse_sphere_in_environment),
         cmocka_unit_test(test_glass_sphere_in_environment),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

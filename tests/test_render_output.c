@@ -7,6 +7,7 @@
 #include "estimator/estimator.h"
 #include "estimator_core.h"
 #include "io/exr_image.h"
+#include "render/render_exr.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "test_device.h"
@@ -22,21 +23,6 @@
 
 #include <cmocka.h>
 
-static ClDevice device;
-
-static int setup(void **state)
-{
-    (void)state;
-    return test_device_open(&device) ? 0 : -1;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    cl_device_close(&device);
-    return 0;
-}
-
 static void load(const char *name, unsigned size, RenderScene *scene)
 {
     char path[1024], error[1024];
@@ -50,13 +36,14 @@ static void load(const char *name, unsigned size, RenderScene *scene)
 static void render(const RenderScene *scene, RenderSettings *settings, RenderOutput *out)
 {
     char error[1024];
-    if (renderer_run(&device, scene, settings, out, error, sizeof error))
+    if (renderer_run(&test_device, scene, settings, out, error, sizeof error))
         fail_msg("%s", error);
 }
 
 static void test_furnace_scene_matches_analytic_value(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     RenderScene scene;
     load("furnace.pbrt", 0, &scene);
     RenderSettings settings;
@@ -84,6 +71,7 @@ static void test_furnace_scene_matches_analytic_value(void **state)
 static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     RenderScene scene;
     load("cornell-glass.pbrt", 24, &scene);
     RenderSettings settings;
@@ -97,20 +85,7 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
 
     char path[256], error[1024];
     snprintf(path, sizeof path, "%s/test_render_output.exr", GMON_BINARY_DIR);
-    ExrImage image;
-    memset(&image, 0, sizeof image);
-    image.width = (int)out.width;
-    image.height = (int)out.height;
-    image.mean = out.mean;
-    image.mon = out.mon;
-    image.gmon = out.gmon;
-    image.gini = out.gini;
-    image.trim = out.trim;
-    image.nonfinite = out.rejected;
-    image.accumulators = out.accumulators;
-    image.metadata.set_count = out.set_count;
-    image.metadata.sample_count = out.sample_count;
-    image.metadata.seed = settings.seed;
+    ExrImage image = render_output_exr(&out);
     assert_int_equal(exr_image_write(path, &image, error, sizeof error), IMAGE_IO_OK);
 
     ExrImage back;
@@ -158,6 +133,7 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
 static void test_image_independent_of_pass_batching_and_ranges(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     RenderScene scene;
     load("cornell-glass.pbrt", 16, &scene);
     RenderSettings settings;
@@ -229,6 +205,7 @@ static void image_mean(const RenderOutput *out, int channel, double *mean, doubl
 static void test_nee_and_bsdf_sampling_agree(void **state)
 {
     (void)state;
+    REQUIRE_TEST_DEVICE();
     const char *scenes[] = {"cornell-diffuse.pbrt", "cornell-glass.pbrt"};
     for (int s = 0; s < 2; ++s) {
         RenderOutput outputs[2];
@@ -265,5 +242,5 @@ int main(void)
         cmocka_unit_test(test_image_independent_of_pass_batching_and_ranges),
         cmocka_unit_test(test_nee_and_bsdf_sampling_agree),
     };
-    return cmocka_run_group_tests(tests, setup, teardown);
+    return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -89,6 +89,8 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     out->width = scene->params.width;
     out->height = scene->params.height;
     out->set_count = m;
+    out->gini_mode = s->estimator.gini_mode;
+    out->seed = s->seed;
     out->first_sample = s->first_sample;
 
     DeviceBuffers b;

@@ -27,6 +27,8 @@ typedef struct {
 typedef struct {
     unsigned width, height;
     int set_count;
+    GiniMode gini_mode;
+    uint32_t seed;
     uint64_t first_sample;
     uint64_t sample_count;  /* samples per pixel actually rendered */
     uint64_t *accumulators; /* exact set sums, planes [set][channel][word][pixel] */

@@ -28,3 +28,19 @@ int test_device_open(ClDevice *device)
     fprintf(stderr, "no OpenCL device: skipping (this would fail under CI=true)\n");
     return 0;
 }
+
+ClDevice test_device;
+
+int test_device_setup(void **state)
+{
+    (void)state;
+    test_device_open(&test_device); /* fails the group under CI */
+    return 0;
+}
+
+int test_device_teardown(void **state)
+{
+    (void)state;
+    cl_device_close(&test_device);
+    return 0;
+}

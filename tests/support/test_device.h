@@ -9,6 +9,18 @@
  * none outside CI (the caller should skip()). Fails the test under CI. */
 int test_device_open(ClDevice *device);
 
+/* A cmocka group fixture: opens the first device into test_device and
+ * closes it. Without a device the setup fails under CI; elsewhere it
+ * succeeds and each test skips itself with REQUIRE_TEST_DEVICE(). */
+extern ClDevice test_device;
+int test_device_setup(void **state);
+int test_device_teardown(void **state);
+#define REQUIRE_TEST_DEVICE()                                                                                          \
+    do {                                                                                                               \
+        if (!test_device.context)                                                                                      \
+            skip();                                                                                                    \
+    } while (0)
+
 /* True when the CI environment variable is "true". */
 int test_running_in_ci(void);
 

@@ -1,0 +1,25 @@
+#include "render/render_exr.h"
+
+#include <string.h>
+
+ExrImage render_output_exr(const RenderOutput *out)
+{
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = (int)out->width;
+    image.height = (int)out->height;
+    image.mean = out->mean;
+    image.mon = out->mon;
+    image.gmon = out->gmon;
+    image.gini = out->gini;
+    image.trim = out->trim;
+    image.nonfinite = out->rejected;
+    image.accumulators = out->accumulators;
+    image.metadata.software = "gmonrt";
+    image.metadata.set_count = out->set_count;
+    image.metadata.sample_count = out->sample_count;
+    image.metadata.seed = out->seed;
+    image.metadata.first_sample = out->first_sample;
+    image.metadata.gini_mode = out->gini_mode;
+    return image;
+}
