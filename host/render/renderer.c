@@ -86,6 +86,15 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     }
     const size_t pixels = (size_t)scene->params.width * scene->params.height;
     const size_t words = (size_t)m * EST_CHANNELS * 2 * pixels;
+    const size_t accumulator_bytes = words * sizeof(uint64_t);
+    if (accumulator_bytes > device->info.max_allocation) {
+        snprintf(error, error_size,
+                 "the exact set sums of a %ux%u image with M = %d need %.2f GiB in one buffer, but device '%s' "
+                 "allows %.2f GiB: lower the resolution or --sets",
+                 scene->params.width, scene->params.height, m, (double)accumulator_bytes / 1073741824.0,
+                 device->info.name, (double)device->info.max_allocation / 1073741824.0);
+        return -1;
+    }
     out->width = scene->params.width;
     out->height = scene->params.height;
     out->set_count = m;
@@ -130,7 +139,7 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     CL_CHECK(err, cl_failed);
     b.emitters = upload(device, scene->emitters, (size_t)scene->emitter_count * sizeof(Emitter), &err);
     CL_CHECK(err, cl_failed);
-    b.accumulators = zeroed(device, words * sizeof(uint64_t), &err);
+    b.accumulators = zeroed(device, accumulator_bytes, &err);
     CL_CHECK(err, cl_failed);
     b.rejected = zeroed(device, pixels * sizeof(uint32_t), &err);
     CL_CHECK(err, cl_failed);

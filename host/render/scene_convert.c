@@ -85,6 +85,7 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
                             tan_half[0], tan_half[1], width, height);
     out->params.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
     memcpy(out->params.environment, scene.environment, sizeof out->params.environment);
+    const int scene_has_environment = scene.has_environment;
 
     int failed = 0;
     for (size_t i = 0; i < scene.material_count && !failed; ++i) {
@@ -115,6 +116,8 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
         render_scene_destroy(out);
         return -1;
     }
+    if (out->emitter_count == 0 && !scene_has_environment && !quiet)
+        fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
     if (summary->coated_diffuse && !quiet)
         fprintf(stderr,
                 "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
