@@ -111,8 +111,12 @@ int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSetting
     cl_int err = CL_SUCCESS;
 
     double build_start = now_seconds();
-    char options[64];
-    snprintf(options, sizeof options, "-DEST_SETS=%d", m);
+    /* The path tracer needs no bit-exact agreement with the host (only its
+     * integer accumulation does, which no float option touches), so it may
+     * reassociate: about 10% faster on PoCL. Results stay deterministic for
+     * a given device and compiler. */
+    char options[96];
+    snprintf(options, sizeof options, "-DEST_SETS=%d -cl-unsafe-math-optimizations", m);
     program = cl_program_build(device, "path_tracer", options, s->kernel_dir);
     if (!program) {
         snprintf(error, error_size, "the path tracer failed to build on device '%s'", device->info.name);
