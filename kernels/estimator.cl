@@ -1,11 +1,18 @@
-/* Estimator kernels: one work item per pixel turns the M set sums of each
- * channel into the mean, MoN and G-MoN images (and diagnostics).
+/* Estimator kernels: each work item turns the M set sums of each channel of
+ * EST_VECTOR_WIDTH consecutive pixels into the mean, MoN and G-MoN images
+ * (and diagnostics), one pixel per vector lane, with the host's code
+ * (estimator_core.h, estimate_lanes).
  *
  * Compile-time constants (build options):
- *   EST_SETS      M, 1..64
- *   EST_GINI_MODE EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
- *   EST_OUTPUTS   bit mask of images written: EST_OUTPUT_* below (default all)
- * Output images are RGB floats, pixel-interleaved; trim counts are ints. */
+ *   EST_SETS          M, 1..64
+ *   EST_GINI_MODE     EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
+ *   EST_OUTPUTS       bit mask of images written: EST_OUTPUT_* below (default all)
+ *   EST_VECTOR_WIDTH  pixels per work item: 1 (default), 2, 4, 8 or 16
+ * The global size must cover ceil(pixel_count / EST_VECTOR_WIDTH) work items
+ * (more are allowed); the last one may hold fewer pixels.
+ * Inputs are planes [set][channel][pixel], so a work item's pixels are
+ * consecutive values. Output images are RGB floats, pixel-interleaved; trim
+ * counts are ints. */
 #include "estimator_core.h"
 
 #ifndef EST_SETS
@@ -23,25 +30,211 @@
 #define EST_OUTPUTS 15
 #endif
 
-KERNEL_FN void store_estimates(const PixelEstimates *e, ulong pixel, __global float *mean, __global float *mon,
-                               __global float *gmon, __global float *gini, __global int *trim)
+/* The general path cannot unroll its loops (m is not a constant there);
+ * clang would say so. */
+#pragma clang diagnostic ignored "-Wpass-failed"
+
+#define W EST_VECTOR_WIDTH
+#ifndef EST_PREFETCH
+#define EST_PREFETCH 0
+#endif
+
+#if W == 1
+#define LOAD_LANES(p) (*(p))
+#define STORE_LANES(x, p) (*(p) = (x))
+#else
+#define LOAD_LANES(p) EST_PASTE(vload, W)(0, p)
+#define STORE_LANES(x, p) EST_PASTE(vstore, W)(x, 0, p)
+#endif
+
+/* Lanes from `count` (1..W) consecutive values at p; lanes past count repeat
+ * the last value (their results are not stored). */
+KERNEL_FN est_float load_float_lanes(__global const float *p, int count)
 {
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        ulong i = pixel * EST_CHANNELS + c;
+    float lanes[W];
+    for (int l = 0; l < W; ++l)
+        lanes[l] = p[l < count ? l : count - 1];
+    return LOAD_LANES(lanes);
+}
+
+KERNEL_FN est_ulong load_ulong_lanes(__global const ulong *p, int count)
+{
+    ulong lanes[W];
+    for (int l = 0; l < W; ++l)
+        lanes[l] = p[l < count ? l : count - 1];
+    return LOAD_LANES(lanes);
+}
+
+/* Writes the first `count` lanes of an RGB image's three channels. A full
+ * work item of 16 lanes interleaves the channels in registers (clang's
+ * shuffles) and writes three whole vectors. */
+#if W == 16 && defined(__clang__)
+#define STORE_RGB16(image, first, rgb, vstore)                                                                    \
+    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, \
+                                                           4, 20, 0, 5),                                          \
+                                   rgb[2], 0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15),              \
+           0, image + (first) * EST_CHANNELS);                                                                    \
+    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, \
+                                                           25, 0, 10, 26),                                        \
+                                   rgb[2], 0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15),              \
+           0, image + (first) * EST_CHANNELS + 16);                                                               \
+    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, \
+                                                           30, 0, 15, 31, 0),                                     \
+                                   rgb[2], 26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31),             \
+           0, image + (first) * EST_CHANNELS + 32);
+#endif
+
+KERNEL_FN void store_rgb(__global float *image, ulong first, int count, const est_float *rgb)
+{
+#ifdef STORE_RGB16
+    if (count == W) {
+        STORE_RGB16(image, first, rgb, vstore16)
+        return;
+    }
+#endif
+    float lanes[EST_CHANNELS][W];
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        STORE_LANES(rgb[c], lanes[c]);
+    for (int l = 0; l < count; ++l)
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            image[(first + l) * EST_CHANNELS + c] = lanes[c][l];
+}
+
+KERNEL_FN void store_rgb_int(__global int *image, ulong first, int count, const est_int *rgb)
+{
+#ifdef STORE_RGB16
+    if (count == W) {
+        STORE_RGB16(image, first, rgb, vstore16)
+        return;
+    }
+#endif
+    int lanes[EST_CHANNELS][W];
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        STORE_LANES(rgb[c], lanes[c]);
+    for (int l = 0; l < count; ++l)
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            image[(first + l) * EST_CHANNELS + c] = lanes[c][l];
+}
+
+KERNEL_FN void store_estimates(const LaneEstimates *e, ulong first, int count, __global float *mean,
+                               __global float *mon, __global float *gmon, __global float *gini, __global int *trim)
+{
 #if EST_OUTPUTS & EST_OUTPUT_MEAN
-        mean[i] = e->mean[c];
+    store_rgb(mean, first, count, e->mean);
 #endif
 #if EST_OUTPUTS & EST_OUTPUT_MON
-        mon[i] = e->mon[c];
+    store_rgb(mon, first, count, e->mon);
 #endif
 #if EST_OUTPUTS & EST_OUTPUT_GMON
-        gmon[i] = e->gmon[c];
+    store_rgb(gmon, first, count, e->gmon);
 #endif
 #if EST_OUTPUTS & EST_OUTPUT_DIAGNOSTICS
-        gini[i] = e->gini[c];
-        trim[i] = e->trim[c];
+    store_rgb(gini, first, count, e->gini);
+    store_rgb_int(trim, first, count, e->trim);
 #endif
+}
+
+/* EST_PREFETCH (CPU devices only, set by the host): prefetch the input of
+ * the work item that many ahead, which the same thread runs soon after (a
+ * CPU runtime runs a work group's items in order), so that memory works
+ * while this one computes: the input is M * 3 streams, more than hardware
+ * prefetchers follow. The address goes through an integer because the
+ * builtin takes a generic pointer; on a CPU every address space is the same
+ * memory. */
+#if defined(EST_PREFETCH) && EST_PREFETCH > 0
+#ifndef EST_PREFETCH_LOCALITY
+#define EST_PREFETCH_LOCALITY 3
+#endif
+#define PREFETCH(address) __builtin_prefetch((const void *)(ulong)(address), 0, EST_PREFETCH_LOCALITY)
+#else
+#define PREFETCH(address)
+#endif
+
+/* Channel c of one work item's set sums, pixels first .. first + count - 1
+ * (count: 1..W; lanes past count repeat the last pixel), from float set
+ * sums or (from_accumulators) exact accumulators converted to the nearest
+ * floats. */
+EST_INLINE void load_channel(__global const void *input, int from_accumulators, ulong pixel_count, ulong first,
+                             int count, uint c, est_float *sums)
+{
+    EST_UNROLL
+    for (uint j = 0; j < EST_SETS; ++j) {
+        if (from_accumulators) {
+            __global const ulong *a = (__global const ulong *)input;
+            __global const ulong *lo = a + accumulator_index(j, c, 0, first, pixel_count);
+            __global const ulong *hi = a + accumulator_index(j, c, 1, first, pixel_count);
+            sums[j] = count == W ? fixed_to_float_lanes(LOAD_LANES(lo), LOAD_LANES(hi))
+                                 : fixed_to_float_lanes(load_ulong_lanes(lo, count), load_ulong_lanes(hi, count));
+        } else {
+            __global const float *p = (__global const float *)input + set_sum_index(j, c, first, pixel_count);
+            sums[j] = count == W ? LOAD_LANES(p) : load_float_lanes(p, count);
+        }
     }
+}
+
+/* Prefetches (EST_PREFETCH) the input of the work item at pixel `first`. */
+EST_INLINE void prefetch_input(__global const void *input, int from_accumulators, ulong pixel_count, ulong first)
+{
+    EST_UNROLL
+    for (uint j = 0; j < EST_SETS; ++j)
+        EST_UNROLL
+        for (uint c = 0; c < EST_CHANNELS; ++c) {
+            if (from_accumulators) {
+                __global const ulong *a = (__global const ulong *)input;
+                PREFETCH(a + accumulator_index(j, c, 0, first, pixel_count));
+                PREFETCH(a + accumulator_index(j, c, 1, first, pixel_count));
+            } else {
+                PREFETCH((__global const float *)input + set_sum_index(j, c, first, pixel_count));
+            }
+        }
+}
+
+/* A work item of the general case: fewer samples than sets (the start of a
+ * render: m = sample_count sets are non-empty) or fewer than W pixels (the
+ * last work item). The same code as the common case, with m and count not
+ * constants: not inlined, as its loops do not unroll. */
+static __attribute__((noinline)) void estimate_in_general(__global const void *input, int from_accumulators,
+                                                          ulong pixel_count, ulong sample_count, ulong first,
+                                                          __global float *mean, __global float *mon,
+                                                          __global float *gmon, __global float *gini,
+                                                          __global int *trim)
+{
+    int count = pixel_count - first < W ? (int)(pixel_count - first) : W;
+    int m = sample_count < EST_SETS ? (int)sample_count : EST_SETS;
+    est_float sums[EST_CHANNELS][EST_SETS];
+    for (uint c = 0; c < EST_CHANNELS; ++c)
+        load_channel(input, from_accumulators, pixel_count, first, count, c, sums[c]);
+    LaneEstimates e;
+    estimate_lanes(sums, sample_count, EST_SETS, m, EST_GINI_MODE, from_accumulators, &e);
+    store_estimates(&e, first, count, mean, mon, gmon, gini, trim);
+}
+
+/* The common case: W pixels, every set non-empty (m = M, a constant). */
+EST_INLINE void estimate_common(__global const void *input, int from_accumulators, ulong pixel_count,
+                                ulong sample_count, ulong first, __global float *mean, __global float *mon,
+                                __global float *gmon, __global float *gini, __global int *trim)
+{
+    if (EST_PREFETCH > 0 && first + (EST_PREFETCH + 1) * W <= pixel_count)
+        prefetch_input(input, from_accumulators, pixel_count, first + EST_PREFETCH * W);
+    LaneEstimates e;
+#if EST_GINI_MODE == EST_GINI_PER_CHANNEL
+    /* estimate_lanes channel by channel (as it runs in this mode), each
+     * channel's input loaded just before it is needed. */
+    const SetCounts k = est_set_counts(sample_count, EST_SETS, EST_SETS);
+    EST_UNROLL
+    for (uint c = 0; c < EST_CHANNELS; ++c) {
+        est_float sums[EST_SETS];
+        load_channel(input, from_accumulators, pixel_count, first, W, c, sums);
+        estimate_channel_alone(&k, sums, from_accumulators, &e, (int)c);
+    }
+#else
+    est_float sums[EST_CHANNELS][EST_SETS];
+    EST_UNROLL
+    for (uint c = 0; c < EST_CHANNELS; ++c)
+        load_channel(input, from_accumulators, pixel_count, first, W, c, sums[c]);
+    estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_GINI_MODE, from_accumulators, &e);
+#endif
+    store_estimates(&e, first, W, mean, mon, gmon, gini, trim);
 }
 
 /* Input: float set sums, planes [set][channel][pixel]. */
@@ -49,40 +242,34 @@ __kernel void estimate_from_sums(__global const float *set_sums, ulong pixel_cou
                                  __global float *mean, __global float *mon, __global float *gmon,
                                  __global float *gini, __global int *trim)
 {
-    ulong pixel = get_global_id(0);
-    if (pixel >= pixel_count)
+    ulong first = get_global_id(0) * W;
+    if (first >= pixel_count)
         return;
-    float sums[EST_CHANNELS][EST_SETS];
-    for (uint j = 0; j < EST_SETS; ++j)
-        for (uint c = 0; c < EST_CHANNELS; ++c)
-            sums[c][j] = set_sums[set_sum_index(j, c, pixel, pixel_count)];
-    PixelEstimates e = estimate_pixel(sums, sample_count, EST_SETS, EST_GINI_MODE);
-    store_estimates(&e, pixel, mean, mon, gmon, gini, trim);
+    if (sample_count < EST_SETS || pixel_count - first < W)
+        estimate_in_general(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+    else
+        estimate_common(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
 }
 
-/* Input: the renderer's exact fixed-point accumulators (estimator.h). */
+/* Input: the renderer's exact fixed-point accumulators (estimator.h), planes
+ * [set][channel][word][pixel]. */
 __kernel void estimate_from_accumulators(__global const ulong *accumulators, ulong pixel_count,
                                          ulong sample_count, __global float *mean, __global float *mon,
                                          __global float *gmon, __global float *gini, __global int *trim)
 {
-    ulong pixel = get_global_id(0);
-    if (pixel >= pixel_count)
+    ulong first = get_global_id(0) * W;
+    if (first >= pixel_count)
         return;
-    float sums[EST_CHANNELS][EST_SETS];
-    for (uint j = 0; j < EST_SETS; ++j)
-        for (uint c = 0; c < EST_CHANNELS; ++c) {
-            FixedSum s;
-            s.lo = accumulators[accumulator_index(j, c, 0, pixel, pixel_count)];
-            s.hi = accumulators[accumulator_index(j, c, 1, pixel, pixel_count)];
-            sums[c][j] = fixed_to_float(s);
-        }
-    PixelEstimates e = estimate_pixel(sums, sample_count, EST_SETS, EST_GINI_MODE);
-    store_estimates(&e, pixel, mean, mon, gmon, gini, trim);
+    if (sample_count < EST_SETS || pixel_count - first < W)
+        estimate_in_general(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+    else
+        estimate_common(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
 }
 
 /* Drives the shared accumulation code from a sample stream (tests): work
  * item p adds samples[p][i] (RGB) as sample index first_sample + i of pixel
- * p, and counts the rejected ones. */
+ * p, and counts the rejected ones. One pixel per work item whatever
+ * EST_VECTOR_WIDTH is. */
 __kernel void accumulate_stream(__global const float *samples, ulong stream_length, ulong first_sample,
                                 __global ulong *accumulators, ulong pixel_count, __global uint *rejected)
 {

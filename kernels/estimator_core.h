@@ -6,11 +6,15 @@
  * file, so they agree bit for bit.
  *
  * In a kernel, EST_SETS (M) is a compile-time constant and sizes the private
- * arrays; the host compiles it with the maximum and passes M at run time. */
+ * arrays; the host compiles it with the maximum and passes M at run time.
+ * The estimators work on lanes (lanes.h): one pixel on the host, and
+ * EST_VECTOR_WIDTH pixels per work item in a vector kernel. */
 #ifndef KERNELS_ESTIMATOR_CORE_H
 #define KERNELS_ESTIMATOR_CORE_H
 
 #include "compat.h"
+#include "lanes.h"
+#include "sorting_networks.h"
 
 #define EST_MAX_SETS 64
 #define EST_CHANNELS 3
@@ -91,60 +95,41 @@ KERNEL_FN FixedSum fixed_add(FixedSum a, FixedSum b)
     return r;
 }
 
-/* True if any of the lowest `count` bits (0..127) of v are set. */
-KERNEL_FN int fixed_low_bits_set(FixedSum v, int count)
+/* The fixed-point value (lo, hi) of each lane as the nearest float (ties to
+ * even). Integer-to-float conversion is correctly rounded in C and OpenCL
+ * alike, so every device rounds the same way: the magnitude's top 64 bits,
+ * with a sticky bit for the rest (far below the float's last bit, so it
+ * rounds exactly as the whole would), are converted and scaled by a power of
+ * two (exact: the results lie in [2^-56, 2^72)). Branch-free, for vectors. */
+EST_INLINE est_float fixed_to_float_lanes(est_ulong lo, est_ulong hi)
 {
-    if (count <= 0)
-        return 0;
-    if (count < 64)
-        return (v.lo & (((uint64_t)1 << count) - 1)) != 0;
-    if (v.lo != 0)
-        return 1;
-    if (count == 64)
-        return 0;
-    return (v.hi & (((uint64_t)1 << (count - 64)) - 1)) != 0;
+    est_lmask negative = EST_LONG_FROM_ULONG(hi) < 0;
+    est_ulong negated_lo = ~lo + 1u;
+    est_ulong negated_hi = ~hi + EST_SELECT(lo == 0u, EST_ULONGS(1u), EST_ULONGS(0u));
+    lo = EST_SELECT(negative, negated_lo, lo);
+    hi = EST_SELECT(negative, negated_hi, hi);
+    /* Magnitude below 2^64: lo itself, in units of 2^-56. Else the 64 bits
+     * from the leading one down, in units of 2^(8 - z) (z = leading zeros of
+     * hi); (lo >> 1) >> (63 - z) is lo >> (64 - z) without a 64-bit shift. */
+    est_lmask small = hi == 0u;
+    est_ulong z = EST_LEADING_ZEROS64(hi);
+    est_ulong top = (hi << z) | ((lo >> 1) >> (63u - z));
+    est_ulong sticky = EST_SELECT((lo << z) != 0u, EST_ULONGS(1u), EST_ULONGS(0u));
+    est_ulong word = EST_SELECT(small, lo, top | sticky);
+    est_int exponent = EST_SELECT(EST_MASK_FROM_LMASK(small), EST_INTS(-EST_FIXED_FRAC_BITS),
+                                  8 - EST_INT_FROM_ULONG(z));
+    est_float magnitude = EST_FLOAT_FROM_ULONG(word) *
+                          EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(exponent + 127) << 23);
+    return EST_SELECT(EST_MASK_FROM_LMASK(negative), -magnitude, magnitude);
 }
 
-/* v >> count for count in 1..127, low word only (the caller needs 25 bits). */
-KERNEL_FN uint64_t fixed_shift_right_low(FixedSum v, int count)
-{
-    if (count < 64)
-        return (v.lo >> count) | (v.hi << (64 - count));
-    return v.hi >> (count - 64);
-}
-
-/* The fixed-point value as the nearest float (ties to even). Done with
- * integer operations so every device rounds the same way. */
+#if EST_VECTOR_WIDTH == 1
+/* The fixed-point value as the nearest float (ties to even). */
 KERNEL_FN float fixed_to_float(FixedSum v)
 {
-    uint32_t sign = (uint32_t)(v.hi >> 63);
-    if (sign) {
-        v.lo = ~v.lo + 1;
-        v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
-    }
-    if (v.hi == 0 && v.lo == 0)
-        return 0.0f;
-    int top = v.hi != 0 ? 127 - leading_zeros64(v.hi) : 63 - leading_zeros64(v.lo);
-    uint32_t mantissa;
-    if (top <= 23) {
-        mantissa = (uint32_t)(v.lo << (23 - top));
-    } else {
-        int drop = top - 23;
-        mantissa = (uint32_t)(fixed_shift_right_low(v, drop) & 0xffffffu);
-        int round_bit = (int)((drop == 1 ? v.lo : fixed_shift_right_low(v, drop - 1)) & 1u);
-        int sticky = fixed_low_bits_set(v, drop - 1);
-        if (round_bit && (sticky || (mantissa & 1u))) {
-            mantissa += 1;
-            if (mantissa == 0x1000000u) {
-                mantissa >>= 1;
-                top += 1;
-            }
-        }
-    }
-    /* value = 1.m * 2^(top - 56); top <= 127 keeps it far from overflow. */
-    uint32_t biased_exponent = (uint32_t)(top - EST_FIXED_FRAC_BITS + 127);
-    return float_from_bits((sign << 31) | (biased_exponent << 23) | (mantissa & 0x7fffffu));
+    return fixed_to_float_lanes(v.lo, v.hi);
 }
+#endif
 
 /* A sample is usable if every channel is finite and below the limit. */
 KERNEL_FN int sample_is_usable(float r, float g, float b)
@@ -200,7 +185,6 @@ KERNEL_FN uint64_t set_sum_index(uint32_t set, uint32_t channel, uint64_t pixel,
 {
     return (uint64_t)(set * EST_CHANNELS + channel) * pixel_count + pixel;
 }
-
 /* ------------------------------------------------------------------------
  * Per-pixel estimators.
  *
@@ -212,284 +196,528 @@ KERNEL_FN uint64_t set_sum_index(uint32_t set, uint32_t channel, uint64_t pixel,
  * and results scale exactly with their inputs. Averages are computed as
  * base + mean(value - base) with a compensated sum, so equal means give that
  * value exactly; Gini's numerator pairs t_{m+1-j} - t_j, which never cancel.
+ *
+ * Written once for lanes (lanes.h): the host runs it on one pixel at a time,
+ * a vector kernel on EST_VECTOR_WIDTH pixels at once, with the same
+ * operations in the same order, so both give the same bits. It is branch
+ * free per lane: sets are sorted by a fixed sorting network
+ * (sorting_networks.h), and G-MoN's trimmed mean, whose range differs per
+ * lane, visits every set and adds exact zeros for the trimmed ones. Branches
+ * and loop bounds depend only on M, the sample count and the Gini mode,
+ * which every lane shares; in a kernel M and the Gini mode are compile-time
+ * constants, so the loops unroll and the arrays live in registers.
  * ---------------------------------------------------------------------- */
 
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+
+/* The estimates of EST_VECTOR_WIDTH pixels, one per lane. */
 typedef struct {
-    float mean[EST_CHANNELS];
-    float mon[EST_CHANNELS];
-    float gmon[EST_CHANNELS];
-    float gini[EST_CHANNELS]; /* G used for the trim, per channel */
-    int32_t trim[EST_CHANNELS]; /* c: sets dropped at each end */
-} PixelEstimates;
+    est_float mean[EST_CHANNELS];
+    est_float mon[EST_CHANNELS];
+    est_float gmon[EST_CHANNELS];
+    est_float gini[EST_CHANNELS]; /* G used for the trim, per channel */
+    est_int trim[EST_CHANNELS];   /* c: sets dropped at each end */
+} LaneEstimates;
 
-/* Neumaier's compensated sum. */
-typedef struct {
-    float sum;
-    float compensation;
-} CompensatedSum;
-
-KERNEL_FN void compensated_add(CompensatedSum *s, float x)
+/* Neumaier's compensated sum: adds x to *sum and the rounding error of that
+ * addition to *compensation. The error is found with Knuth's TwoSum, exact
+ * without Neumaier's branch on |sum| >= |x|, so it is the same value. Adding
+ * +0 changes neither (neither ever holds -0). */
+EST_INLINE void compensated_add(est_float *sum, est_float *compensation, est_float x)
 {
-    float t = s->sum + x;
-    if (abs_float(s->sum) >= abs_float(x))
-        s->compensation += (s->sum - t) + x;
-    else
-        s->compensation += (x - t) + s->sum;
-    s->sum = t;
+    est_float t = *sum + x;
+    est_float z = t - *sum;
+    *compensation += (*sum - (t - z)) + (x - z);
+    *sum = t;
 }
 
-/* 2^k for k in -126..127, built from its bits (exact, no pow). */
-KERNEL_FN float power_of_two(int k)
+/* The same when |*sum| >= |x| or the addition is exact (Dekker's Fast2Sum
+ * then gives the exact error in two operations): so for terms >= 0 added
+ * largest first. */
+EST_INLINE void compensated_add_smaller(est_float *sum, est_float *compensation, est_float x)
 {
-    return float_from_bits((uint32_t)(k + 127) << 23);
+    est_float t = *sum + x;
+    *compensation += (*sum - t) + x;
+    *sum = t;
 }
 
-/* 2^k for k in -253..253 as two factors, each a float, whose product with x
- * (x * first * second) is exact when the result is normal. */
-typedef struct {
-    float first;
-    float second;
-} PowerOfTwo;
-
-KERNEL_FN PowerOfTwo power_of_two_factors(int k)
+/* 2^k for k in -127..127, built from its bits (exact, no pow; 2^-127 is a
+ * denormal). */
+EST_INLINE est_float power_of_two(est_int k)
 {
-    PowerOfTwo p;
-    p.first = power_of_two(k > 127 ? 127 : (k < -126 ? -126 : k));
-    p.second = power_of_two(k > 127 ? k - 127 : (k < -126 ? k + 126 : 0));
-    return p;
+    return EST_FLOAT_FROM_BITS(
+        EST_SELECT(k > -127, EST_UINT_FROM_INT(k + 127) << 23, EST_UINT_FROM_INT(EST_INTS(0x00400000))));
 }
 
-KERNEL_FN float scaled(float x, PowerOfTwo p)
+/* The scale of a sum: it multiplies the values it adds by 2^-s, where
+ * s = floor(log2(largest)) for the largest magnitude among them, clamped to
+ * [-126, 127]. The largest scaled value then lies in [1, 2), or, when every
+ * value is denormal or zero (largest < 2^-126), every scaled value is zero
+ * or at least 2^-23, normal. 2^-s and 2^s are floats, so scaling is one
+ * multiplication, exact wherever its result is normal. */
+EST_INLINE est_int scale_exponent(est_float largest)
 {
-    return x * p.first * p.second;
+    est_int e = EST_INT_FROM_UINT(EST_FLOAT_BITS(largest) >> 23) - 127; /* largest >= 0 */
+    return EST_SELECT(e < -126, EST_INTS(-126), e);
 }
 
-/* floor(log2(a)) for finite a > 0, denormals included. */
-KERNEL_FN int exponent_of(float a)
+EST_INLINE est_float scaled(est_float x, est_float factor)
 {
-    uint32_t bits = float_bits(a) & 0x7fffffffu;
-    int biased = (int)(bits >> 23);
-    if (biased != 0)
-        return biased - 127;
-    /* denormal: mantissa * 2^-149 */
-    return (63 - leading_zeros64((uint64_t)bits)) - 149;
+    return x * factor;
 }
 
-/* floor(log2(max |v[j]|)) over first..last, or 0 if all are zero. */
-KERNEL_FN int range_exponent(const float *v, int first, int last)
+/* max(largest, |x|): one step of the largest magnitude of a range. */
+EST_INLINE est_float larger_magnitude(est_float largest, est_float x)
 {
-    float largest = 0.0f;
-    for (int j = first; j <= last; ++j)
-        largest = abs_float(v[j]) > largest ? abs_float(v[j]) : largest;
-    return largest > 0.0f ? exponent_of(largest) : 0;
+    est_float a = EST_FLOAT_FROM_BITS(EST_FLOAT_BITS(x) & 0x7fffffffu); /* |x| */
+    return EST_SELECT(a > largest, a, largest);
+}
+
+/* The scale exponent of an ascending range v[first..last]: its largest
+ * magnitude is at one end. */
+EST_INLINE est_int sorted_range_exponent(const est_float *v, int first, int last)
+{
+    return scale_exponent(larger_magnitude(larger_magnitude(EST_FLOATS(0.0f), v[first]), v[last]));
+}
+
+/* sum_{j = first+1..last} (v[j] * down - base), compensated. ascending: v
+ * is sorted and base = v[first] * down, so the terms are >= 0 and grow with
+ * j: they are added largest first. */
+EST_INLINE est_float sum_of_differences(const est_float *v, int first, int last, est_float down, est_float base,
+                                        int ascending)
+{
+    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
+    if (ascending) {
+        EST_UNROLL
+        for (int j = last; j > first; --j)
+            compensated_add_smaller(&sum, &compensation, scaled(v[j], down) - base);
+    } else {
+        EST_UNROLL
+        for (int j = first + 1; j <= last; ++j)
+            compensated_add(&sum, &compensation, scaled(v[j], down) - base);
+    }
+    return sum + compensation;
 }
 
 /* Mean of v[first..last] as v[first] + mean of the differences, on values
- * scaled so the largest lies in [1, 2). */
-KERNEL_FN float average_range(const float *v, int first, int last)
+ * scaled so the largest lies in [1, 2). ascending: v is sorted. */
+EST_INLINE est_float average_range(const est_float *v, int first, int last, int ascending)
 {
-    int e = range_exponent(v, first, last);
-    PowerOfTwo down = power_of_two_factors(-e);
-    float base = scaled(v[first], down);
-    CompensatedSum s;
-    s.sum = 0.0f;
-    s.compensation = 0.0f;
-    for (int j = first + 1; j <= last; ++j)
-        compensated_add(&s, scaled(v[j], down) - base);
-    return scaled(base + (s.sum + s.compensation) / (float)(last - first + 1), power_of_two_factors(e));
+    /* One value: what the general form gives, exactly (the scalings are
+     * exact for the largest value of a range, and base + 0 turns -0 into
+     * +0). */
+    if (first == last)
+        return v[first] + 0.0f;
+    est_float largest = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = first; j <= last; ++j)
+        if (!ascending || j == first || j == last)
+            largest = larger_magnitude(largest, v[j]);
+    est_int e = scale_exponent(largest);
+    est_float down = power_of_two(-e);
+    est_float base = scaled(v[first], down);
+    return scaled(base + sum_of_differences(v, first, last, down, base, ascending) / (float)(last - first + 1),
+                  power_of_two(e));
 }
 
-/* Sample-weighted mean of sorted set means, sum n_j t_j / n, scaled the same
- * way. */
-KERNEL_FN float weighted_average(const float *v, const float *counts, int m, float total)
+/* Mean of v[c..m-1-c] in each lane, c being that lane's trim (0..(m-1)/2),
+ * computed as average_range does: every set is visited, in the same order,
+ * and those outside a lane's range add exact zeros. */
+EST_INLINE est_float trimmed_average(const est_float *v, int m, est_int c, int ascending)
 {
-    int e = range_exponent(v, 0, m - 1);
-    PowerOfTwo down = power_of_two_factors(-e);
-    float base = scaled(v[0], down);
-    CompensatedSum s;
-    s.sum = 0.0f;
-    s.compensation = 0.0f;
-    for (int j = 1; j < m; ++j)
-        compensated_add(&s, counts[j] * (scaled(v[j], down) - base));
-    return scaled(base + (s.sum + s.compensation) / total, power_of_two_factors(e));
+    const int most = (m - 1) / 2;
+    est_float first = v[0], last = v[m - 1]; /* v[c], v[m-1-c] */
+    EST_UNROLL
+    for (int k = 1; k <= most; ++k) {
+        est_mask here = c == k;
+        first = EST_SELECT(here, v[k], first);
+        last = EST_SELECT(here, v[m - 1 - k], last);
+    }
+    est_float largest = EST_FLOATS(0.0f);
+    if (ascending) {
+        largest = larger_magnitude(larger_magnitude(largest, first), last);
+    } else {
+        EST_UNROLL
+        for (int j = 0; j < m; ++j) /* j in [c, m-1-c] */
+            largest = EST_SELECT(c <= (j < m - 1 - j ? j : m - 1 - j), larger_magnitude(largest, v[j]), largest);
+    }
+    est_int e = scale_exponent(largest);
+    est_float down = power_of_two(-e);
+    est_float base = scaled(first, down);
+    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
+    if (ascending) {
+        EST_UNROLL
+        for (int j = m - 1; j > 0; --j) /* j in [c + 1, m-1-c] */
+            compensated_add_smaller(&sum, &compensation, EST_SELECT(c < (j < m - j ? j : m - j),
+                                                                    scaled(v[j], down) - base, EST_FLOATS(0.0f)));
+    } else {
+        EST_UNROLL
+        for (int j = 1; j < m; ++j) /* j in [c + 1, m-1-c] */
+            compensated_add(&sum, &compensation,
+                            EST_SELECT(c < (j < m - j ? j : m - j), scaled(v[j], down) - base, EST_FLOATS(0.0f)));
+    }
+    return scaled(base + (sum + compensation) / EST_FLOAT_FROM_INT(m - 2 * c), power_of_two(e));
 }
 
-/* Gini coefficient of m ascending values, clamped to [0, 1]. G is scale
- * invariant: values are scaled so the largest magnitude lies in [1, 2).
- * Negative values shift everything by -t_1, which changes only the
- * denominator since the numerator is built from differences. */
-KERNEL_FN float gini_sorted(const float *t, int m)
+/* Sample-weighted mean sum_j n_j t_j / n of the set means t_0..t_{m-1}
+ * (sets j < with_extra hold `more` samples, the others `fewer`), as
+ * lowest + sum_j n_j (t_j - lowest) / n, on values scaled the same way;
+ * lowest and highest: the smallest and largest t_j. The terms are added in
+ * set order (the counts belong to the sets), all >= 0, so none cancel. */
+EST_INLINE est_float weighted_average(const est_float *t, int m, int with_extra, float more, float fewer, float total,
+                                     est_float lowest, est_float highest)
+{
+    est_int e = scale_exponent(larger_magnitude(larger_magnitude(EST_FLOATS(0.0f), lowest), highest));
+    est_float down = power_of_two(-e);
+    est_float base = scaled(lowest, down);
+    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 0; j < m; ++j)
+        compensated_add(&sum, &compensation, (j < with_extra ? more : fewer) * (scaled(t[j], down) - base));
+    return scaled(base + (sum + compensation) / total, power_of_two(e));
+}
+
+/* Gini coefficient of m ascending values t, clamped to [0, 1]. G is scale
+ * invariant: values are scaled by `down` (from sorted_range_exponent(t, 0,
+ * m - 1)) so the largest magnitude lies in [1, 2); lowest = t[0] * down and
+ * differences = sum_of_differences(t, 0, m - 1, down, lowest, 1), which the
+ * mean shares. Negative values shift everything by -t_1, which changes only
+ * the denominator (sum_j (t_j - shift) = differences + m (t_1 - shift)),
+ * since the numerator is built from differences. */
+EST_INLINE est_float gini_sorted(const est_float *t, int m, est_float down, est_float lowest, est_float differences)
 {
     if (m < 2)
-        return 0.0f;
-    PowerOfTwo down = power_of_two_factors(-range_exponent(t, 0, m - 1));
-    float lowest = scaled(t[0], down);
-    float shift = lowest < 0.0f ? lowest : 0.0f;
-    float numerator = 0.0f;
+        return EST_FLOATS(0.0f);
+    est_float shift = EST_SELECT(lowest < 0.0f, lowest, EST_FLOATS(0.0f));
+    est_float numerator = EST_FLOATS(0.0f);
+    EST_UNROLL
     for (int j = 0; j < m / 2; ++j)
         numerator += (float)(m - 1 - 2 * j) * (scaled(t[m - 1 - j], down) - scaled(t[j], down));
-    float total = 0.0f;
-    for (int j = 0; j < m; ++j)
-        total += scaled(t[j], down) - shift;
-    float denominator = (float)m * total;
-    if (!(denominator > 0.0f) || !(denominator < INFINITY))
-        return 0.0f;
-    float g = numerator / denominator;
-    return g < 0.0f ? 0.0f : (g > 1.0f ? 1.0f : g);
+    est_float total = differences + (float)m * (lowest - shift);
+    est_float denominator = (float)m * total;
+    est_float g = numerator / denominator;
+    g = EST_SELECT(g < 0.0f, EST_FLOATS(0.0f), EST_SELECT(g > 1.0f, EST_FLOATS(1.0f), g));
+    return EST_SELECT((denominator > 0.0f) & (denominator < INFINITY), g, EST_FLOATS(0.0f));
+}
+
+/* gini_sorted on its own. */
+EST_INLINE est_float gini_of_sorted(const est_float *t, int m)
+{
+    est_float down = power_of_two(-sorted_range_exponent(t, 0, m - 1));
+    est_float lowest = scaled(t[0], down);
+    return gini_sorted(t, m, down, lowest, sum_of_differences(t, 0, m - 1, down, lowest, 1));
 }
 
 /* c = floor(G * floor(m/2)), clamped so at least one set remains. */
-KERNEL_FN int trim_count(float g, int m)
+EST_INLINE est_int trim_count(est_float g, int m)
 {
-    int c = (int)(g * (float)(m / 2));
+    est_int c = EST_INT_FROM_FLOAT(g * (float)(m / 2));
     int most = (m - 1) / 2;
-    return c < 0 ? 0 : (c > most ? most : c);
+    return EST_SELECT(c < 0, EST_INTS(0), EST_SELECT(c > most, EST_INTS(most), c));
 }
 
-/* Sorts values ascending, carrying a companion array along; ties are broken
- * by the companion so the result is independent of the input order. */
-KERNEL_FN void sort_with_companion(float *v, float *companion, int m)
+EST_INLINE est_float clamp_lanes(est_float x, est_float lo, est_float hi)
 {
-    for (int i = 1; i < m; ++i) {
-        float key = v[i];
-        float key2 = companion[i];
-        int j = i - 1;
-        while (j >= 0 && (v[j] > key || (v[j] == key && companion[j] > key2))) {
-            v[j + 1] = v[j];
-            companion[j + 1] = companion[j];
-            --j;
-        }
-        v[j + 1] = key;
-        companion[j + 1] = key2;
+    return EST_SELECT(x < lo, lo, EST_SELECT(x > hi, hi, x));
+}
+
+/* A comparator: orders v[i] <= v[j]. */
+EST_INLINE void compare_exchange(est_float *v, int i, int j)
+{
+    est_float a = v[i], b = v[j];
+    est_mask swap = a > b;
+    v[i] = EST_SELECT(swap, b, a);
+    v[j] = EST_SELECT(swap, a, b);
+}
+
+/* A comparator on whole sets: by luminance, ties by r, g, b (so the order
+ * does not depend on how the sets were numbered); the channels follow. */
+EST_INLINE void compare_exchange_luminance(est_float *luma, est_float (*t)[EST_CAPACITY], int i, int j)
+{
+    est_mask swap =
+        (luma[j] < luma[i]) |
+        ((luma[j] == luma[i]) &
+         ((t[0][j] < t[0][i]) | ((t[0][j] == t[0][i]) & ((t[1][j] < t[1][i]) | ((t[1][j] == t[1][i]) & (t[2][j] < t[2][i]))))));
+    est_float a = luma[i], b = luma[j];
+    luma[i] = EST_SELECT(swap, b, a);
+    luma[j] = EST_SELECT(swap, a, b);
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        a = t[c][i];
+        b = t[c][j];
+        t[c][i] = EST_SELECT(swap, b, a);
+        t[c][j] = EST_SELECT(swap, a, b);
     }
 }
 
-/* Luminance order of sets: by luminance, ties by r, g, b, so the order does
- * not depend on how the sets were numbered. */
-KERNEL_FN int luminance_before(float (*t)[EST_CAPACITY], const float *luma, int a, int b)
+/* EST_SORTING_NETWORK(set_count, COMPARATOR) runs COMPARATOR(i, j) over the
+ * sorting network for set_count values: the same comparators in the same
+ * order everywhere. A kernel (set_count must be EST_SETS) expands them
+ * inline with constant indices, or, past EST_UNROLL_MAX_SETS, loops over a
+ * table of them as the host does (which looks its network up at run time). */
+#define EST_NETWORK_PAIR(i, j) {i, j},
+#if defined(EST_SETS) && EST_SETS <= EST_UNROLL_MAX_SETS
+#define EST_SORTING_NETWORK(set_count, COMPARATOR) EST_PASTE(EST_NETWORK_, EST_SETS)(COMPARATOR)
+#else
+#ifdef EST_SETS
+__constant uchar est_network_pairs[][2] = {EST_PASTE(EST_NETWORK_, EST_SETS)(EST_NETWORK_PAIR)};
+#define EST_NETWORK_LENGTH (int)(sizeof est_network_pairs / sizeof est_network_pairs[0])
+#define EST_NETWORK_PAIRS(set_count, length) (*(length) = EST_NETWORK_LENGTH, est_network_pairs)
+#define EST_NETWORK_TABLE __constant uchar
+#else
+/* The comparators of the network for set_count values (1..64). */
+EST_INLINE const uint8_t (*sorting_network(int set_count, int *length))[2]
 {
-    if (luma[a] != luma[b])
-        return luma[a] < luma[b];
-    for (int c = 0; c < EST_CHANNELS; ++c)
-        if (t[c][a] != t[c][b])
-            return t[c][a] < t[c][b];
-    return 0;
+    static const uint8_t pairs[][2] = {EST_ALL_NETWORKS(EST_NETWORK_PAIR)};
+    static const int start[EST_MAX_SETS + 1] = {EST_NETWORK_START};
+    *length = start[set_count] - start[set_count - 1];
+    return pairs + start[set_count - 1];
+}
+#define EST_NETWORK_PAIRS(set_count, length) sorting_network(set_count, length)
+#define EST_NETWORK_TABLE const uint8_t
+#endif
+
+#define EST_SORTING_NETWORK(set_count, COMPARATOR)                                                                \
+    {                                                                                                              \
+        int length_;                                                                                               \
+        EST_NETWORK_TABLE(*pairs_)[2] = EST_NETWORK_PAIRS(set_count, &length_);                                    \
+        for (int k_ = 0; k_ < length_; ++k_)                                                                       \
+            COMPARATOR(pairs_[k_][0], pairs_[k_][1])                                                               \
+    }
+#endif
+
+/* Clamps the channel's mean and MoN and computes its G-MoN (with the trim
+ * already in out->trim[c]) from its set means v[0..m-1] (ascending: sorted),
+ * then divides all three by divisor (see estimate_lanes). */
+EST_INLINE void finish_channel(LaneEstimates *out, int c, const est_float *v, int m, int ascending, float divisor)
+{
+    /* Averages of values lie within them; the clamp removes the last ulp
+     * that rounding could add. */
+    est_float lo = v[0], hi = v[m - 1];
+    if (!ascending) {
+        hi = v[0];
+        EST_UNROLL
+        for (int j = 1; j < m; ++j) {
+            lo = EST_SELECT(v[j] < lo, v[j], lo);
+            hi = EST_SELECT(v[j] > hi, v[j], hi);
+        }
+    }
+    out->mean[c] = clamp_lanes(out->mean[c], lo, hi) / divisor;
+    out->mon[c] = clamp_lanes(out->mon[c], lo, hi) / divisor;
+    out->gmon[c] = clamp_lanes(trimmed_average(v, m, out->trim[c], ascending), lo, hi) / divisor;
 }
 
-KERNEL_FN float clamp_float(float x, float lo, float hi)
+#define EST_SORT_STEP(i, j) compare_exchange(v, i, j);
+#define EST_LUMINANCE_STEP(i, j) compare_exchange_luminance(luma, sorted, i, j);
+
+/* What every lane shares: the set counts. */
+typedef struct {
+    uint64_t sample_count;
+    int set_count;    /* M */
+    int m;            /* non-empty sets, min(sample_count, M) */
+    int most;         /* largest trim, (m - 1) / 2 */
+    int with_extra;   /* sets j < with_extra hold `more` samples, the others `fewer` */
+    int equal_counts; /* every non-empty set holds `fewer` samples */
+    float more;
+    float fewer;
+    /* With equal counts n_j = q the set means are the sums over q: the sums
+     * are sorted and averaged as they are, and only the results are divided
+     * by q (once, correctly rounded), which orders and weighs exactly as the
+     * means would. With unequal counts every sum is divided by its count
+     * (divisor 1). */
+    float divisor;
+} SetCounts;
+
+/* m: min(sample_count, set_count) (a parameter so that a kernel can make it
+ * a constant). */
+EST_INLINE SetCounts est_set_counts(uint64_t sample_count, int set_count, int m)
 {
-    return x < lo ? lo : (x > hi ? hi : x);
+    SetCounts k;
+    k.sample_count = sample_count;
+    k.set_count = set_count;
+    k.m = m;
+    k.most = (m - 1) / 2;
+    const int few_samples = m < set_count; /* one sample in each non-empty set */
+    const uint64_t per_set = sample_count / (uint64_t)set_count;
+    k.with_extra = (int)(sample_count % (uint64_t)set_count);
+    k.equal_counts = few_samples || k.with_extra == 0;
+    k.more = few_samples ? 1.0f : (float)(per_set + 1u);
+    k.fewer = few_samples ? 1.0f : (float)per_set;
+    k.divisor = k.equal_counts ? k.fewer : 1.0f;
+    return k;
 }
 
-/* Estimates one pixel.
+/* The first part of one channel: from its sums (sums[j], j < M) the set
+ * means by set, t (t[j] = +inf for the empty sets j >= m), the same sorted,
+ * v, and the channel's mean, MoN, G and trim in out (mean and MoN before
+ * finish_channel; with equal counts t and v hold sums, see SetCounts).
+ * finite: 1 if the caller knows every sum is finite (converted accumulators
+ * are), which skips a check that changes nothing then; non-finite sums
+ * (possible only in hand-made input) are read as 0. */
+EST_INLINE void estimate_channel(const SetCounts *k, const est_float *sums, int finite, est_float *t, est_float *v,
+                                 LaneEstimates *out, int c)
+{
+    const int m = k->m;
+    EST_UNROLL
+    for (int j = 0; j < k->set_count; ++j) {
+        est_float sum = sums[j];
+        if (!finite)
+            sum = EST_SELECT((EST_FLOAT_BITS(sum) & 0x7f800000u) == 0x7f800000u, EST_FLOATS(0.0f), sum);
+        t[j] = j < m ? sum : EST_FLOATS(INFINITY);
+    }
+    if (!k->equal_counts) {
+        /* The weighted mean, in set order, first: the means by set are then
+         * not needed past the sort (but in luminance mode). */
+        EST_UNROLL
+        for (int j = 0; j < m; ++j)
+            t[j] = t[j] / (j < k->with_extra ? k->more : k->fewer);
+        est_float lo = t[0], hi = t[0];
+        EST_UNROLL
+        for (int j = 1; j < m; ++j) {
+            lo = EST_SELECT(t[j] < lo, t[j], lo);
+            hi = EST_SELECT(t[j] > hi, t[j], hi);
+        }
+        out->mean[c] = weighted_average(t, m, k->with_extra, k->more, k->fewer, (float)k->sample_count, lo, hi);
+    }
+    EST_UNROLL
+    for (int j = 0; j < k->set_count; ++j)
+        v[j] = t[j];
+    EST_SORTING_NETWORK(k->set_count, EST_SORT_STEP)
+
+    /* The mean (average_range(v, 0, m - 1, 1) with equal counts) and G share
+     * the scaled differences. */
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float lowest = scaled(v[0], down);
+    est_float differences = sum_of_differences(v, 0, m - 1, down, lowest, 1);
+    if (k->equal_counts)
+        out->mean[c] = scaled(lowest + differences / (float)m, power_of_two(e));
+    out->mon[c] = average_range(v, k->most, m - 1 - k->most, 1);
+    out->gini[c] = gini_sorted(v, m, down, lowest, differences);
+    out->trim[c] = trim_count(out->gini[c], m);
+}
+
+/* One channel in the default mode (EST_GINI_PER_CHANNEL), start to end; m
+ * >= 1. */
+EST_INLINE void estimate_channel_alone(const SetCounts *k, const est_float *sums, int finite, LaneEstimates *out,
+                                       int c)
+{
+    est_float t[EST_CAPACITY], v[EST_CAPACITY];
+    estimate_channel(k, sums, finite, t, v, out, c);
+    finish_channel(out, c, v, k->m, 1, k->divisor);
+}
+
+EST_INLINE void clear_estimates(LaneEstimates *out)
+{
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        out->mean[c] = EST_FLOATS(0.0f);
+        out->mon[c] = EST_FLOATS(0.0f);
+        out->gmon[c] = EST_FLOATS(0.0f);
+        out->gini[c] = EST_FLOATS(0.0f);
+        out->trim[c] = EST_INTS(0);
+    }
+}
+
+/* Estimates EST_VECTOR_WIDTH pixels, one per lane.
  *   sums[c][j]   : sum of channel c over set j, j < set_count (any float)
- *   sample_count : samples of this pixel; set j holds ceil((n - j) / M)
- *   set_count    : M, 1..EST_CAPACITY
+ *   sample_count : samples of each pixel; set j holds ceil((n - j) / M)
+ *   set_count    : M, 1..EST_CAPACITY (in a kernel: EST_SETS)
+ *   m            : min(sample_count, M), the non-empty sets (a parameter so
+ *                  that a kernel can make it a constant: estimate_pixel
+ *                  computes it)
  *   gini_mode    : EST_GINI_PER_CHANNEL, EST_GINI_PER_PIXEL or
  *                  EST_SORT_BY_LUMINANCE
- * Non-finite set sums (possible only in hand-made input) are read as 0. */
-KERNEL_FN PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count,
-                                        int gini_mode)
+ *   finite       : see estimate_channel
+ * In the default mode a channel needs only its own sums: a caller may run
+ * estimate_channel_alone per channel instead (the same operations). */
+EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count, int m,
+                              int gini_mode, int finite, LaneEstimates *out)
 {
-    PixelEstimates out;
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        out.mean[c] = 0.0f;
-        out.mon[c] = 0.0f;
-        out.gmon[c] = 0.0f;
-        out.gini[c] = 0.0f;
-        out.trim[c] = 0;
-    }
-    /* Only the first m sets are non-empty; their counts are q or q + 1. */
-    int few_samples = sample_count < (uint64_t)set_count;
-    int m = few_samples ? (int)sample_count : set_count;
+    clear_estimates(out);
     if (m == 0)
-        return out;
-    uint64_t per_set = sample_count / (uint64_t)set_count;
-    int with_extra = (int)(sample_count % (uint64_t)set_count);
-    int equal_counts = few_samples || with_extra == 0;
-    int most = (m - 1) / 2; /* largest trim */
-
-    float t[EST_CHANNELS][EST_CAPACITY];      /* set means, by set */
-    float sorted[EST_CHANNELS][EST_CAPACITY]; /* the same, ascending */
-    float counts[EST_CAPACITY];               /* n_j, carried by the sort */
-
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        for (int j = 0; j < m; ++j) {
-            float sum = (float_bits(sums[c][j]) & 0x7f800000u) == 0x7f800000u ? 0.0f : sums[c][j];
-            counts[j] = few_samples ? 1.0f : (float)(per_set + (j < with_extra ? 1u : 0u));
-            t[c][j] = sum / counts[j];
-            sorted[c][j] = t[c][j];
-        }
-        sort_with_companion(sorted[c], counts, m);
-
-        out.mean[c] = equal_counts ? average_range(sorted[c], 0, m - 1)
-                                   : weighted_average(sorted[c], counts, m, (float)sample_count);
-        out.mon[c] = average_range(sorted[c], most, m - 1 - most);
-        out.gini[c] = gini_sorted(sorted[c], m);
-        out.trim[c] = trim_count(out.gini[c], m);
+        return;
+    const SetCounts k = est_set_counts(sample_count, set_count, m);
+    if (gini_mode == EST_GINI_PER_CHANNEL) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            estimate_channel_alone(&k, sums[c], finite, out, c);
+        return;
     }
+
+    est_float t[EST_CHANNELS][EST_CAPACITY];      /* set means by set */
+    est_float sorted[EST_CHANNELS][EST_CAPACITY]; /* the same, ascending */
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        estimate_channel(&k, sums[c], finite, t[c], sorted[c], out, c);
 
     if (gini_mode == EST_GINI_PER_PIXEL) {
-        float g = (out.gini[0] + out.gini[1] + out.gini[2]) / 3.0f;
+        est_float g = (out->gini[0] + out->gini[1] + out->gini[2]) / 3.0f;
+        EST_UNROLL
         for (int c = 0; c < EST_CHANNELS; ++c) {
-            out.gini[c] = g;
-            out.trim[c] = trim_count(g, m);
+            out->gini[c] = g;
+            out->trim[c] = trim_count(g, m);
+            finish_channel(out, c, sorted[c], m, 1, k.divisor);
         }
     } else if (gini_mode == EST_SORT_BY_LUMINANCE) {
         /* Luminance (Rec. 709) of each set, on one scale common to the
          * channels; sets are then ordered and trimmed whole. */
-        int common = range_exponent(t[0], 0, m - 1);
-        for (int c = 1; c < EST_CHANNELS; ++c) {
-            int e = range_exponent(t[c], 0, m - 1);
-            common = e > common ? e : common;
-        }
-        PowerOfTwo down = power_of_two_factors(-common);
-        const float weight[EST_CHANNELS] = {0.2126f, 0.7152f, 0.0722f};
-        float luma[EST_CAPACITY];
-        int order[EST_CAPACITY];
-        for (int j = 0; j < m; ++j) {
-            luma[j] = 0.0f;
-            for (int c = 0; c < EST_CHANNELS; ++c)
-                luma[j] += weight[c] * scaled(t[c][j], down);
-            order[j] = j;
-        }
-        for (int i = 1; i < m; ++i) {
-            int key = order[i];
-            int j = i - 1;
-            while (j >= 0 && luminance_before(t, luma, key, order[j])) {
-                order[j + 1] = order[j];
-                --j;
-            }
-            order[j + 1] = key;
-        }
-        float luma_sorted[EST_CAPACITY];
-        for (int j = 0; j < m; ++j)
-            luma_sorted[j] = luma[order[j]];
-        float g = gini_sorted(luma_sorted, m);
-        /* Per channel the values now follow luminance order (not ascending);
-         * the averages below accept any order. */
+        est_int common = EST_INTS(0);
+        EST_UNROLL
         for (int c = 0; c < EST_CHANNELS; ++c) {
-            for (int j = 0; j < m; ++j)
-                sorted[c][j] = t[c][order[j]];
-            out.gini[c] = g;
-            out.trim[c] = trim_count(g, m);
-            out.mon[c] = average_range(sorted[c], most, m - 1 - most);
+            est_int e = sorted_range_exponent(sorted[c], 0, m - 1);
+            common = c == 0 ? e : EST_SELECT(e > common, e, common);
+        }
+        est_float down = power_of_two(-common);
+        est_float luma[EST_CAPACITY];
+        EST_UNROLL
+        for (int j = 0; j < set_count; ++j) {
+            if (j < m) {
+                luma[j] = EST_FLOATS(0.0f);
+                luma[j] += 0.2126f * scaled(t[0][j], down);
+                luma[j] += 0.7152f * scaled(t[1][j], down);
+                luma[j] += 0.0722f * scaled(t[2][j], down);
+            } else {
+                luma[j] = EST_FLOATS(INFINITY);
+            }
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                sorted[c][j] = t[c][j];
+        }
+        EST_SORTING_NETWORK(set_count, EST_LUMINANCE_STEP)
+        est_float g = gini_of_sorted(luma, m);
+        /* Per channel the values now follow luminance order (not
+         * ascending); the averages below accept any order. */
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            out->gini[c] = g;
+            out->trim[c] = trim_count(g, m);
+            out->mon[c] = average_range(sorted[c], k.most, m - 1 - k.most, 0);
+            finish_channel(out, c, sorted[c], m, 0, k.divisor);
         }
     }
+}
 
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        /* Averages of values lie within them; the clamp removes the last
-         * ulp that rounding could add. */
-        float lo = sorted[c][0], hi = sorted[c][0];
-        for (int j = 1; j < m; ++j) {
-            lo = sorted[c][j] < lo ? sorted[c][j] : lo;
-            hi = sorted[c][j] > hi ? sorted[c][j] : hi;
-        }
-        out.mean[c] = clamp_float(out.mean[c], lo, hi);
-        out.mon[c] = clamp_float(out.mon[c], lo, hi);
-        out.gmon[c] = clamp_float(average_range(sorted[c], out.trim[c], m - 1 - out.trim[c]), lo, hi);
-    }
+#if EST_VECTOR_WIDTH == 1
+/* The estimates of one pixel. */
+typedef LaneEstimates PixelEstimates;
+
+/* Estimates one pixel (estimate_lanes with one lane):
+ *   sums[c][j]   : sum of channel c over set j, j < set_count (any float)
+ *   sample_count : samples of this pixel; set j holds ceil((n - j) / M)
+ *   set_count    : M, 1..EST_CAPACITY
+ *   gini_mode    : EST_GINI_PER_CHANNEL, EST_GINI_PER_PIXEL or
+ *                  EST_SORT_BY_LUMINANCE */
+EST_INLINE PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count,
+                                        int gini_mode)
+{
+    PixelEstimates out;
+    int m = sample_count < (uint64_t)set_count ? (int)sample_count : set_count;
+    estimate_lanes(sums, sample_count, set_count, m, gini_mode, 0, &out);
     return out;
 }
+#endif
+
+#endif /* host, or a kernel with EST_SETS */
 
 #endif /* KERNELS_ESTIMATOR_CORE_H */

@@ -9,10 +9,53 @@ struct EstimatorProgram {
     ClDevice *device;
     EstimatorSettings settings;
     int outputs;
+    EstimatorLaunch launch;
     cl_program program;
     cl_kernel from_sums;
     cl_kernel from_accumulators;
 };
+
+/* An integer setting from the environment: *value is left alone when `name`
+ * is unset or empty. Returns 0, or -1 (reported) when the value is not an
+ * integer in lo..hi or, with power_of_two, not a power of two. */
+static int setting_from_environment(const char *name, long lo, long hi, int power_of_two, int *value)
+{
+    const char *text = getenv(name);
+    if (!text || !*text)
+        return 0;
+    char *end = NULL;
+    long v = strtol(text, &end, 10);
+    if (*end != '\0' || v < lo || v > hi || (power_of_two && v > 0 && (v & (v - 1)) != 0)) {
+        fprintf(stderr, "estimator: %s=%s: expected %s in %ld..%ld\n", name, text,
+                power_of_two ? "a power of two" : "an integer", lo, hi);
+        return -1;
+    }
+    *value = (int)v;
+    return 0;
+}
+
+/* The launch configuration. On CPUs: 16 pixels per work item, one per lane
+ * of the widest SIMD registers (the kernel is compute bound and CPU OpenCL
+ * runtimes do not vectorize it across work items), small work groups (a
+ * runtime may keep a copy of a work item's private data per item of a
+ * group), and the next work item's input prefetched (M * 3 input streams are
+ * more than hardware prefetchers follow). Elsewhere one pixel per work item
+ * (a GPU runs a work item per SIMD lane) and the runtime's work-group size.
+ * The ESTIMATOR_*_ENV variables override each. Returns 0 on success. */
+static int choose_launch(const ClDevice *device, EstimatorLaunch *launch)
+{
+    int cpu = (device->info.type & CL_DEVICE_TYPE_CPU) != 0;
+    launch->vector_width = cpu ? 16 : 1;
+    launch->local_size = cpu ? 32 : 0;
+    launch->prefetch = cpu ? 1 : 0;
+    if (setting_from_environment(ESTIMATOR_VECTOR_WIDTH_ENV, 1, 16, 1, &launch->vector_width) != 0 ||
+        setting_from_environment(ESTIMATOR_LOCAL_SIZE_ENV, 0, 1 << 16, 0, &launch->local_size) != 0 ||
+        setting_from_environment(ESTIMATOR_PREFETCH_ENV, 0, 64, 0, &launch->prefetch) != 0)
+        return -1;
+    if (!cpu)
+        launch->prefetch = 0; /* the kernel's prefetch assumes one flat address space */
+    return 0;
+}
 
 EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, int outputs,
                                         const char *kernel_dir)
@@ -27,9 +70,12 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
     p->device = device;
     p->settings = *settings;
     p->outputs = outputs;
+    if (choose_launch(device, &p->launch) != 0)
+        goto fail;
     char options[256];
-    snprintf(options, sizeof options, "-DEST_SETS=%d -DEST_GINI_MODE=%d -DEST_OUTPUTS=%d", settings->set_count,
-             (int)settings->gini_mode, outputs);
+    snprintf(options, sizeof options,
+             "-DEST_SETS=%d -DEST_GINI_MODE=%d -DEST_OUTPUTS=%d -DEST_VECTOR_WIDTH=%d -DEST_PREFETCH=%d",
+             settings->set_count, (int)settings->gini_mode, outputs, p->launch.vector_width, p->launch.prefetch);
     p->program = cl_program_build(device, "estimator", options, kernel_dir);
     if (!p->program)
         goto fail;
@@ -42,6 +88,11 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
 fail:
     estimator_program_destroy(p);
     return NULL;
+}
+
+EstimatorLaunch estimator_program_launch(const EstimatorProgram *p)
+{
+    return p->launch;
 }
 
 void estimator_program_destroy(EstimatorProgram *p)
@@ -70,8 +121,15 @@ cl_event estimator_program_enqueue(EstimatorProgram *p, cl_mem input, int from_a
     CL_CHECK(clSetKernelArg(k, 2, sizeof samples, &samples), fail);
     for (cl_uint i = 0; i < 5; ++i)
         CL_CHECK(clSetKernelArg(k, 3 + i, sizeof(cl_mem), outputs[i] ? &outputs[i] : NULL), fail);
-    size_t global = pixel_count;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, k, 1, NULL, &global, NULL, 0, NULL, &event), fail);
+    /* A work item per vector_width pixels, rounded up to whole work groups
+     * (the kernels skip items past the end). */
+    size_t global = (pixel_count + (size_t)p->launch.vector_width - 1) / (size_t)p->launch.vector_width;
+    size_t local = (size_t)p->launch.local_size;
+    if (local > 0)
+        global = (global + local - 1) / local * local;
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, k, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL,
+                                    &event),
+             fail);
     return event;
 fail:
     return NULL;

@@ -13,6 +13,24 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
                                         const char *kernel_dir);
 void estimator_program_destroy(EstimatorProgram *program);
 
+/* How the estimator kernels run; chosen per device by
+ * estimator_program_new, each overridable by an environment variable (for
+ * experiments). */
+typedef struct {
+    int vector_width; /* pixels per work item, one per vector lane: 1, 2, 4, 8 or 16
+                         (ESTIMATOR_VECTOR_WIDTH_ENV; default 16 on CPUs, 1 elsewhere) */
+    int local_size;   /* work items per work group, 0 for the runtime's choice
+                         (ESTIMATOR_LOCAL_SIZE_ENV; default 32 on CPUs, 0 elsewhere) */
+    int prefetch;     /* CPUs: prefetch the input of the work item this many ahead, 0 for
+                         none (ESTIMATOR_PREFETCH_ENV; default 1 on CPUs, 0 elsewhere) */
+} EstimatorLaunch;
+
+#define ESTIMATOR_VECTOR_WIDTH_ENV "GMON_ESTIMATOR_VECTOR_WIDTH"
+#define ESTIMATOR_LOCAL_SIZE_ENV "GMON_ESTIMATOR_LOCAL_SIZE"
+#define ESTIMATOR_PREFETCH_ENV "GMON_ESTIMATOR_PREFETCH"
+
+EstimatorLaunch estimator_program_launch(const EstimatorProgram *program);
+
 /* Enqueues the estimator on device buffers. `input` holds float set sums or,
  * with from_accumulators, exact accumulators; outputs not in the program's
  * mask may be NULL. Returns the kernel's event (caller releases), or NULL on
