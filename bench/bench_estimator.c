@@ -129,8 +129,8 @@ static int parse_options(int argc, char **argv, Options *o)
             return 2;
         }
         if (parse_long(argv[i + 1], lo, hi, target) != 0) {
-            fprintf(stderr, "bench_estimator: bad value '%s' for %s: expected an integer in %ld..%ld\n",
-                    argv[i + 1], flag, lo, hi);
+            fprintf(stderr, "bench_estimator: bad value '%s' for %s: expected an integer in %ld..%ld\n", argv[i + 1],
+                    flag, lo, hi);
             return 2;
         }
         ++i;
@@ -388,8 +388,12 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
                 accumulators[accumulator_index(j, c, 1, s, samples)] = f.hi;
             }
     }
-    EstimatorImages images = {host_images, host_images + samples * EST_CHANNELS,
-                              host_images + 2 * samples * EST_CHANNELS, NULL, NULL, samples * EST_CHANNELS};
+    EstimatorImages images = {host_images,
+                              host_images + samples * EST_CHANNELS,
+                              host_images + 2 * samples * EST_CHANNELS,
+                              NULL,
+                              NULL,
+                              samples * EST_CHANNELS};
     char message[256] = "";
     EstimatorStatus st =
         o->from_accumulators
@@ -600,7 +604,8 @@ int main(int argc, char **argv)
     printf("  (event and wall ms are medians, min/max over the event times; rates use the median event\n"
            "   time; GB = 1e9 bytes)\n\n");
 
-    double ratio_rw = ((estimator_read + estimator_written) / est.event_median) / (2.0 * copy_bytes / copy.event_median);
+    double ratio_rw =
+        ((estimator_read + estimator_written) / est.event_median) / (2.0 * copy_bytes / copy.event_median);
     double ratio_read = (estimator_read / est.event_median) / (copy_bytes / copy.event_median);
     double ratio_rw_wall =
         ((estimator_read + estimator_written) / est.wall_median) / (2.0 * copy_bytes / copy.wall_median);

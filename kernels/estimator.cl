@@ -69,19 +69,19 @@ KERNEL_FN est_ulong load_ulong_lanes(__global const ulong *p, int count)
  * work item of 16 lanes interleaves the channels in registers (clang's
  * shuffles) and writes three whole vectors. */
 #if W == 16 && defined(__clang__)
-#define STORE_RGB16(image, first, rgb, vstore)                                                                    \
-    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, \
-                                                           4, 20, 0, 5),                                          \
-                                   rgb[2], 0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15),              \
-           0, image + (first) * EST_CHANNELS);                                                                    \
-    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, \
-                                                           25, 0, 10, 26),                                        \
-                                   rgb[2], 0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15),              \
-           0, image + (first) * EST_CHANNELS + 16);                                                               \
-    vstore(__builtin_shufflevector(__builtin_shufflevector(rgb[0], rgb[1], 0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, \
-                                                           30, 0, 15, 31, 0),                                     \
-                                   rgb[2], 26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31),             \
-           0, image + (first) * EST_CHANNELS + 32);
+#define STORE_RGB16(image, first, rgb, vstore)                                                                         \
+    vstore(__builtin_shufflevector(                                                                                    \
+               __builtin_shufflevector(rgb[0], rgb[1], 0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, 4, 20, 0, 5), rgb[2],   \
+               0, 1, 16, 3, 4, 17, 6, 7, 18, 9, 10, 19, 12, 13, 20, 15),                                               \
+           0, image + (first)*EST_CHANNELS);                                                                           \
+    vstore(__builtin_shufflevector(                                                                                    \
+               __builtin_shufflevector(rgb[0], rgb[1], 21, 0, 6, 22, 0, 7, 23, 0, 8, 24, 0, 9, 25, 0, 10, 26), rgb[2], \
+               0, 21, 2, 3, 22, 5, 6, 23, 8, 9, 24, 11, 12, 25, 14, 15),                                               \
+           0, image + (first)*EST_CHANNELS + 16);                                                                      \
+    vstore(__builtin_shufflevector(                                                                                    \
+               __builtin_shufflevector(rgb[0], rgb[1], 0, 11, 27, 0, 12, 28, 0, 13, 29, 0, 14, 30, 0, 15, 31, 0),      \
+               rgb[2], 26, 1, 2, 27, 4, 5, 28, 7, 8, 29, 10, 11, 30, 13, 14, 31),                                      \
+           0, image + (first)*EST_CHANNELS + 32);
 #endif
 
 KERNEL_FN void store_rgb(__global float *image, ulong first, int count, const est_float *rgb)
@@ -178,15 +178,15 @@ EST_INLINE void prefetch_input(__global const void *input, int from_accumulators
     EST_UNROLL
     for (uint j = 0; j < EST_SETS; ++j)
         EST_UNROLL
-        for (uint c = 0; c < EST_CHANNELS; ++c) {
-            if (from_accumulators) {
-                __global const ulong *a = (__global const ulong *)input;
-                PREFETCH(a + accumulator_index(j, c, 0, first, pixel_count));
-                PREFETCH(a + accumulator_index(j, c, 1, first, pixel_count));
-            } else {
-                PREFETCH((__global const float *)input + set_sum_index(j, c, first, pixel_count));
-            }
+    for (uint c = 0; c < EST_CHANNELS; ++c) {
+        if (from_accumulators) {
+            __global const ulong *a = (__global const ulong *)input;
+            PREFETCH(a + accumulator_index(j, c, 0, first, pixel_count));
+            PREFETCH(a + accumulator_index(j, c, 1, first, pixel_count));
+        } else {
+            PREFETCH((__global const float *)input + set_sum_index(j, c, first, pixel_count));
         }
+    }
 }
 
 /* A work item of the general case: fewer samples than sets (the start of a
@@ -239,8 +239,8 @@ EST_INLINE void estimate_common(__global const void *input, int from_accumulator
 
 /* Input: float set sums, planes [set][channel][pixel]. */
 __kernel void estimate_from_sums(__global const float *set_sums, ulong pixel_count, ulong sample_count,
-                                 __global float *mean, __global float *mon, __global float *gmon,
-                                 __global float *gini, __global int *trim)
+                                 __global float *mean, __global float *mon, __global float *gmon, __global float *gini,
+                                 __global int *trim)
 {
     ulong first = get_global_id(0) * W;
     if (first >= pixel_count)
@@ -253,9 +253,9 @@ __kernel void estimate_from_sums(__global const float *set_sums, ulong pixel_cou
 
 /* Input: the renderer's exact fixed-point accumulators (estimator.h), planes
  * [set][channel][word][pixel]. */
-__kernel void estimate_from_accumulators(__global const ulong *accumulators, ulong pixel_count,
-                                         ulong sample_count, __global float *mean, __global float *mon,
-                                         __global float *gmon, __global float *gini, __global int *trim)
+__kernel void estimate_from_accumulators(__global const ulong *accumulators, ulong pixel_count, ulong sample_count,
+                                         __global float *mean, __global float *mon, __global float *gmon,
+                                         __global float *gini, __global int *trim)
 {
     ulong first = get_global_id(0) * W;
     if (first >= pixel_count)

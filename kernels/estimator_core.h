@@ -29,8 +29,8 @@
 #endif
 
 /* How G-MoN picks its trim count (ESTIMATORS.md, "Variants"). */
-#define EST_GINI_PER_CHANNEL 0 /* default: one G and c per channel */
-#define EST_GINI_PER_PIXEL 1   /* G = mean of the three channel G's */
+#define EST_GINI_PER_CHANNEL 0  /* default: one G and c per channel */
+#define EST_GINI_PER_PIXEL 1    /* G = mean of the three channel G's */
 #define EST_SORT_BY_LUMINANCE 2 /* order and trim whole RGB sets by luminance */
 
 /* ------------------------------------------------------------------------
@@ -116,10 +116,9 @@ EST_INLINE est_float fixed_to_float_lanes(est_ulong lo, est_ulong hi)
     est_ulong top = (hi << z) | ((lo >> 1) >> (63u - z));
     est_ulong sticky = EST_SELECT((lo << z) != 0u, EST_ULONGS(1u), EST_ULONGS(0u));
     est_ulong word = EST_SELECT(small, lo, top | sticky);
-    est_int exponent = EST_SELECT(EST_MASK_FROM_LMASK(small), EST_INTS(-EST_FIXED_FRAC_BITS),
-                                  8 - EST_INT_FROM_ULONG(z));
-    est_float magnitude = EST_FLOAT_FROM_ULONG(word) *
-                          EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(exponent + 127) << 23);
+    est_int exponent =
+        EST_SELECT(EST_MASK_FROM_LMASK(small), EST_INTS(-EST_FIXED_FRAC_BITS), 8 - EST_INT_FROM_ULONG(z));
+    est_float magnitude = EST_FLOAT_FROM_ULONG(word) * EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(exponent + 127) << 23);
     return EST_SELECT(EST_MASK_FROM_LMASK(negative), -magnitude, magnitude);
 }
 
@@ -157,8 +156,8 @@ KERNEL_FN uint64_t accumulator_index(uint32_t set, uint32_t channel, uint32_t wo
 /* Adds one RGB sample to `set` of `pixel`. A non-finite or out-of-range
  * sample is added as 0 (it still counts as a sample) and reported by
  * returning 1, so the caller can count it. */
-KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
-                                uint32_t set, float r, float g, float b)
+KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set,
+                                float r, float g, float b)
 {
     int rejected = !sample_is_usable(r, g, b);
     if (rejected)
@@ -348,8 +347,9 @@ EST_INLINE est_float trimmed_average(const est_float *v, int m, est_int c, int a
     if (ascending) {
         EST_UNROLL
         for (int j = m - 1; j > 0; --j) /* j in [c + 1, m-1-c] */
-            compensated_add_smaller(&sum, &compensation, EST_SELECT(c < (j < m - j ? j : m - j),
-                                                                    scaled(v[j], down) - base, EST_FLOATS(0.0f)));
+            compensated_add_smaller(
+                &sum, &compensation,
+                EST_SELECT(c < (j < m - j ? j : m - j), scaled(v[j], down) - base, EST_FLOATS(0.0f)));
     } else {
         EST_UNROLL
         for (int j = 1; j < m; ++j) /* j in [c + 1, m-1-c] */
@@ -365,7 +365,7 @@ EST_INLINE est_float trimmed_average(const est_float *v, int m, est_int c, int a
  * lowest and highest: the smallest and largest t_j. The terms are added in
  * set order (the counts belong to the sets), all >= 0, so none cancel. */
 EST_INLINE est_float weighted_average(const est_float *t, int m, int with_extra, float more, float fewer, float total,
-                                     est_float lowest, est_float highest)
+                                      est_float lowest, est_float highest)
 {
     est_int e = scale_exponent(larger_magnitude(larger_magnitude(EST_FLOATS(0.0f), lowest), highest));
     est_float down = power_of_two(-e);
@@ -434,10 +434,10 @@ EST_INLINE void compare_exchange(est_float *v, int i, int j)
  * does not depend on how the sets were numbered); the channels follow. */
 EST_INLINE void compare_exchange_luminance(est_float *luma, est_float (*t)[EST_CAPACITY], int i, int j)
 {
-    est_mask swap =
-        (luma[j] < luma[i]) |
-        ((luma[j] == luma[i]) &
-         ((t[0][j] < t[0][i]) | ((t[0][j] == t[0][i]) & ((t[1][j] < t[1][i]) | ((t[1][j] == t[1][i]) & (t[2][j] < t[2][i]))))));
+    est_mask swap = (luma[j] < luma[i]) |
+                    ((luma[j] == luma[i]) &
+                     ((t[0][j] < t[0][i]) |
+                      ((t[0][j] == t[0][i]) & ((t[1][j] < t[1][i]) | ((t[1][j] == t[1][i]) & (t[2][j] < t[2][i]))))));
     est_float a = luma[i], b = luma[j];
     luma[i] = EST_SELECT(swap, b, a);
     luma[j] = EST_SELECT(swap, a, b);
@@ -477,12 +477,12 @@ EST_INLINE const uint8_t (*sorting_network(int set_count, int *length))[2]
 #define EST_NETWORK_TABLE const uint8_t
 #endif
 
-#define EST_SORTING_NETWORK(set_count, COMPARATOR)                                                                \
-    {                                                                                                              \
-        int length_;                                                                                               \
-        EST_NETWORK_TABLE(*pairs_)[2] = EST_NETWORK_PAIRS(set_count, &length_);                                    \
-        for (int k_ = 0; k_ < length_; ++k_)                                                                       \
-            COMPARATOR(pairs_[k_][0], pairs_[k_][1])                                                               \
+#define EST_SORTING_NETWORK(set_count, COMPARATOR)                                                                     \
+    {                                                                                                                  \
+        int length_;                                                                                                   \
+        EST_NETWORK_TABLE(*pairs_)[2] = EST_NETWORK_PAIRS(set_count, &length_);                                        \
+        for (int k_ = 0; k_ < length_; ++k_)                                                                           \
+            COMPARATOR(pairs_[k_][0], pairs_[k_][1])                                                                   \
     }
 #endif
 
@@ -599,8 +599,7 @@ EST_INLINE void estimate_channel(const SetCounts *k, const est_float *sums, int 
 
 /* One channel in the default mode (EST_GINI_PER_CHANNEL), start to end; m
  * >= 1. */
-EST_INLINE void estimate_channel_alone(const SetCounts *k, const est_float *sums, int finite, LaneEstimates *out,
-                                       int c)
+EST_INLINE void estimate_channel_alone(const SetCounts *k, const est_float *sums, int finite, LaneEstimates *out, int c)
 {
     est_float t[EST_CAPACITY], v[EST_CAPACITY];
     estimate_channel(k, sums, finite, t, v, out, c);
@@ -632,7 +631,7 @@ EST_INLINE void clear_estimates(LaneEstimates *out)
  * In the default mode a channel needs only its own sums: a caller may run
  * estimate_channel_alone per channel instead (the same operations). */
 EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count, int m,
-                              int gini_mode, int finite, LaneEstimates *out)
+                               int gini_mode, int finite, LaneEstimates *out)
 {
     clear_estimates(out);
     if (m == 0)
@@ -709,7 +708,7 @@ typedef LaneEstimates PixelEstimates;
  *   gini_mode    : EST_GINI_PER_CHANNEL, EST_GINI_PER_PIXEL or
  *                  EST_SORT_BY_LUMINANCE */
 EST_INLINE PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count,
-                                        int gini_mode)
+                                         int gini_mode)
 {
     PixelEstimates out;
     int m = sample_count < (uint64_t)set_count ? (int)sample_count : set_count;

@@ -3,7 +3,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config clang-format
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
   libopenexr-dev libcglm-dev libcmocka-dev
 )

@@ -127,8 +127,7 @@ cl_event estimator_program_enqueue(EstimatorProgram *p, cl_mem input, int from_a
     size_t local = (size_t)p->launch.local_size;
     if (local > 0)
         global = (global + local - 1) / local * local;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, k, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL,
-                                    &event),
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, k, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL, &event),
              fail);
     return event;
 fail:
@@ -164,8 +163,7 @@ int estimator_program_run(EstimatorProgram *p, const void *input, int from_accum
         goto done;
     for (int i = 0; i < 5; ++i)
         if (buffers[i])
-            CL_CHECK(clEnqueueReadBuffer(queue, buffers[i], CL_TRUE, 0, image_bytes, hosts[i], 0, NULL, NULL),
-                     done);
+            CL_CHECK(clEnqueueReadBuffer(queue, buffers[i], CL_TRUE, 0, image_bytes, hosts[i], 0, NULL, NULL), done);
     status = 0;
 done:
     if (event)

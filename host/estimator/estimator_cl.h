@@ -35,9 +35,9 @@ EstimatorLaunch estimator_program_launch(const EstimatorProgram *program);
  * with from_accumulators, exact accumulators; outputs not in the program's
  * mask may be NULL. Returns the kernel's event (caller releases), or NULL on
  * error. */
-cl_event estimator_program_enqueue(EstimatorProgram *program, cl_mem input, int from_accumulators,
-                                   size_t pixel_count, uint64_t sample_count, cl_mem mean, cl_mem mon, cl_mem gmon,
-                                   cl_mem gini, cl_mem trim);
+cl_event estimator_program_enqueue(EstimatorProgram *program, cl_mem input, int from_accumulators, size_t pixel_count,
+                                   uint64_t sample_count, cl_mem mean, cl_mem mon, cl_mem gmon, cl_mem gini,
+                                   cl_mem trim);
 
 /* Convenience for tests: uploads host input, runs, downloads into `images`
  * (buffers not in the mask are left alone). Returns 0 on success. */
