@@ -45,6 +45,7 @@ typedef struct {
     long width;
     long height;
     long sets;
+    long samples; /* 0: 64 * sets */
     long repeats;
     long device;
     int from_accumulators;
@@ -53,8 +54,8 @@ typedef struct {
 static void print_usage(FILE *out)
 {
     fprintf(out,
-            "usage: bench_estimator [--width W] [--height H] [--sets M] [--repeats R] [--device I]\n"
-            "                       [--from-accumulators] [--help]\n"
+            "usage: bench_estimator [--width W] [--height H] [--sets M] [--samples N] [--repeats R]\n"
+            "                       [--device I] [--from-accumulators] [--help]\n"
             "\n"
             "Times the estimator kernel (mean, MoN and G-MoN images) against a copy kernel\n"
             "that reads and writes as many bytes as the estimator reads, and reports whether\n"
@@ -62,7 +63,10 @@ static void print_usage(FILE *out)
             "\n"
             "  --width W            image width in pixels (default 1920)\n"
             "  --height H           image height in pixels (default 1080)\n"
-            "  --sets M             sets per pixel, 1..%d (default %d); n = 64*M samples\n"
+            "  --sets M             sets per pixel, 1..%d (default %d)\n"
+            "  --samples N          samples per pixel n (default 64*M); the set sums stay those\n"
+            "                       of 64 samples a set, only the counts change: N not a\n"
+            "                       multiple of M times unequal counts, N < M few samples\n"
             "  --repeats R          timed runs after one warm-up, median reported (default 7)\n"
             "  --device I           OpenCL device index over all platforms (default 0)\n"
             "  --from-accumulators  time estimate_from_accumulators: exact 128-bit set\n"
@@ -93,6 +97,7 @@ static int parse_options(int argc, char **argv, Options *o)
     o->width = 1920;
     o->height = 1080;
     o->sets = ESTIMATOR_DEFAULT_SETS;
+    o->samples = 0;
     o->repeats = 7;
     o->device = 0;
     o->from_accumulators = 0;
@@ -113,6 +118,9 @@ static int parse_options(int argc, char **argv, Options *o)
         } else if (strcmp(flag, "--sets") == 0) {
             target = &o->sets;
             hi = EST_MAX_SETS;
+        } else if (strcmp(flag, "--samples") == 0) {
+            target = &o->samples;
+            hi = 1L << 40;
         } else if (strcmp(flag, "--repeats") == 0) {
             target = &o->repeats;
             hi = 1000;
@@ -453,7 +461,7 @@ int main(int argc, char **argv)
     int status = 1;
     const int sets = (int)o.sets;
     const int repeats = (int)o.repeats;
-    const uint64_t sample_count = 64u * (uint64_t)sets;
+    const uint64_t sample_count = o.samples > 0 ? (uint64_t)o.samples : 64u * (uint64_t)sets;
     const size_t pixel_count = (size_t)o.width * (size_t)o.height;
     const size_t bytes_per_pixel = input_bytes_per_pixel(sets, o.from_accumulators);
     cl_int err = CL_SUCCESS;

@@ -8,8 +8,11 @@
  *   EST_GINI_MODE     EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
  *   EST_OUTPUTS       bit mask of images written: EST_OUTPUT_* below (default all)
  *   EST_VECTOR_WIDTH  pixels per work item: 1 (default), 2, 4, 8 or 16
+ *   EST_PREFETCH      CPU devices only: prefetch the input this many work
+ *                     items ahead (default 0: none)
  * The global size must cover ceil(pixel_count / EST_VECTOR_WIDTH) work items
- * (more are allowed); the last one may hold fewer pixels.
+ * (more are allowed); the last one may hold fewer pixels. The host
+ * (host/estimator/estimator_cl.c) picks the width per device.
  * Inputs are planes [set][channel][pixel], so a work item's pixels are
  * consecutive values. Output images are RGB floats, pixel-interleaved; trim
  * counts are ints. */
@@ -32,35 +35,37 @@
 
 /* The general path cannot unroll its loops (m is not a constant there);
  * clang would say so. */
+#ifdef __clang__
 #pragma clang diagnostic ignored "-Wpass-failed"
+#endif
 
-#define W EST_VECTOR_WIDTH
+#define LANES EST_VECTOR_WIDTH /* pixels per work item */
 #ifndef EST_PREFETCH
 #define EST_PREFETCH 0
 #endif
 
-#if W == 1
+#if LANES == 1
 #define LOAD_LANES(p) (*(p))
 #define STORE_LANES(x, p) (*(p) = (x))
 #else
-#define LOAD_LANES(p) EST_PASTE(vload, W)(0, p)
-#define STORE_LANES(x, p) EST_PASTE(vstore, W)(x, 0, p)
+#define LOAD_LANES(p) EST_PASTE(vload, LANES)(0, p)
+#define STORE_LANES(x, p) EST_PASTE(vstore, LANES)(x, 0, p)
 #endif
 
-/* Lanes from `count` (1..W) consecutive values at p; lanes past count repeat
+/* Lanes from `count` (1..LANES) consecutive values at p; lanes past count repeat
  * the last value (their results are not stored). */
 KERNEL_FN est_float load_float_lanes(__global const float *p, int count)
 {
-    float lanes[W];
-    for (int l = 0; l < W; ++l)
+    float lanes[LANES];
+    for (int l = 0; l < LANES; ++l)
         lanes[l] = p[l < count ? l : count - 1];
     return LOAD_LANES(lanes);
 }
 
 KERNEL_FN est_ulong load_ulong_lanes(__global const ulong *p, int count)
 {
-    ulong lanes[W];
-    for (int l = 0; l < W; ++l)
+    ulong lanes[LANES];
+    for (int l = 0; l < LANES; ++l)
         lanes[l] = p[l < count ? l : count - 1];
     return LOAD_LANES(lanes);
 }
@@ -68,7 +73,7 @@ KERNEL_FN est_ulong load_ulong_lanes(__global const ulong *p, int count)
 /* Writes the first `count` lanes of an RGB image's three channels. A full
  * work item of 16 lanes interleaves the channels in registers (clang's
  * shuffles) and writes three whole vectors. */
-#if W == 16 && defined(__clang__)
+#if LANES == 16 && defined(__clang__)
 #define STORE_RGB16(image, first, rgb, vstore)                                                                         \
     vstore(__builtin_shufflevector(                                                                                    \
                __builtin_shufflevector(rgb[0], rgb[1], 0, 16, 0, 1, 17, 0, 2, 18, 0, 3, 19, 0, 4, 20, 0, 5), rgb[2],   \
@@ -87,12 +92,12 @@ KERNEL_FN est_ulong load_ulong_lanes(__global const ulong *p, int count)
 KERNEL_FN void store_rgb(__global float *image, ulong first, int count, const est_float *rgb)
 {
 #ifdef STORE_RGB16
-    if (count == W) {
+    if (count == LANES) {
         STORE_RGB16(image, first, rgb, vstore16)
         return;
     }
 #endif
-    float lanes[EST_CHANNELS][W];
+    float lanes[EST_CHANNELS][LANES];
     for (int c = 0; c < EST_CHANNELS; ++c)
         STORE_LANES(rgb[c], lanes[c]);
     for (int l = 0; l < count; ++l)
@@ -103,12 +108,12 @@ KERNEL_FN void store_rgb(__global float *image, ulong first, int count, const es
 KERNEL_FN void store_rgb_int(__global int *image, ulong first, int count, const est_int *rgb)
 {
 #ifdef STORE_RGB16
-    if (count == W) {
+    if (count == LANES) {
         STORE_RGB16(image, first, rgb, vstore16)
         return;
     }
 #endif
-    int lanes[EST_CHANNELS][W];
+    int lanes[EST_CHANNELS][LANES];
     for (int c = 0; c < EST_CHANNELS; ++c)
         STORE_LANES(rgb[c], lanes[c]);
     for (int l = 0; l < count; ++l)
@@ -151,7 +156,7 @@ KERNEL_FN void store_estimates(const LaneEstimates *e, ulong first, int count, _
 #endif
 
 /* Channel c of one work item's set sums, pixels first .. first + count - 1
- * (count: 1..W; lanes past count repeat the last pixel), from float set
+ * (count: 1..LANES; lanes past count repeat the last pixel), from float set
  * sums or (from_accumulators) exact accumulators converted to the nearest
  * floats. */
 EST_INLINE void load_channel(__global const void *input, int from_accumulators, ulong pixel_count, ulong first,
@@ -163,34 +168,45 @@ EST_INLINE void load_channel(__global const void *input, int from_accumulators, 
             __global const ulong *a = (__global const ulong *)input;
             __global const ulong *lo = a + accumulator_index(j, c, 0, first, pixel_count);
             __global const ulong *hi = a + accumulator_index(j, c, 1, first, pixel_count);
-            sums[j] = count == W ? fixed_to_float_lanes(LOAD_LANES(lo), LOAD_LANES(hi))
-                                 : fixed_to_float_lanes(load_ulong_lanes(lo, count), load_ulong_lanes(hi, count));
+            sums[j] = count == LANES ? fixed_to_float_lanes(LOAD_LANES(lo), LOAD_LANES(hi))
+                                     : fixed_to_float_lanes(load_ulong_lanes(lo, count), load_ulong_lanes(hi, count));
         } else {
             __global const float *p = (__global const float *)input + set_sum_index(j, c, first, pixel_count);
-            sums[j] = count == W ? LOAD_LANES(p) : load_float_lanes(p, count);
+            sums[j] = count == LANES ? LOAD_LANES(p) : load_float_lanes(p, count);
         }
     }
 }
 
-/* Prefetches (EST_PREFETCH) the input of the work item at pixel `first`. */
-EST_INLINE void prefetch_input(__global const void *input, int from_accumulators, ulong pixel_count, ulong first)
+/* Prefetches (EST_PREFETCH) channel c of the input of the work item at
+ * pixel `first`: every cache line of each of its vectors (an accumulator
+ * vector of 16 lanes is 128 bytes; any vector may straddle lines). */
+EST_INLINE void prefetch_channel(__global const void *input, int from_accumulators, ulong pixel_count, ulong first,
+                                 uint c)
 {
     EST_UNROLL
-    for (uint j = 0; j < EST_SETS; ++j)
-        EST_UNROLL
-    for (uint c = 0; c < EST_CHANNELS; ++c) {
+    for (uint j = 0; j < EST_SETS; ++j) {
         if (from_accumulators) {
-            __global const ulong *a = (__global const ulong *)input;
-            PREFETCH(a + accumulator_index(j, c, 0, first, pixel_count));
-            PREFETCH(a + accumulator_index(j, c, 1, first, pixel_count));
+            EST_UNROLL
+            for (uint word = 0; word < 2; ++word) {
+                __global const ulong *p =
+                    (__global const ulong *)input + accumulator_index(j, c, word, first, pixel_count);
+                EST_UNROLL
+                for (uint l = 0; l < LANES; l += 8)
+                    PREFETCH(p + l);
+                PREFETCH(p + LANES - 1);
+            }
         } else {
-            PREFETCH((__global const float *)input + set_sum_index(j, c, first, pixel_count));
+            __global const float *p = (__global const float *)input + set_sum_index(j, c, first, pixel_count);
+            EST_UNROLL
+            for (uint l = 0; l < LANES; l += 16)
+                PREFETCH(p + l);
+            PREFETCH(p + LANES - 1);
         }
     }
 }
 
 /* A work item of the general case: fewer samples than sets (the start of a
- * render: m = sample_count sets are non-empty) or fewer than W pixels (the
+ * render: m = sample_count sets are non-empty) or fewer than LANES pixels (the
  * last work item). The same code as the common case, with m and count not
  * constants: not inlined, as its loops do not unroll. */
 static __attribute__((noinline)) void estimate_in_general(__global const void *input, int from_accumulators,
@@ -199,7 +215,7 @@ static __attribute__((noinline)) void estimate_in_general(__global const void *i
                                                           __global float *gmon, __global float *gini,
                                                           __global int *trim)
 {
-    int count = pixel_count - first < W ? (int)(pixel_count - first) : W;
+    int count = pixel_count - first < LANES ? (int)(pixel_count - first) : LANES;
     int m = sample_count < EST_SETS ? (int)sample_count : EST_SETS;
     est_float sums[EST_CHANNELS][EST_SETS];
     for (uint c = 0; c < EST_CHANNELS; ++c)
@@ -209,32 +225,38 @@ static __attribute__((noinline)) void estimate_in_general(__global const void *i
     store_estimates(&e, first, count, mean, mon, gmon, gini, trim);
 }
 
-/* The common case: W pixels, every set non-empty (m = M, a constant). */
+/* The common case: LANES pixels, every set non-empty (m = M, a constant). */
 EST_INLINE void estimate_common(__global const void *input, int from_accumulators, ulong pixel_count,
                                 ulong sample_count, ulong first, __global float *mean, __global float *mon,
                                 __global float *gmon, __global float *gini, __global int *trim)
 {
-    if (EST_PREFETCH > 0 && first + (EST_PREFETCH + 1) * W <= pixel_count)
-        prefetch_input(input, from_accumulators, pixel_count, first + EST_PREFETCH * W);
+    const int prefetch = EST_PREFETCH > 0 && first + (EST_PREFETCH + 1) * LANES <= pixel_count;
+    const ulong ahead = first + EST_PREFETCH * LANES;
     LaneEstimates e;
 #if EST_GINI_MODE == EST_GINI_PER_CHANNEL
     /* estimate_lanes channel by channel (as it runs in this mode), each
-     * channel's input loaded just before it is needed. */
+     * channel's input loaded just before it is needed, and the same channel
+     * of a later work item prefetched (spread out, not all at once). */
     const SetCounts k = est_set_counts(sample_count, EST_SETS, EST_SETS);
     EST_UNROLL
     for (uint c = 0; c < EST_CHANNELS; ++c) {
+        if (prefetch)
+            prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
         est_float sums[EST_SETS];
-        load_channel(input, from_accumulators, pixel_count, first, W, c, sums);
+        load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums);
         estimate_channel_alone(&k, sums, from_accumulators, &e, (int)c);
     }
 #else
     est_float sums[EST_CHANNELS][EST_SETS];
     EST_UNROLL
-    for (uint c = 0; c < EST_CHANNELS; ++c)
-        load_channel(input, from_accumulators, pixel_count, first, W, c, sums[c]);
+    for (uint c = 0; c < EST_CHANNELS; ++c) {
+        if (prefetch)
+            prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
+        load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums[c]);
+    }
     estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_GINI_MODE, from_accumulators, &e);
 #endif
-    store_estimates(&e, first, W, mean, mon, gmon, gini, trim);
+    store_estimates(&e, first, LANES, mean, mon, gmon, gini, trim);
 }
 
 /* Input: float set sums, planes [set][channel][pixel]. */
@@ -242,10 +264,10 @@ __kernel void estimate_from_sums(__global const float *set_sums, ulong pixel_cou
                                  __global float *mean, __global float *mon, __global float *gmon, __global float *gini,
                                  __global int *trim)
 {
-    ulong first = get_global_id(0) * W;
+    ulong first = get_global_id(0) * LANES;
     if (first >= pixel_count)
         return;
-    if (sample_count < EST_SETS || pixel_count - first < W)
+    if (sample_count < EST_SETS || pixel_count - first < LANES)
         estimate_in_general(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
     else
         estimate_common(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
@@ -257,10 +279,10 @@ __kernel void estimate_from_accumulators(__global const ulong *accumulators, ulo
                                          __global float *mean, __global float *mon, __global float *gmon,
                                          __global float *gini, __global int *trim)
 {
-    ulong first = get_global_id(0) * W;
+    ulong first = get_global_id(0) * LANES;
     if (first >= pixel_count)
         return;
-    if (sample_count < EST_SETS || pixel_count - first < W)
+    if (sample_count < EST_SETS || pixel_count - first < LANES)
         estimate_in_general(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
     else
         estimate_common(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);

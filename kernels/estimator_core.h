@@ -97,29 +97,35 @@ KERNEL_FN FixedSum fixed_add(FixedSum a, FixedSum b)
 
 /* The fixed-point value (lo, hi) of each lane as the nearest float (ties to
  * even). Integer-to-float conversion is correctly rounded in C and OpenCL
- * alike, so every device rounds the same way: the magnitude's top 64 bits,
- * with a sticky bit for the rest (far below the float's last bit, so it
- * rounds exactly as the whole would), are converted and scaled by a power of
- * two (exact: the results lie in [2^-56, 2^72)). Branch-free, for vectors. */
+ * alike, so every device rounds the same way: a magnitude below 2^64 is
+ * converted whole; a larger one as the 64 bits from its leading one (or the
+ * bit below it), with a sticky bit for the rest (far below the float's last
+ * bit, so it rounds exactly as the whole would). The power of two that
+ * scales the result back carries the sign; the product is exact (results
+ * lie in [2^-56, 2^72)). Branch-free, for vectors. */
 EST_INLINE est_float fixed_to_float_lanes(est_ulong lo, est_ulong hi)
 {
+    est_uint sign = EST_UINT_FROM_ULONG(hi >> 32) & 0x80000000u;
     est_lmask negative = EST_LONG_FROM_ULONG(hi) < 0;
     est_ulong negated_lo = ~lo + 1u;
     est_ulong negated_hi = ~hi + EST_SELECT(lo == 0u, EST_ULONGS(1u), EST_ULONGS(0u));
     lo = EST_SELECT(negative, negated_lo, lo);
     hi = EST_SELECT(negative, negated_hi, hi);
-    /* Magnitude below 2^64: lo itself, in units of 2^-56. Else the 64 bits
-     * from the leading one down, in units of 2^(8 - z) (z = leading zeros of
-     * hi); (lo >> 1) >> (63 - z) is lo >> (64 - z) without a 64-bit shift. */
-    est_lmask small = hi == 0u;
-    est_ulong z = EST_LEADING_ZEROS64(hi);
-    est_ulong top = (hi << z) | ((lo >> 1) >> (63u - z));
-    est_ulong sticky = EST_SELECT((lo << z) != 0u, EST_ULONGS(1u), EST_ULONGS(0u));
-    est_ulong word = EST_SELECT(small, lo, top | sticky);
-    est_int exponent =
-        EST_SELECT(EST_MASK_FROM_LMASK(small), EST_INTS(-EST_FIXED_FRAC_BITS), 8 - EST_INT_FROM_ULONG(z));
-    est_float magnitude = EST_FLOAT_FROM_ULONG(word) * EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(exponent + 127) << 23);
-    return EST_SELECT(EST_MASK_FROM_LMASK(negative), -magnitude, magnitude);
+    /* The window starts z bits below the top of hi: z = 63 - floor(log2(hi))
+     * from hi as a float, which rounds up at most to the next power of two,
+     * so z is hi's leading zeros or one less (a 63-bit window then). A lane
+     * with hi = 0 computes a z it does not use (kept in 0..63: shifts by 64
+     * or more are undefined in C). (lo >> 1) >> (63 - z) is lo >> (64 - z)
+     * without a 64-bit shift. */
+    est_float hi_float = EST_FLOAT_FROM_ULONG(hi);
+    est_int z = 63 - (EST_INT_FROM_UINT(EST_FLOAT_BITS(hi_float) >> 23) - 127);
+    z = EST_SELECT(z < 0, EST_INTS(0), z) & 63;
+    est_ulong shift = EST_ULONG_FROM_INT(z);
+    est_ulong window = (hi << shift) | ((lo >> 1) >> (63u - shift));
+    est_ulong sticky = EST_SELECT((lo << shift) != 0u, EST_ULONGS(1u), EST_ULONGS(0u));
+    est_ulong word = EST_SELECT(hi == 0u, lo, window | sticky);
+    est_int exponent = EST_SELECT(hi_float == 0.0f, EST_INTS(-EST_FIXED_FRAC_BITS), 8 - z);
+    return EST_FLOAT_FROM_ULONG(word) * EST_FLOAT_FROM_BITS(sign | (EST_UINT_FROM_INT(exponent + 127) << 23));
 }
 
 #if EST_VECTOR_WIDTH == 1
@@ -184,6 +190,7 @@ KERNEL_FN uint64_t set_sum_index(uint32_t set, uint32_t channel, uint64_t pixel,
 {
     return (uint64_t)(set * EST_CHANNELS + channel) * pixel_count + pixel;
 }
+
 /* ------------------------------------------------------------------------
  * Per-pixel estimators.
  *
@@ -195,6 +202,8 @@ KERNEL_FN uint64_t set_sum_index(uint32_t set, uint32_t channel, uint64_t pixel,
  * and results scale exactly with their inputs. Averages are computed as
  * base + mean(value - base) with a compensated sum, so equal means give that
  * value exactly; Gini's numerator pairs t_{m+1-j} - t_j, which never cancel.
+ * With equal set counts the sums themselves are sorted and averaged and only
+ * the results are divided by the count (SetCounts).
  *
  * Written once for lanes (lanes.h): the host runs it on one pixel at a time,
  * a vector kernel on EST_VECTOR_WIDTH pixels at once, with the same
@@ -488,7 +497,7 @@ EST_INLINE const uint8_t (*sorting_network(int set_count, int *length))[2]
 
 /* Clamps the channel's mean and MoN and computes its G-MoN (with the trim
  * already in out->trim[c]) from its set means v[0..m-1] (ascending: sorted),
- * then divides all three by divisor (see estimate_lanes). */
+ * then divides all three by divisor (see SetCounts). */
 EST_INLINE void finish_channel(LaneEstimates *out, int c, const est_float *v, int m, int ascending, float divisor)
 {
     /* Averages of values lie within them; the clamp removes the last ulp

@@ -55,8 +55,8 @@ typedef int32_t est_lmask;
 #define EST_INT_FROM_FLOAT(x) ((int32_t)(x))
 /* Correctly rounded (to nearest, ties to even) in C and in OpenCL. */
 #define EST_FLOAT_FROM_ULONG(x) ((float)(x))
-#define EST_INT_FROM_ULONG(x) ((int32_t)(x))
-#define EST_MASK_FROM_LMASK(x) ((int32_t)(x))
+#define EST_UINT_FROM_ULONG(x) ((uint32_t)(x))
+#define EST_ULONG_FROM_INT(x) ((uint64_t)(x))
 
 #else /* OpenCL vectors */
 
@@ -89,20 +89,10 @@ typedef EST_PASTE(long, EST_VECTOR_WIDTH) est_lmask;
 #define EST_FLOAT_FROM_INT(x) EST_PASTE(convert_float, EST_VECTOR_WIDTH)(x)
 #define EST_INT_FROM_FLOAT(x) EST_PASTE(convert_int, EST_VECTOR_WIDTH)(x)
 #define EST_FLOAT_FROM_ULONG(x) EST_PASTE(convert_float, EST_VECTOR_WIDTH)(x)
-#define EST_INT_FROM_ULONG(x) EST_PASTE(convert_int, EST_VECTOR_WIDTH)(x)
-#define EST_MASK_FROM_LMASK(x) EST_PASTE(convert_int, EST_VECTOR_WIDTH)(x)
+/* Integer conversions between lane widths (values in range) */
+#define EST_UINT_FROM_ULONG(x) EST_PASTE(convert_uint, EST_VECTOR_WIDTH)(x)
+#define EST_ULONG_FROM_INT(x) EST_PASTE(convert_ulong, EST_VECTOR_WIDTH)(x)
 
-#endif
-
-/* Leading zeros of est_uint and est_ulong lanes, as lanes of the same type;
- * a zero lane gives an unspecified value (callers select it away) but no
- * undefined behaviour. */
-#ifdef __OPENCL_C_VERSION__
-#define EST_LEADING_ZEROS32(x) clz(x)
-#define EST_LEADING_ZEROS64(x) clz(x)
-#else
-#define EST_LEADING_ZEROS32(x) ((uint32_t)__builtin_clz((x) | 1u))
-#define EST_LEADING_ZEROS64(x) ((uint64_t)__builtin_clzll((x) | 1u))
 #endif
 
 /* The per-pixel functions: always inlined in kernels, so that with M a
