@@ -11,6 +11,7 @@
  * so that the first build of each variant is cold. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "estimator/estimator_cl.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -142,6 +143,16 @@ static int features_mode(ClDevice *device, const Options *o)
     }
     printf("%lux%lu, %lu spp, medians of %lu runs, device %s\n", o->width, o->height, o->spp, o->repeats,
            device->info.name);
+    /* Build the estimator (the same program for both variants) first, so
+     * that the cold builds below are the path tracer's alone. */
+    RenderSettings defaults;
+    render_settings_default(&defaults);
+    EstimatorProgram *estimator = estimator_program_new(device, &defaults.estimator, defaults.outputs, NULL);
+    if (!estimator)
+        return 1;
+    estimator_program_destroy(estimator);
+    printf("(cold build: the path tracer's first build in this process, from an empty cache; the all-features\n"
+           " program is the same for every scene, so only its first scene builds it cold)\n");
     printf("%-28s %-12s %8s %12s %12s %12s\n", "scene", "kernels", "features", "Msamples/s", "cold build",
            "warm build");
     for (int k = 0; k < 2 && scenes[k]; ++k) {

@@ -180,7 +180,7 @@ static cl_mem upload(ClDevice *device, const void *data, size_t bytes, cl_int *e
 
 /* Builds the programs and uploads the scene. Returns 0, or -1 after
  * dropping the worker. */
-static int start_worker(Render *r, Worker *w, const char *options, uint32_t features)
+static int start_worker(Render *r, Worker *w, const char *options)
 {
     const RenderScene *scene = r->scene;
     const RenderSettings *s = r->settings;
@@ -203,7 +203,9 @@ static int start_worker(Render *r, Worker *w, const char *options, uint32_t feat
     EstimatorSettings estimator = s->estimator;
     estimator.set_count = r->sets;
     estimator.first_sample = s->first_sample;
-    w->estimator = estimator_program_new(w->device, &estimator, (int)(features & FEATURES_OUTPUTS), s->kernel_dir);
+    /* The estimator writes exactly the requested images (also with
+     * all_features, where the mask has every output bit). */
+    w->estimator = estimator_program_new(w->device, &estimator, s->outputs, s->kernel_dir);
     if (!w->estimator) {
         drop_worker(r, w, "the estimator failed to build (build log above)");
         return -1;
@@ -598,7 +600,7 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         snprintf(w->report->name, sizeof w->report->name, "%s", devices[i].info.name);
     }
     for (int i = 0; i < device_count; ++i) {
-        start_worker(&r, &r.workers[i], options, out->features);
+        start_worker(&r, &r.workers[i], options);
         out->build_seconds += r.workers[i].report->build_seconds;
     }
     double weights[RENDER_MAX_DEVICES];
