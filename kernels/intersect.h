@@ -6,7 +6,8 @@
 #include "compat.h"
 #include "scene_types.h"
 
-#define BVH_STACK_SIZE 96
+/* Entries; the builder checks that its tree needs no more. */
+#define BVH_STACK_SIZE 128
 
 typedef struct {
     float origin[3];
@@ -99,24 +100,6 @@ KERNEL_FN int intersect_sphere(const Ray *ray, const GLOBAL Primitive *p, float 
     return 0;
 }
 
-/* Slab test against a node's box with the ray's reciprocal direction:
- * returns 1 and the entry distance if the ray meets the box before t_max. */
-KERNEL_FN int intersect_box(const GLOBAL BvhNode *node, const float *origin, const float *inverse_direction,
-                            float t_max, float *t_entry)
-{
-    float near_t = 0.0f, far_t = t_max;
-    for (int i = 0; i < 3; ++i) {
-        float t0 = (node->lower[i] - origin[i]) * inverse_direction[i];
-        float t1 = (node->upper[i] - origin[i]) * inverse_direction[i];
-        float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-        /* NaN (0 * inf on a slab plane) leaves the interval unchanged. */
-        near_t = lo > near_t ? lo : near_t;
-        far_t = hi < far_t ? hi : far_t;
-    }
-    *t_entry = near_t;
-    return near_t <= far_t;
-}
-
 KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, float t_min, float t_max, Hit *hit)
 {
     float t = 0.0f, u = 0.0f, v = 0.0f;
@@ -130,10 +113,121 @@ KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, flo
     return found;
 }
 
+#ifdef __OPENCL_C_VERSION__
+#define lowest_bit(x) (31 - (int)clz((x) & -(x)))
+
+/* Bit i set where lane i of a vector comparison is true. */
+KERNEL_FN int lane_bits(int8 mask)
+{
+    int8 bits = mask & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+    int4 four = bits.lo | bits.hi;
+    int2 two = four.lo | four.hi;
+    return two.x | two.y;
+}
+
+/* Slab tests of a node's children with the ray's reciprocal direction: bit
+ * i set if child i is met before t_max, its entry distance in entry[i]. NaN
+ * (0 * inf on a slab plane) leaves an interval unchanged. */
+KERNEL_FN int intersect_children(const GLOBAL BvhWideNode *node, const float *origin, const float *inverse_direction,
+                                 float t_max, float *entry)
+{
+    float8 near_t = 0.0f, far_t = t_max;
+    for (int i = 0; i < 3; ++i) {
+        float8 t0 = (vload8(0, node->lower[i]) - origin[i]) * inverse_direction[i];
+        float8 t1 = (vload8(0, node->upper[i]) - origin[i]) * inverse_direction[i];
+        float8 lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+        near_t = lo > near_t ? lo : near_t;
+        far_t = hi < far_t ? hi : far_t;
+    }
+    vstore8(near_t, 0, entry);
+    return lane_bits((near_t <= far_t) & (vload8(0, node->count) >= 0));
+}
+
+/* intersect_triangle on a packet's 8 triangles at once: the nearest hit's
+ * lane (the first of equals, as a loop would find), or -1. */
+KERNEL_FN int intersect_packet(const Ray *ray, const GLOBAL TrianglePacket *p, float t_min, float t_max, float *t_out,
+                               float *u_out, float *v_out)
+{
+    float8 e1[3], e2[3], s[3];
+    for (int i = 0; i < 3; ++i) {
+        e1[i] = vload8(0, p->b[i]);
+        e2[i] = vload8(0, p->c[i]);
+        s[i] = ray->origin[i] - vload8(0, p->a[i]);
+    }
+    const float *d = ray->direction;
+    float8 pv0 = d[1] * e2[2] - d[2] * e2[1], pv1 = d[2] * e2[0] - d[0] * e2[2], pv2 = d[0] * e2[1] - d[1] * e2[0];
+    float8 det = e1[0] * pv0 + e1[1] * pv1 + e1[2] * pv2;
+    float8 sign = det < 0.0f ? (float8)(-1.0f) : (float8)(1.0f);
+    det *= sign;
+    float8 u = (s[0] * pv0 + s[1] * pv1 + s[2] * pv2) * sign;
+    float8 q0 = s[1] * e1[2] - s[2] * e1[1], q1 = s[2] * e1[0] - s[0] * e1[2], q2 = s[0] * e1[1] - s[1] * e1[0];
+    float8 v = (d[0] * q0 + d[1] * q1 + d[2] * q2) * sign;
+    float8 inv = 1.0f / det;
+    float8 t = (e2[0] * q0 + e2[1] * q1 + e2[2] * q2) * sign * inv;
+    int8 hit = (det != 0.0f) & (u >= 0.0f) & (u <= det) & (v >= 0.0f) & (u + v <= det) & (t > t_min) & (t < t_max);
+    if (!lane_bits(hit))
+        return -1;
+    float8 ts = hit ? t : (float8)(INFINITY);
+    float4 m4 = fmin(ts.lo, ts.hi);
+    float2 m2 = fmin(m4.lo, m4.hi);
+    float nearest = fmin(m2.x, m2.y);
+    int lane = lowest_bit(lane_bits(hit & (ts == nearest)));
+    float lanes[8];
+    *t_out = nearest;
+    vstore8(u * inv, 0, lanes);
+    *u_out = lanes[lane];
+    vstore8(v * inv, 0, lanes);
+    *v_out = lanes[lane];
+    return lane;
+}
+#else
+#define lowest_bit(x) __builtin_ctz((unsigned)(x))
+
+/* Host versions of the above, one lane at a time, rounding as the scalar
+ * tests do (test_bvh compares them with those bit for bit). */
+KERNEL_FN int intersect_children(const BvhWideNode *node, const float *origin, const float *inverse_direction,
+                                 float t_max, float *entry)
+{
+    int bits = 0;
+    for (int j = 0; j < BVH_WIDTH; ++j) {
+        float near_t = 0.0f, far_t = t_max;
+        for (int i = 0; i < 3; ++i) {
+            float t0 = (node->lower[i][j] - origin[i]) * inverse_direction[i];
+            float t1 = (node->upper[i][j] - origin[i]) * inverse_direction[i];
+            float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+            near_t = lo > near_t ? lo : near_t;
+            far_t = hi < far_t ? hi : far_t;
+        }
+        entry[j] = near_t;
+        bits |= (near_t <= far_t && node->count[j] >= 0) << j;
+    }
+    return bits;
+}
+
+KERNEL_FN int intersect_packet(const Ray *ray, const TrianglePacket *p, float t_min, float t_max, float *t_out,
+                               float *u_out, float *v_out)
+{
+    int lane = -1;
+    for (int j = 0; j < BVH_WIDTH; ++j) {
+        Primitive triangle;
+        for (int i = 0; i < 3; ++i) {
+            triangle.a[i] = p->a[i][j];
+            triangle.b[i] = p->b[i][j];
+            triangle.c[i] = p->c[i][j];
+        }
+        if (intersect_triangle(ray, &triangle, t_min, t_max, t_out, u_out, v_out)) {
+            t_max = *t_out;
+            lane = j;
+        }
+    }
+    return lane;
+}
+#endif
+
 /* Nearest hit in (t_min, t_max). With any_hit, returns at the first hit
- * (shadow rays). Returns 1 if something was hit. Children are tested from
- * their parent; the nearer one is visited first and the other is pushed
- * only if the ray meets it. */
+ * (shadow rays). Returns 1 if something was hit. A node's children are
+ * tested together; those the ray meets are pushed nearest on top, and a
+ * popped one is skipped if a hit nearer than its entry has been found. */
 KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive *primitives, const Ray *ray,
                             float t_min, float t_max, int any_hit, Hit *hit)
 {
@@ -144,40 +238,54 @@ KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive 
     hit->primitive = -1;
     hit->u = 0.0f;
     hit->v = 0.0f;
-    int stack[BVH_STACK_SIZE];
+    int stack[BVH_STACK_SIZE]; /* a child as its node's block * BVH_WIDTH + its lane */
+    float stack_entry[BVH_STACK_SIZE];
     int top = 0;
     int node_index = 0;
-    float entry = 0.0f;
-    if (!intersect_box(nodes, ray->origin, inverse_direction, t_max, &entry))
-        return 0;
-    for (;;) {
-        const GLOBAL BvhNode *node = nodes + node_index;
-        if (node->count >= 0) { /* a leaf; 0 only in an empty scene */
-            for (int i = node->first; i < node->first + node->count; ++i)
-                if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
-                    hit->primitive = i;
-                    if (any_hit)
-                        return 1;
-                }
-        } else {
-            int left = node_index + 1, right = node->first;
-            float left_entry = 0.0f, right_entry = 0.0f;
-            int hit_left = intersect_box(nodes + left, ray->origin, inverse_direction, hit->t, &left_entry);
-            int hit_right = intersect_box(nodes + right, ray->origin, inverse_direction, hit->t, &right_entry);
-            if (hit_left && hit_right) {
-                int near_child = left_entry <= right_entry ? left : right;
-                stack[top++] = near_child == left ? right : left; /* the builder bounds the depth */
-                node_index = near_child;
-                continue;
+    while (node_index >= 0) {
+        float entry[BVH_WIDTH];
+        int bits = intersect_children(&nodes[node_index].node, ray->origin, inverse_direction, hit->t, entry);
+        for (int base = top; bits; bits &= bits - 1) { /* the builder bounds the stack */
+            int lane = lowest_bit(bits), i = top++;
+            for (; i > base && stack_entry[i - 1] < entry[lane]; --i) {
+                stack[i] = stack[i - 1];
+                stack_entry[i] = stack_entry[i - 1];
             }
-            if (hit_left || hit_right) {
-                node_index = hit_left ? left : right;
-                continue;
-            }
+            stack[i] = node_index * BVH_WIDTH + lane;
+            stack_entry[i] = entry[lane];
         }
-        if (top == 0)
-            break;
-        node_index = stack[--top];
+        node_index = -1;
+        while (top > 0 && node_index < 0) {
+            --top;
+            if (stack_entry[top] > hit->t)
+                continue;
+            const GLOBAL BvhWideNode *parent = &nodes[stack[top] / BVH_WIDTH].node;
+            int lane = stack[top] % BVH_WIDTH, first = parent->child[lane], count = parent->count[lane];
+            if (count == 0) {
+                node_index = first;
+                continue;
+            }
+            int found = 0;
+            if (parent->packet[lane] >= 0) {
+                float t = 0.0f, u = 0.0f, v = 0.0f;
+                int k = intersect_packet(ray, &nodes[parent->packet[lane]].triangles, t_min, hit->t, &t, &u, &v);
+                if (k >= 0) {
+                    hit->t = t;
+                    hit->u = u;
+                    hit->v = v;
+                    hit->primitive = first + k;
+                    found = 1;
+                }
+            } else {
+                for (int i = first; i < first + count; ++i)
+                    if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
+                        hit->primitive = i;
+                        found = 1;
+                    }
+            }
+            if (found && any_hit)
+                return 1;
+        }
     }
     return hit->primitive >= 0;
 }
