@@ -125,20 +125,31 @@ KERNEL_FN int lane_bits(int8 mask)
     return two.x | two.y;
 }
 
+/* Narrows [near_t, far_t] to a slab's [t0, t1] (either order); NaN (0 * inf
+ * on a slab plane) leaves it unchanged. */
+KERNEL_FN void narrow_to_slab(float8 t0, float8 t1, float8 *near_t, float8 *far_t)
+{
+    float8 lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+    *near_t = lo > *near_t ? lo : *near_t;
+    *far_t = hi < *far_t ? hi : *far_t;
+}
+
 /* Slab tests of a node's children with the ray's reciprocal direction: bit
- * i set if child i is met before t_max, its entry distance in entry[i]. NaN
- * (0 * inf on a slab plane) leaves an interval unchanged. */
+ * i set if child i is met before t_max, its entry distance in entry[i]. */
 KERNEL_FN int intersect_children(const GLOBAL BvhWideNode *node, const float *origin, const float *inverse_direction,
                                  float t_max, float *entry)
 {
+    /* Written out per axis: pocl leaves loops over arrays of vectors in memory. */
+    float8 x0 = (vload8(0, node->lower[0]) - origin[0]) * inverse_direction[0];
+    float8 x1 = (vload8(0, node->upper[0]) - origin[0]) * inverse_direction[0];
+    float8 y0 = (vload8(0, node->lower[1]) - origin[1]) * inverse_direction[1];
+    float8 y1 = (vload8(0, node->upper[1]) - origin[1]) * inverse_direction[1];
+    float8 z0 = (vload8(0, node->lower[2]) - origin[2]) * inverse_direction[2];
+    float8 z1 = (vload8(0, node->upper[2]) - origin[2]) * inverse_direction[2];
     float8 near_t = 0.0f, far_t = t_max;
-    for (int i = 0; i < 3; ++i) {
-        float8 t0 = (vload8(0, node->lower[i]) - origin[i]) * inverse_direction[i];
-        float8 t1 = (vload8(0, node->upper[i]) - origin[i]) * inverse_direction[i];
-        float8 lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-        near_t = lo > near_t ? lo : near_t;
-        far_t = hi < far_t ? hi : far_t;
-    }
+    narrow_to_slab(x0, x1, &near_t, &far_t);
+    narrow_to_slab(y0, y1, &near_t, &far_t);
+    narrow_to_slab(z0, z1, &near_t, &far_t);
     vstore8(near_t, 0, entry);
     return lane_bits((near_t <= far_t) & (vload8(0, node->count) >= 0));
 }
@@ -148,22 +159,20 @@ KERNEL_FN int intersect_children(const GLOBAL BvhWideNode *node, const float *or
 KERNEL_FN int intersect_packet(const Ray *ray, const GLOBAL TrianglePacket *p, float t_min, float t_max, float *t_out,
                                float *u_out, float *v_out)
 {
-    float8 e1[3], e2[3], s[3];
-    for (int i = 0; i < 3; ++i) {
-        e1[i] = vload8(0, p->b[i]);
-        e2[i] = vload8(0, p->c[i]);
-        s[i] = ray->origin[i] - vload8(0, p->a[i]);
-    }
-    const float *d = ray->direction;
-    float8 pv0 = d[1] * e2[2] - d[2] * e2[1], pv1 = d[2] * e2[0] - d[0] * e2[2], pv2 = d[0] * e2[1] - d[1] * e2[0];
-    float8 det = e1[0] * pv0 + e1[1] * pv1 + e1[2] * pv2;
+    float8 e1x = vload8(0, p->b[0]), e1y = vload8(0, p->b[1]), e1z = vload8(0, p->b[2]);
+    float8 e2x = vload8(0, p->c[0]), e2y = vload8(0, p->c[1]), e2z = vload8(0, p->c[2]);
+    float8 sx = ray->origin[0] - vload8(0, p->a[0]), sy = ray->origin[1] - vload8(0, p->a[1]),
+           sz = ray->origin[2] - vload8(0, p->a[2]);
+    float dx = ray->direction[0], dy = ray->direction[1], dz = ray->direction[2];
+    float8 pvx = dy * e2z - dz * e2y, pvy = dz * e2x - dx * e2z, pvz = dx * e2y - dy * e2x;
+    float8 det = e1x * pvx + e1y * pvy + e1z * pvz;
     float8 sign = det < 0.0f ? (float8)(-1.0f) : (float8)(1.0f);
     det *= sign;
-    float8 u = (s[0] * pv0 + s[1] * pv1 + s[2] * pv2) * sign;
-    float8 q0 = s[1] * e1[2] - s[2] * e1[1], q1 = s[2] * e1[0] - s[0] * e1[2], q2 = s[0] * e1[1] - s[1] * e1[0];
-    float8 v = (d[0] * q0 + d[1] * q1 + d[2] * q2) * sign;
+    float8 u = (sx * pvx + sy * pvy + sz * pvz) * sign;
+    float8 qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
+    float8 v = (dx * qx + dy * qy + dz * qz) * sign;
     float8 inv = 1.0f / det;
-    float8 t = (e2[0] * q0 + e2[1] * q1 + e2[2] * q2) * sign * inv;
+    float8 t = (e2x * qx + e2y * qy + e2z * qz) * sign * inv;
     int8 hit = (det != 0.0f) & (u >= 0.0f) & (u <= det) & (v >= 0.0f) & (u + v <= det) & (t > t_min) & (t < t_max);
     if (!lane_bits(hit))
         return -1;
