@@ -6,7 +6,7 @@
 #include <string.h>
 
 #define BIN_COUNT 16
-#define MAX_LEAF_SIZE 8
+#define MAX_LEAF_SIZE BVH_WIDTH /* one triangle packet */
 /* Past this depth, splits fall back to the object median, which halves the
  * count each level and so bounds the depth. */
 #define SAH_DEPTH_LIMIT 48
@@ -52,10 +52,23 @@ static void box_grow_point(Box *b, const float *p)
     }
 }
 
+/* The union, per bound: growing by an empty box (an empty bin) changes
+ * nothing, where growing by its corners as points would make it infinite. */
 static void box_grow(Box *b, const Box *other)
 {
-    box_grow_point(b, other->lower);
-    box_grow_point(b, other->upper);
+    for (int i = 0; i < 3; ++i) {
+        b->lower[i] = other->lower[i] < b->lower[i] ? other->lower[i] : b->lower[i];
+        b->upper[i] = other->upper[i] > b->upper[i] ? other->upper[i] : b->upper[i];
+    }
+}
+
+/* SAH cost of intersecting n primitives. A leaf is one 8-wide packet test,
+ * but counting in fours (and a traversal cost of 0.5) keeps leaves tight:
+ * measured faster than whole packets or single primitives, on the Cornell
+ * box and on a 20k-triangle mesh. */
+static float leaf_cost(int n)
+{
+    return (float)((n + 3) / 4);
 }
 
 static float box_area(const Box *b)
@@ -189,7 +202,7 @@ static int choose_split(BuildItem *items, int count, const Box *bounds, int dept
                 n += bin_count[k];
                 if (n == 0 || right_count[k + 1] == 0)
                     continue;
-                float cost = box_area(&acc) * (float)n + right_area[k + 1] * (float)right_count[k + 1];
+                float cost = box_area(&acc) * leaf_cost(n) + right_area[k + 1] * leaf_cost(right_count[k + 1]);
                 if (cost < best_cost) {
                     best_cost = cost;
                     best_axis = a;
@@ -198,10 +211,8 @@ static int choose_split(BuildItem *items, int count, const Box *bounds, int dept
             }
         }
         float parent_area = box_area(bounds);
-        /* Traversal cost 1, intersection cost 1 per primitive. */
-        float leaf_cost = (float)count;
-        float split_cost = parent_area > 0.0f ? 1.0f + best_cost / parent_area : FLT_MAX;
-        if (best_axis >= 0 && (split_cost < leaf_cost || count > MAX_LEAF_SIZE)) {
+        float split_cost = parent_area > 0.0f ? 0.5f + best_cost / parent_area : FLT_MAX;
+        if (best_axis >= 0 && (split_cost < leaf_cost(count) || count > MAX_LEAF_SIZE)) {
             float lo = centroids.lower[best_axis], span = centroids.upper[best_axis] - lo;
             int left = 0;
             for (int i = 0; i < count; ++i) {
