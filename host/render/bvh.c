@@ -322,8 +322,8 @@ static int collapse(Builder *b, int index, int stack_base, int *stack_need)
         int triangles = 1;
         for (int k = child->first; k < child->first + child->count; ++k)
             triangles &= (b->primitives[k].kind & PRIM_KIND_MASK) == PRIM_TRIANGLE;
-        if (!triangles)
-            continue; /* spheres are tested one by one */
+        if (!triangles || child->count > BVH_WIDTH)
+            continue; /* spheres, and the rare leaf of identical centroids, are tested one by one */
         int packet = new_block(b);
         if (packet < 0)
             return -1;
