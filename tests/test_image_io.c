@@ -256,6 +256,30 @@ static void test_exr_round_trip_many_chunks(void **state)
     round_trip(3, 17, 64, 5);
 }
 
+/* A 32x32 image (mean, MoN, G-MoN) one of whose 16-row chunks ZIP does not
+ * shrink: OpenEXR 3.1 stored it compressed at exactly the raw size, which
+ * readers take for raw data (garbage). The writer must store it raw. */
+static void test_exr_chunk_that_zip_does_not_shrink(void **state)
+{
+    (void)state;
+    ExrImage original, again;
+    char error[1024], path[512];
+    assert_int_equal(
+        exr_image_read(GMON_SOURCE_DIR "/tests/data/zip-chunk-as-large-as-raw.exr", &original, error, sizeof error),
+        IMAGE_IO_OK);
+    snprintf(path, sizeof path, "test_image_io_zip_equal.exr");
+    assert_int_equal(exr_image_write(path, &original, error, sizeof error), IMAGE_IO_OK);
+    assert_int_equal(exr_image_read(path, &again, error, sizeof error), IMAGE_IO_OK);
+    size_t values = (size_t)original.width * original.height * 3;
+    assert_int_equal(original.width, 32);
+    assert_memory_equal(again.mean, original.mean, values * sizeof(float));
+    assert_memory_equal(again.mon, original.mon, values * sizeof(float));
+    assert_memory_equal(again.gmon, original.gmon, values * sizeof(float));
+    exr_image_free(&original);
+    exr_image_free(&again);
+    remove(path);
+}
+
 static void test_exr_mean_only(void **state)
 {
     (void)state;
@@ -781,6 +805,7 @@ int main(void)
         cmocka_unit_test(test_exr_round_trip_m21_7x5),
         cmocka_unit_test(test_exr_round_trip_m1),
         cmocka_unit_test(test_exr_round_trip_many_chunks),
+        cmocka_unit_test(test_exr_chunk_that_zip_does_not_shrink),
         cmocka_unit_test(test_exr_mean_only),
         cmocka_unit_test(test_exr_layout_seen_by_openexr),
         cmocka_unit_test(test_exr_foreign_file),

@@ -411,6 +411,26 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
     return IMAGE_IO_OK;
 }
 
+/* OpenEXR 3.1's encoder can store a compressed chunk exactly as large as
+ * its uncompressed data, which readers then take for uncompressed data
+ * (upstream issue 2306: the chunk reads back as garbage). A chunk that does
+ * not get smaller is stored uncompressed, as the format intends. The
+ * library's own compressor is kept in encoding_user_data. */
+typedef exr_result_t (*CompressFn)(exr_encode_pipeline_t *);
+
+static exr_result_t compress_or_store(exr_encode_pipeline_t *encoder)
+{
+    CompressFn compress = *(CompressFn *)encoder->encoding_user_data;
+    exr_result_t result = compress(encoder);
+    if (result == EXR_ERR_SUCCESS && encoder->compressed_bytes >= encoder->packed_bytes) {
+        if (encoder->compressed_alloc_size < encoder->packed_bytes)
+            return EXR_ERR_OUT_OF_MEMORY;
+        memcpy(encoder->compressed_buffer, encoder->packed_buffer, encoder->packed_bytes);
+        encoder->compressed_bytes = encoder->packed_bytes;
+    }
+    return result;
+}
+
 /* Encodes and writes every scanline chunk. */
 static ImageIoStatus write_pixels(IoContext *io, exr_context_t ctxt, int part, const ExrImage *image,
                                   const ChannelSpec *specs, int spec_count)
@@ -430,6 +450,7 @@ static ImageIoStatus write_pixels(IoContext *io, exr_context_t ctxt, int part, c
     ImageIoStatus status = IMAGE_IO_OK;
     exr_encode_pipeline_t encoder;
     memset(&encoder, 0, sizeof encoder);
+    CompressFn library_compress = NULL;
     int initialized = 0;
     for (int y = 0; y < image->height && status == IMAGE_IO_OK; y += rows_per_chunk) {
         exr_chunk_info_t chunk;
@@ -473,6 +494,11 @@ static ImageIoStatus write_pixels(IoContext *io, exr_context_t ctxt, int part, c
                            "cannot choose the encoding routines")) {
                 status = IMAGE_IO_ERROR;
                 break;
+            }
+            if (encoder.compress_fn) {
+                library_compress = encoder.compress_fn;
+                encoder.encoding_user_data = &library_compress;
+                encoder.compress_fn = compress_or_store;
             }
         }
         if (EXR_FAILED(io, exr_encoding_run(ctxt, part, &encoder), "cannot encode or write a scanline chunk"))
