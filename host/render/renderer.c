@@ -369,14 +369,18 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
         Worker *w = &r->workers[i];
         if (!w->live)
             continue;
-        if (w->fault_pass == pass_number) {
+        if (w->fault_pass > 0 && w->fault_pass == pass_number) {
             drop_worker(r, w, "a pass failed (injected by " RENDER_FAULT_ENV ")");
             ++failures;
             continue;
         }
         cl_ulong first = first_sample, first_pixel = w->first, pixel_count = w->count;
         cl_mem state[3] = {w->accumulators, w->rejected, w->rays};
-        size_t global = w->count;
+        /* A fixed work-group size (the kernel skips items past the end):
+         * PoCL compiles a kernel per work-group size, on first use, and a
+         * size of the runtime's choosing would follow every new share. */
+        size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
+        size_t global = (w->count + local - 1) / local * local;
         for (cl_uint a = 0; a < 3; ++a)
             CL_CHECK(clSetKernelArg(w->kernel, 5 + a, sizeof(cl_mem), &state[a]), failed);
         CL_CHECK(clSetKernelArg(w->kernel, 8, sizeof first, &first), failed);
@@ -385,7 +389,7 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
         CL_CHECK(clSetKernelArg(w->kernel, 11, sizeof pixel_count, &pixel_count), failed);
         CL_CHECK(clSetKernelArg(w->kernel, 12, sizeof first_pixel, &first_pixel), failed);
         CL_CHECK(clSetKernelArg(w->kernel, 13, sizeof pixel_count, &pixel_count), failed);
-        CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, NULL, 0, NULL, &w->pass),
+        CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, &local, 0, NULL, &w->pass),
                  failed);
         CL_CHECK(clFlush(w->device->queue), failed);
         continue;
@@ -606,9 +610,17 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     double weights[RENDER_MAX_DEVICES];
     for (int i = 0; i < device_count; ++i)
         weights[i] = 1.0;
-    int assigned = assign_until_settled(&r, weights, error, error_size);
-    if (assigned == -2)
+    if (assign_until_settled(&r, weights, error, error_size) == -2)
         goto done;
+    /* Runtimes such as PoCL finish compiling a kernel at its first launch:
+     * a pass of no samples and an estimate of nothing do that here, so that
+     * build times include it and render times (and checkpoints) do not. */
+    double prime_start = now_seconds();
+    if (run_pass(&r, s->first_sample, 0, 0) > 0 || estimate_on_devices(&r, 0, out) != 0) {
+        if (assign_until_settled(&r, weights, error, error_size) == -2)
+            goto done;
+    }
+    out->build_seconds += now_seconds() - prime_start;
 
     /* Progressive passes, all devices on the same samples: the first pass
      * renders one sample per pixel, later ones as many as fit the pass
