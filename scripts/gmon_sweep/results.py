@@ -179,7 +179,8 @@ def main(argv=None):
         out = args.sweeps / scene
         if not args.no_render:
             sweep.main([str(scene_path), "--sets", ",".join(map(str, args.sets)), "--max-spp", str(args.max_spp),
-                        "--integrator", args.integrator, "--out", str(out), "--gmonrt", str(args.gmonrt)])
+                        "--integrator", args.integrator, "--out", str(out), "--gmonrt", str(args.gmonrt),
+                        "--figure-spp", f"{min(64, args.max_spp)},{args.max_spp}"])
         all_rows[scene] = sweep.read_csv(out / "sweep.csv")
         all_settings[scene] = json.loads((out / "sweep.json").read_text())
         shutil.copy(out / "sweep.csv", figures_dir / f"{scene}.csv")

@@ -29,7 +29,6 @@ from pathlib import Path
 from . import crops, exr, metrics, plots, references, renderer
 
 ROOT = references.ROOT
-ESTIMATORS = ("mean", "mon", "gmon")
 COLUMNS = ("scene", "sets", "estimator", "spp", "seconds", "region", "rmse", "relmse", "ssim", "flip", "rel_bias",
            "rmse_floor", "relmse_floor", "at_floor")
 # The renderer's RMSE and ours come from the same float pixels; they differ
@@ -141,8 +140,9 @@ def sweep(args):
     for sets in args.sets:
         run_dir = out / f"M{sets}"
         run_dir.mkdir(exist_ok=True)
-        for old in run_dir.glob("spp-*.exr"):
-            old.unlink()
+        # gmonrt appends to checkpoints.csv: start from an empty directory.
+        for old in [*run_dir.glob("spp-*.exr"), run_dir / "checkpoints.csv"]:
+            old.unlink(missing_ok=True)
         commands.append(render(args.gmonrt, args.scene, run_dir, args.max_spp, sets, reference_path, resolution,
                                args.seed, args.integrator, args.time))
         rows += measure_run(run_dir, scene, sets, reference, regions, floors, cache)
