@@ -82,6 +82,14 @@ class Residual(unittest.TestCase):
         # relMSE divides by the reference squared plus 0.01, here about 1.01.
         self.assertAlmostEqual(residual["relmse"], s**2 / 2 / 1.01, delta=0.01 * s**2)
 
+    def test_furnace_reference_residual_is_its_actual_error(self):
+        """The furnace's every pixel has expectation 1.96875 (scenes/furnace.pbrt):
+        the residual estimated from the halves must match the actual error."""
+        root = Path(__file__).resolve().parents[2]
+        image, record = references.load(root / "references" / "furnace.exr")
+        actual = metrics.rmse(image, np.full_like(image, 1.96875))
+        self.assertAlmostEqual(record["residual"]["image"]["rmse"], actual, delta=0.03 * actual)
+
     def test_floor_flag(self):
         floor = {"rmse": 1.0, "relmse": 0.01}
         self.assertEqual(sweep.floor_columns({"rmse": 1.5, "relmse": 0.03}, floor)["at_floor"], 0)
