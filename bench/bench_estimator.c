@@ -367,7 +367,7 @@ done:
 static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
 {
     const int sets = (int)o->sets;
-    EstimatorSettings settings = {sets, GINI_PER_CHANNEL};
+    EstimatorSettings settings = {sets, GINI_PER_CHANNEL, 0};
     int mismatches = 0;
     const Tile *last = &b->tiles[b->tile_count - 1];
     size_t samples = last->count < CHECK_PIXELS ? last->count : CHECK_PIXELS;
@@ -523,7 +523,7 @@ int main(int argc, char **argv)
     fflush(stdout);
 
     /* Programs. */
-    EstimatorSettings settings = {sets, GINI_PER_CHANNEL};
+    EstimatorSettings settings = {sets, GINI_PER_CHANNEL, 0};
     double build_start = wall_seconds();
     b.estimator = estimator_program_new(&b.device, &settings, OUTPUT_MASK, NULL);
     if (!b.estimator)

@@ -103,7 +103,7 @@ int main(int argc, char **argv)
     double samples_per_second[100], rays_per_second[100], seconds[100];
     for (unsigned long r = 0; r <= repeats; ++r) {
         RenderOutput out;
-        if (renderer_run(&device, &scene, &settings, &out, error, sizeof error)) {
+        if (renderer_run(&device, 1, &scene, &settings, &out, error, sizeof error)) {
             fprintf(stderr, "bench_render: %s\n", error);
             return 1;
         }

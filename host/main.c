@@ -2,11 +2,14 @@
  * mean, MoN and G-MoN of the same samples to one EXR plus a PNG preview. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "cli/checkpoints.h"
+#include "cli/devices.h"
+#include "cli/merge.h"
 #include "cli/options.h"
+#include "cli/output_files.h"
 #include "cli/progress.h"
 #include "estimator/estimator.h"
 #include "io/exr_image.h"
-#include "io/png_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
@@ -33,96 +36,30 @@ static const char *gini_mode_name(GiniMode mode)
     return mode == GINI_PER_PIXEL ? "pixel" : (mode == SORT_BY_LUMINANCE ? "luminance" : "channel");
 }
 
-static int list_devices(void)
+/* The summary: one line for the render, then one per device when there are
+ * several (or one failed). */
+static void print_summary(const Options *o, const RenderOutput *out)
 {
-    ClDeviceInfo devices[64];
-    int count = cl_devices_enumerate(devices, 64);
-    if (count < 0)
-        return 1;
-    if (count == 0) {
-        fprintf(stderr, "gmonrt: no OpenCL device found (for PoCL, is POCL_CACHE_DIR writable?)\n");
-        return 1;
+    double samples = (double)out->sample_count * out->width * out->height;
+    double seconds = out->seconds > 0.0 ? out->seconds : 1e-9;
+    printf("%ux%u, %llu spp, M = %d, gini %s, %.2f s, %.3g samples/s, %.3g rays/s, %llu non-finite samples, "
+           "%d device%s\n",
+           out->width, out->height, (unsigned long long)out->sample_count, out->set_count,
+           gini_mode_name(o->estimator.gini_mode), out->seconds, samples / seconds, (double)out->rays / seconds,
+           (unsigned long long)out->rejected_total, out->device_count, out->device_count == 1 ? "" : "s");
+    uint64_t total = 0;
+    for (int i = 0; i < out->device_count; ++i)
+        total += out->devices[i].samples;
+    for (int i = 0; i < out->device_count; ++i) {
+        const RenderDeviceReport *d = &out->devices[i];
+        printf("  device %d '%s': %.1f%% of samples, %.3g samples/s, %.1f MiB allocated, build %.2f s%s%s\n", i,
+               d->name, total ? 100.0 * (double)d->samples / (double)total : 0.0,
+               d->busy_seconds > 0.0 ? (double)d->samples / d->busy_seconds : 0.0,
+               (double)d->peak_bytes / (1024.0 * 1024.0), d->build_seconds, d->failed ? ", FAILED: " : "",
+               d->failed ? d->error : "");
     }
-    printf("%-5s %-32s %-44s %-11s %5s %9s\n", "index", "platform", "device", "type", "units", "memory");
-    for (int i = 0; i < count; ++i)
-        printf("%-5d %-32.32s %-44.44s %-11s %5u %6.1f GiB\n", i, devices[i].platform_name, devices[i].name,
-               cl_device_type_name(devices[i].type), devices[i].compute_units,
-               (double)devices[i].global_memory / (1024.0 * 1024.0 * 1024.0));
-    return 0;
-}
-
-/* The device named by --device (first match; multi-device rendering is not
- * implemented yet, so a list uses its first entry). */
-static int open_device(const char *spec, ClDevice *device)
-{
-    ClDeviceInfo devices[64];
-    int count = cl_devices_enumerate(devices, 64);
-    if (count <= 0) {
-        fprintf(stderr, "gmonrt: no OpenCL device found (for PoCL, is POCL_CACHE_DIR writable? "
-                        "see gmonrt --list-devices)\n");
-        return -1;
-    }
-    int chosen = 0;
-    if (spec && strcmp(spec, "all") != 0) {
-        chosen = -1;
-        cl_device_type wanted = strcmp(spec, "cpu") == 0   ? CL_DEVICE_TYPE_CPU
-                                : strcmp(spec, "gpu") == 0 ? CL_DEVICE_TYPE_GPU
-                                                           : 0;
-        for (int i = 0; i < count && wanted && chosen < 0; ++i)
-            if (devices[i].type & wanted)
-                chosen = i;
-        if (!wanted) {
-            char *end = NULL;
-            long index = strtol(spec, &end, 10);
-            if (end != spec && (*end == '\0' || *end == ',') && index >= 0 && index < count)
-                chosen = (int)index;
-        }
-        if (chosen < 0) {
-            fprintf(stderr, "gmonrt: --device %s: no such device (see gmonrt --list-devices)\n", spec);
-            return -1;
-        }
-    }
-    if (cl_device_open(device, &devices[chosen])) {
-        fprintf(stderr, "gmonrt: cannot open device '%s'\n", devices[chosen].name);
-        return -1;
-    }
-    return 0;
-}
-
-/* PATH with its extension replaced by `extension` (".png"). */
-static void replace_extension(const char *path, const char *extension, char *out, size_t size)
-{
-    snprintf(out, size, "%s", path);
-    char *dot = strrchr(out, '.');
-    char *slash = strrchr(out, '/');
-    if (dot && (!slash || dot > slash))
-        *dot = '\0';
-    size_t length = strlen(out);
-    snprintf(out + length, size - length, "%s", extension);
-}
-
-static const float *preview_image(const char *name, const float *mean, const float *mon, const float *gmon)
-{
-    return strcmp(name, "mean") == 0 ? mean : (strcmp(name, "mon") == 0 ? mon : gmon);
-}
-
-static int write_outputs(const Options *o, const char *exr_path, ExrImage *image, const float *preview)
-{
-    char error[1024];
-    if (exr_image_write(exr_path, image, error, sizeof error) != IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
-        return 1;
-    }
-    char png_path[4096];
-    replace_extension(exr_path, ".png", png_path, sizeof png_path);
-    if (png_write_srgb(png_path, image->width, image->height, preview, o->exposure, error, sizeof error) !=
-        IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
-        return 1;
-    }
-    if (!o->quiet)
-        fprintf(stderr, "wrote %s and %s (preview: %s)\n", exr_path, png_path, o->preview);
-    return 0;
+    printf("  kernel features 0x%x, %d rebalance%s\n", (unsigned)out->features, out->rebalances,
+           out->rebalances == 1 ? "" : "s");
 }
 
 static int render(const Options *o)
@@ -152,10 +89,24 @@ static int render(const Options *o)
         return 1;
     }
 
-    ClDevice device;
-    if (open_device(o->devices, &device)) {
+    ClDevice devices[DEVICES_MAX];
+    int device_count = devices_open(o->devices, devices, DEVICES_MAX);
+    if (device_count == 0) {
         render_scene_destroy(&scene);
         return 1;
+    }
+    Checkpoints checkpoints;
+    if (o->checkpoints) {
+        if (checkpoints_open(&checkpoints, o->checkpoints, o->reference, scene.params.width, scene.params.height, error,
+                             sizeof error)) {
+            fprintf(stderr, "gmonrt: %s\n", error);
+            devices_close(devices, device_count);
+            render_scene_destroy(&scene);
+            return 1;
+        }
+        checkpoints.scene_path = scene_path;
+        checkpoints.scene_hash = summary.hash;
+        checkpoints.diagnostics = o->diagnostics;
     }
     RenderSettings settings;
     render_settings_default(&settings);
@@ -167,6 +118,13 @@ static int render(const Options *o)
     settings.time_budget = o->time_budget;
     settings.cancel = &interrupted;
     settings.kernel_dir = o->kernel_dir;
+    settings.keep_sets = o->write_sets;
+    settings.all_features = o->all_features;
+    settings.dump_kernel = o->dump_kernel;
+    if (o->checkpoints) {
+        settings.checkpoint = checkpoints_write;
+        settings.checkpoint_user = &checkpoints;
+    }
     Progress progress;
     progress_init(&progress, o->quiet, (uint64_t)scene.params.width * scene.params.height, o->time_budget);
     settings.progress = progress_update;
@@ -178,14 +136,21 @@ static int render(const Options *o)
     sigaction(SIGINT, &action, NULL);
 
     RenderOutput out;
-    int status = renderer_run(&device, &scene, &settings, &out, error, sizeof error);
+    RenderStatus rendered = renderer_run(devices, device_count, &scene, &settings, &out, error, sizeof error);
     progress_finish(&progress);
-    if (status) {
+    if (o->checkpoints && checkpoints_close(&checkpoints) != 0 && rendered != RENDER_FAILED) {
+        fprintf(stderr, "gmonrt: writing %s/checkpoints.csv failed\n", o->checkpoints);
+        rendered = RENDER_INCOMPLETE;
+    }
+    if (rendered == RENDER_FAILED) {
         fprintf(stderr, "gmonrt: %s\n", error);
-        cl_device_close(&device);
+        devices_close(devices, device_count);
         render_scene_destroy(&scene);
         return 1;
     }
+    if (rendered == RENDER_INCOMPLETE)
+        fprintf(stderr, "gmonrt: %s writing the %llu samples per pixel saved before\n", error,
+                (unsigned long long)out.sample_count);
     if (interrupted && !o->quiet)
         fprintf(stderr, "gmonrt: interrupted: writing the %llu samples per pixel done\n",
                 (unsigned long long)out.sample_count);
@@ -200,19 +165,15 @@ static int render(const Options *o)
         image.accumulators = NULL;
     image.metadata.scene_path = scene_path;
     image.metadata.scene_hash = summary.hash;
-    status = write_outputs(o, exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon));
-
-    if (!o->quiet) {
-        double samples = (double)out.sample_count * out.width * out.height;
-        printf("%ux%u, %llu spp, M = %d, gini %s, %.2f s, %.3g samples/s, %.3g rays/s, %llu non-finite samples, "
-               "device %s\n",
-               out.width, out.height, (unsigned long long)out.sample_count, out.set_count,
-               gini_mode_name(o->estimator.gini_mode), out.seconds, samples / out.seconds,
-               (double)out.rays / out.seconds, (unsigned long long)out.rejected_total, device.info.name);
-    }
+    int status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
+                                    o->exposure, o->preview, o->quiet);
+    if (!o->quiet)
+        print_summary(o, &out);
     render_output_free(&out);
-    cl_device_close(&device);
+    devices_close(devices, device_count);
     render_scene_destroy(&scene);
+    if (status == 0 && rendered == RENDER_INCOMPLETE)
+        status = 1;
     return status == 0 && interrupted ? 130 : status;
 }
 
@@ -232,7 +193,8 @@ static int estimate(const Options *o)
         return 1;
     }
     EstimatorSettings settings = o->estimator;
-    settings.set_count = in.metadata.set_count; /* the file's M */
+    settings.set_count = in.metadata.set_count; /* the file's M and sample range */
+    settings.first_sample = in.metadata.first_sample;
     size_t pixels = (size_t)in.width * (size_t)in.height;
     size_t values = pixels * 3;
     float *mean = malloc(values * sizeof(float)), *mon = malloc(values * sizeof(float)),
@@ -260,7 +222,8 @@ static int estimate(const Options *o)
     out.metadata.gini_mode = settings.gini_mode;
     char exr_name[4096];
     replace_extension(o->outfile ? o->outfile : "estimate.exr", ".exr", exr_name, sizeof exr_name);
-    status = write_outputs(o, exr_name, &out, preview_image(o->preview, mean, mon, gmon));
+    status = write_render_files(exr_name, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview,
+                                o->quiet);
 done:
     free(mean);
     free(mon);
@@ -285,9 +248,11 @@ int main(int argc, char **argv)
         fputs(options_help(), stdout);
         return 0;
     case COMMAND_LIST_DEVICES:
-        return list_devices();
+        return devices_list();
     case COMMAND_ESTIMATE:
         return estimate(&options);
+    case COMMAND_MERGE:
+        return merge_command(&options);
     case COMMAND_RENDER:
         break;
     }

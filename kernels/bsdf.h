@@ -9,6 +9,7 @@
 #ifndef KERNELS_BSDF_H
 #define KERNELS_BSDF_H
 
+#include "feature_mask.h"
 #include "scene_types.h"
 #include "vec3.h"
 
@@ -166,9 +167,11 @@ KERNEL_FN Vec3 ggx_sample_visible(Vec3 w, float ax, float ay, float u1, float u2
     return v_normalize(vec3(ax * nh.x, ay * nh.y, nh.z > 1e-6f ? nh.z : 1e-6f));
 }
 
+/* Without rough materials in the build, every surface is smooth and the
+ * GGX code drops out. */
 KERNEL_FN int material_is_smooth(const GLOBAL Material *m)
 {
-    return m->alpha_x < SMOOTH_ALPHA && m->alpha_y < SMOOTH_ALPHA;
+    return !GMON_HAS_ROUGH || (m->alpha_x < SMOOTH_ALPHA && m->alpha_y < SMOOTH_ALPHA);
 }
 
 KERNEL_FN Vec3 cosine_hemisphere(float u1, float u2)
@@ -212,6 +215,7 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
+#if GMON_HAS_DIELECTRIC
     if (m->type == MAT_DIELECTRIC) {
         if (material_is_smooth(m) || wo.z == 0.0f || wi.z == 0.0f)
             return zero;
@@ -242,6 +246,7 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
         value = (value < 0.0f ? -value : value) / (etap * etap);
         return vec3(value, value, value);
     }
+#endif
     /* Reflection-only materials: two-sided. */
     if (wo.z < 0.0f) {
         wo.z = -wo.z;
@@ -249,6 +254,7 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
     }
     if (wi.z <= 0.0f || wo.z <= 0.0f)
         return zero;
+#if GMON_HAS_CONDUCTOR
     if (m->type == MAT_CONDUCTOR) {
         if (material_is_smooth(m))
             return zero;
@@ -256,7 +262,9 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
         float value = microfacet_reflection(wo, wi, m->alpha_x, m->alpha_y, &wm, pdf);
         return v_scale(conductor_fresnel(m, v_dot(wo, wm)), value);
     }
+#endif
     Vec3 diffuse = v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+#if GMON_HAS_COATED_DIFFUSE
     if (m->type == MAT_COATED_DIFFUSE) {
         /* Approximation: Fresnel-weighted coat over a Lambertian base. */
         float pick = coat_pick(m, wo.z);
@@ -273,8 +281,13 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
         }
         return f;
     }
+#endif
+#if GMON_HAS_DIFFUSE
     *pdf = wi.z / PI_F;
     return diffuse;
+#else
+    return zero;
+#endif
 }
 
 /* ---- sampling ---- */
@@ -288,6 +301,7 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
     s->f = vec3(0.0f, 0.0f, 0.0f);
     if (wo.z == 0.0f)
         return 0;
+#if GMON_HAS_DIELECTRIC
     if (m->type == MAT_DIELECTRIC) {
         if (material_is_smooth(m)) {
             float r = fresnel_dielectric(wo.z, m->eta), t = 1.0f - r;
@@ -323,10 +337,12 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
         s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
         return s->pdf > 0.0f;
     }
+#endif
 
     /* Reflection-only: sample above the surface, mirror back if needed. */
     float flip = wo.z < 0.0f ? -1.0f : 1.0f;
     Vec3 up_wo = vec3(wo.x, wo.y, wo.z * flip);
+#if GMON_HAS_CONDUCTOR
     if (m->type == MAT_CONDUCTOR) {
         if (material_is_smooth(m)) {
             s->is_delta = 1;
@@ -343,6 +359,8 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
         s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
         return s->pdf > 0.0f;
     }
+#endif
+#if GMON_HAS_COATED_DIFFUSE
     if (m->type == MAT_COATED_DIFFUSE) {
         float pick = coat_pick(m, up_wo.z);
         if (u_lobe < pick) {
@@ -367,12 +385,17 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
         s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
         return s->pdf > 0.0f;
     }
+#endif
+#if GMON_HAS_DIFFUSE
     Vec3 wi = cosine_hemisphere(u1, u2);
     if (wi.z <= 0.0f)
         return 0;
     s->wi = vec3(wi.x, wi.y, wi.z * flip);
     s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
     return s->pdf > 0.0f;
+#else
+    return 0;
+#endif
 }
 
 #endif

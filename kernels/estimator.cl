@@ -6,7 +6,11 @@
  * Compile-time constants (build options):
  *   EST_SETS          M, 1..64
  *   EST_GINI_MODE     EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
- *   EST_OUTPUTS       bit mask of images written: EST_OUTPUT_* below (default all)
+ *   GMON_FEATURES     feature mask (feature_mask.h); its output bits are the
+ *                     images written (default all)
+ *   EST_FIRST_SET     (first sample index) mod M of a render of a sample
+ *                     range: logical set j is stored set (j + EST_FIRST_SET)
+ *                     mod M, so that the counts fall right (default 0)
  *   EST_VECTOR_WIDTH  pixels per work item: 1 (default), 2, 4, 8 or 16
  *   EST_PREFETCH      CPU devices only: prefetch the input this many work
  *                     items ahead (default 0: none)
@@ -17,6 +21,7 @@
  * consecutive values. Output images are RGB floats, pixel-interleaved; trim
  * counts are ints. */
 #include "estimator_core.h"
+#include "feature_mask.h"
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -29,9 +34,12 @@
 #define EST_OUTPUT_MON 2
 #define EST_OUTPUT_GMON 4
 #define EST_OUTPUT_DIAGNOSTICS 8
-#ifndef EST_OUTPUTS
-#define EST_OUTPUTS 15
+#define EST_OUTPUTS (GMON_FEATURES & FEATURES_OUTPUTS)
+#ifndef EST_FIRST_SET
+#define EST_FIRST_SET 0
 #endif
+/* Stored set of logical set j (a constant when j is). */
+#define STORED_SET(j) (((j) + EST_FIRST_SET) % EST_SETS)
 
 /* The general path cannot unroll its loops (m is not a constant there);
  * clang would say so. */
@@ -166,12 +174,13 @@ EST_INLINE void load_channel(__global const void *input, int from_accumulators, 
     for (uint j = 0; j < EST_SETS; ++j) {
         if (from_accumulators) {
             __global const ulong *a = (__global const ulong *)input;
-            __global const ulong *lo = a + accumulator_index(j, c, 0, first, pixel_count);
-            __global const ulong *hi = a + accumulator_index(j, c, 1, first, pixel_count);
+            __global const ulong *lo = a + accumulator_index(STORED_SET(j), c, 0, first, pixel_count);
+            __global const ulong *hi = a + accumulator_index(STORED_SET(j), c, 1, first, pixel_count);
             sums[j] = count == LANES ? fixed_to_float_lanes(LOAD_LANES(lo), LOAD_LANES(hi))
                                      : fixed_to_float_lanes(load_ulong_lanes(lo, count), load_ulong_lanes(hi, count));
         } else {
-            __global const float *p = (__global const float *)input + set_sum_index(j, c, first, pixel_count);
+            __global const float *p =
+                (__global const float *)input + set_sum_index(STORED_SET(j), c, first, pixel_count);
             sums[j] = count == LANES ? LOAD_LANES(p) : load_float_lanes(p, count);
         }
     }

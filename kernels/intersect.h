@@ -120,8 +120,8 @@ KERNEL_FN int intersect_box(const GLOBAL BvhNode *node, const float *origin, con
 KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, float t_min, float t_max, Hit *hit)
 {
     float t = 0.0f, u = 0.0f, v = 0.0f;
-    int found = (p->kind & PRIM_KIND_MASK) == PRIM_TRIANGLE ? intersect_triangle(ray, p, t_min, t_max, &t, &u, &v)
-                                                            : intersect_sphere(ray, p, t_min, t_max, &t);
+    int found = is_sphere(p) ? intersect_sphere(ray, p, t_min, t_max, &t)
+                             : intersect_triangle(ray, p, t_min, t_max, &t, &u, &v);
     if (found) {
         hit->t = t;
         hit->u = u;

@@ -7,9 +7,11 @@
  * heuristic), as pbrt-v4's "path" integrator. Without: BSDF sampling only,
  * the firefly-prone estimator experiments need.
  *
- * Build options: -DEST_SETS=M. */
+ * Build options: -DEST_SETS=M, and -DGMON_FEATURES=<mask> to compile out
+ * what the scene does not use (feature_mask.h). */
 #include "bsdf.h"
 #include "estimator_core.h"
+#include "feature_mask.h"
 #include "intersect.h"
 #include "rng.h"
 #include "scene_types.h"
@@ -33,7 +35,7 @@ typedef struct {
 KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
 {
     Vec3 n;
-    if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE)
+    if (is_sphere(p))
         n = v_normalize(v_sub(position, vec3_from_global(p->a)));
     else
         n = v_normalize(v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
@@ -43,7 +45,7 @@ KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
 /* A point uniformly distributed over a primitive's area. */
 KERNEL_FN Vec3 sample_primitive(__global const Primitive *p, float u1, float u2)
 {
-    if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
+    if (is_sphere(p)) {
         float z = 1.0f - 2.0f * u1;
         float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PI_F * u2;
         return v_add(vec3_from_global(p->a), v_scale(vec3(r * cos(phi), r * sin(phi), z), p->b[0]));
@@ -115,8 +117,8 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
                            Vec3 *radiance, float *pdf, uint *rays)
 {
     __global const RenderParams *params = scene->params;
-    float environment_pick = params->environment_pick;
-    if (u_pick < environment_pick) {
+    float environment_pick = GMON_HAS_ENVIRONMENT ? params->environment_pick : 0.0f;
+    if (GMON_HAS_ENVIRONMENT && u_pick < environment_pick) {
         float z = 1.0f - 2.0f * u1;
         float r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PI_F * u2;
         *wi = vec3(r * cos(phi), r * sin(phi), z);
@@ -125,7 +127,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
         ++*rays;
         return !occluded(scene, offset_origin(p, n, *wi), *wi, INFINITY);
     }
-    if (params->emitter_count == 0)
+    if (!GMON_HAS_AREA_LIGHTS || params->emitter_count == 0)
         return 0;
     float u = (u_pick - environment_pick) / (1.0f - environment_pick);
     __global const Emitter *e = scene->emitters + pick_emitter(scene->emitters, params->emitter_count, u);
@@ -154,7 +156,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
 KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint *rays)
 {
     __global const RenderParams *params = scene->params;
-    const int use_nee = (params->flags & RENDER_NEE) != 0;
+    const int use_nee = GMON_HAS_NEE && (params->flags & RENDER_NEE) != 0;
     float sx = 2.0f * ((float)x + rng_uniform(key, 0)) / (float)params->width - 1.0f;
     float sy = 1.0f - 2.0f * ((float)y + rng_uniform(key, 1)) / (float)params->height;
     Vec3 direction = v_normalize(
@@ -171,6 +173,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
         ++*rays;
         int unweighted = depth == 0 || specular_bounce || !use_nee;
         if (!bvh_intersect(scene->nodes, scene->primitives, &ray, 0.0f, INFINITY, 0, &hit)) {
+            if (!GMON_HAS_ENVIRONMENT)
+                break;
             Vec3 le = vec3_from_global(params->environment);
             float weight = unweighted ? 1.0f : power_heuristic(previous_pdf, params->environment_pick / (4.0f * PI_F));
             radiance = v_add(radiance, v_scale(v_mul(throughput, le), weight));
@@ -181,7 +185,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
         Vec3 n = surface_normal(prim, p);
         Vec3 wo_world = v_scale(direction, -1.0f);
 
-        if (prim->emitter >= 0) {
+        if (GMON_HAS_AREA_LIGHTS && prim->emitter >= 0) {
             __global const Emitter *e = scene->emitters + prim->emitter;
             Vec3 le = emitted(e, n, wo_world);
             float weight = 1.0f;
@@ -246,15 +250,15 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint
 
 /* Renders samples [first_sample, first_sample + sample_count) of pixels
  * [first_pixel, first_pixel + pixel_count) of the image. Accumulators and
- * counters cover just those pixels (one device's share). */
+ * counters cover pixels [buffer_first_pixel, buffer_first_pixel +
+ * buffer_pixel_count), one device's share, which holds the rendered ones. */
 __kernel void render_samples(__global const RenderParams *params, __global const BvhNode *nodes,
                              __global const Primitive *primitives, __global const Material *materials,
                              __global const Emitter *emitters, __global ulong *accumulators, __global uint *rejected,
                              __global ulong *ray_counts, ulong first_sample, uint sample_count, ulong first_pixel,
-                             ulong pixel_count)
+                             ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count)
 {
-    ulong local_pixel = get_global_id(0);
-    if (local_pixel >= pixel_count)
+    if (get_global_id(0) >= pixel_count)
         return;
     Scene scene;
     scene.params = params;
@@ -262,14 +266,15 @@ __kernel void render_samples(__global const RenderParams *params, __global const
     scene.primitives = primitives;
     scene.materials = materials;
     scene.emitters = emitters;
-    ulong pixel = first_pixel + local_pixel;
+    ulong pixel = first_pixel + get_global_id(0);
+    ulong local_pixel = pixel - buffer_first_pixel;
     uint x = (uint)(pixel % params->width), y = (uint)(pixel / params->width);
     uint rejected_here = 0, rays = 0;
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
         uint64_t key = rng_sample_key(params->seed, pixel, sample_index);
         Vec3 L = trace_path(&scene, x, y, key, &rays);
-        rejected_here += (uint)accumulate_sample(accumulators, local_pixel, pixel_count,
+        rejected_here += (uint)accumulate_sample(accumulators, local_pixel, buffer_pixel_count,
                                                  set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
     }
     rejected[local_pixel] += rejected_here;

@@ -5,6 +5,7 @@
 #define KERNELS_SCENE_TYPES_H
 
 #include "compat.h"
+#include "feature_mask.h"
 
 /* Primitive kinds. */
 #define PRIM_TRIANGLE 0u
@@ -36,6 +37,12 @@ typedef struct {
 /* Primitive.kind: the shape in the low byte, flags above it. */
 #define PRIM_KIND_MASK 0xffu
 #define PRIM_FLIP_NORMAL 0x100u /* ReverseOrientation (or a handedness swap) */
+
+/* With one shape kind in the build (feature_mask.h) the test folds away. */
+KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
+{
+    return GMON_HAS_SPHERES && (!GMON_HAS_TRIANGLES || (p->kind & PRIM_KIND_MASK) == PRIM_SPHERE);
+}
 
 /* Material types. */
 #define MAT_DIFFUSE 0u

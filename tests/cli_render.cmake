@@ -18,3 +18,25 @@ execute_process(COMMAND ${COMMAND} estimate ${out}-estimate.exr RESULT_VARIABLE 
 if(NOT code EQUAL 1 OR NOT err MATCHES "write-sets")
   message(FATAL_ERROR "estimate of a file without sets: exit ${code}, '${err}'")
 endif()
+# --dump-kernel writes the specialized path tracer with its defines; the
+# summary reports every device.
+execute_process(COMMAND ${COMMAND} --spp 2 --resolution 8x8 --estimators mean --dump-kernel ${out}-kernel.cl
+                        --outfile ${out}-dump.exr ${SCENE}
+                RESULT_VARIABLE code OUTPUT_VARIABLE summary ERROR_VARIABLE err)
+if(NOT code EQUAL 0 OR NOT EXISTS ${out}-kernel.cl)
+  message(FATAL_ERROR "render with --dump-kernel failed (${code}): ${err}")
+endif()
+file(READ ${out}-kernel.cl kernel)
+if(NOT kernel MATCHES "#define GMON_FEATURES 0x[0-9a-f]+" OR NOT kernel MATCHES "#define EST_SETS 1\n"
+   OR NOT kernel MATCHES "render_samples")
+  message(FATAL_ERROR "the dumped kernel lacks its defines or its kernel")
+endif()
+if(NOT summary MATCHES "device 0 '[^']+': 100.0% of samples" OR NOT summary MATCHES "MiB allocated")
+  message(FATAL_ERROR "the summary lacks the per-device line: ${summary}")
+endif()
+# A device index that does not exist: one clear line, exit 1.
+execute_process(COMMAND ${COMMAND} --device 99 --outfile ${out}-none.exr ${SCENE} RESULT_VARIABLE code
+                ERROR_VARIABLE err)
+if(NOT code EQUAL 1 OR NOT err MATCHES "no device 99")
+  message(FATAL_ERROR "--device 99: exit ${code}, '${err}'")
+endif()

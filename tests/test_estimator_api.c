@@ -112,7 +112,7 @@ static void test_valid_calls_succeed(void **state)
     assert_int_equal(from_sums(&f->settings, f->sums, SUMS, 0, &f->images, NULL, 0), ESTIMATOR_OK);
     /* The ends of the valid range of M (1 and 64 sets, one pixel). */
     static float sums64[64 * 3];
-    EstimatorSettings one = {1, GINI_PER_CHANNEL}, most = {64, SORT_BY_LUMINANCE};
+    EstimatorSettings one = {1, GINI_PER_CHANNEL, 0}, most = {64, SORT_BY_LUMINANCE, 0};
     assert_int_equal(from_sums(&one, sums64, 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
     assert_int_equal(from_sums(&most, sums64, 64 * 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
 }

@@ -78,7 +78,7 @@ static void test_kernel_equals_host_on_all_cases(void **state)
     int compared = 0;
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
         for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
-            EstimatorSettings settings = {set_counts[mi], (GiniMode)mode};
+            EstimatorSettings settings = {set_counts[mi], (GiniMode)mode, 0};
             EstimatorProgram *program = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
             assert_non_null(program);
             for (int kind = 0; kind < CASE_COUNT; ++kind) {
@@ -217,7 +217,7 @@ static void test_streams_with_nan_and_inf(void **state)
 
         /* And the estimates of those sums, from the accumulators. */
         for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
-            EstimatorSettings settings = {m, (GiniMode)mode};
+            EstimatorSettings settings = {m, (GiniMode)mode, 0};
             EstimatorProgram *est = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
             assert_non_null(est);
             Images host, kern;

@@ -79,7 +79,7 @@ static int outputs_identical(const Outputs *a, const Outputs *b, size_t pixel_co
 static void estimate(int set_count, GiniMode mode, const float *sums, size_t pixel_count, uint64_t sample_count,
                      Outputs *o)
 {
-    EstimatorSettings settings = {set_count, mode};
+    EstimatorSettings settings = {set_count, mode, 0};
     char message[256] = "";
     EstimatorStatus status = estimator_from_sums(&settings, sums, (size_t)set_count * 3 * pixel_count, pixel_count,
                                                  sample_count, &o->images, message, sizeof message);
@@ -568,7 +568,7 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
     outputs_init(&from_sums, pixel_count);
     outputs_init(&from_accumulators, pixel_count);
     for (int mode = 0; mode < MODE_CHOICES; ++mode) {
-        EstimatorSettings settings = {set_count, modes[mode]};
+        EstimatorSettings settings = {set_count, modes[mode], 0};
         estimate(set_count, modes[mode], sums, pixel_count, sample_count, &from_sums);
         assert_int_equal(estimator_from_accumulators(&settings, accumulators, words, pixel_count, sample_count,
                                                      &from_accumulators.images, message, sizeof message),

@@ -81,7 +81,7 @@ static Scores run_distribution(Draw draw, double truth, uint64_t seed)
             int gmon_slot;
         } runs[3] = {{GINI_PER_CHANNEL, GMON}, {GINI_PER_PIXEL, GMON_PER_PIXEL}, {SORT_BY_LUMINANCE, GMON_LUMINANCE}};
         for (int r = 0; r < 3; ++r) {
-            EstimatorSettings settings = {SETS, runs[r].mode};
+            EstimatorSettings settings = {SETS, runs[r].mode, 0};
             int is_default = runs[r].mode == GINI_PER_CHANNEL;
             EstimatorImages images = {is_default ? image[MEAN] : NULL,
                                       is_default ? image[MON] : NULL,

@@ -44,7 +44,7 @@ static void render_and_check(RenderScene *scene, int nee, unsigned max_depth, do
     settings.sample_count = 64;
     settings.seed = 7;
     RenderOutput out;
-    int status = renderer_run(&test_device, scene, &settings, &out, error, sizeof error);
+    int status = renderer_run(&test_device, 1, scene, &settings, &out, error, sizeof error);
     if (status != 0)
         fail_msg("%s: %s", name, error);
     size_t pixels = (size_t)out.width * out.height;

@@ -36,7 +36,7 @@ static void load(const char *name, unsigned size, RenderScene *scene)
 static void render(const RenderScene *scene, RenderSettings *settings, RenderOutput *out)
 {
     char error[1024];
-    if (renderer_run(&test_device, scene, settings, out, error, sizeof error))
+    if (renderer_run(&test_device, 1, scene, settings, out, error, sizeof error))
         fail_msg("%s", error);
 }
 
@@ -105,7 +105,7 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
     float *mean = malloc(values * 4), *mon = malloc(values * 4), *gmon = malloc(values * 4), *gini = malloc(values * 4);
     int32_t *trim = malloc(values * 4);
     EstimatorImages images = {mean, mon, gmon, gini, trim, values};
-    EstimatorSettings host = {back.metadata.set_count, GINI_PER_CHANNEL};
+    EstimatorSettings host = {back.metadata.set_count, GINI_PER_CHANNEL, 0};
     assert_int_equal(estimator_from_accumulators(&host, back.accumulators, (size_t)5 * 3 * 2 * pixels, pixels,
                                                  back.metadata.sample_count, &images, error, sizeof error),
                      ESTIMATOR_OK);

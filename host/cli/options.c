@@ -8,13 +8,17 @@
 
 static const char help_text[] = "usage: gmonrt [options] [scene.pbrt]\n"
                                 "       gmonrt estimate [options] render.exr\n"
+                                "       gmonrt merge [options] part1.exr part2.exr ...\n"
                                 "       gmonrt --list-devices\n"
                                 "\n"
                                 "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
                                 "G-MoN estimates of the same samples to one EXR, plus a PNG preview. With no\n"
                                 "scene, renders the default scene (a Cornell box with a glass sphere and a small,\n"
                                 "very bright light). `estimate` recomputes the estimators from an EXR written\n"
-                                "with --write-sets (for example with another Gini mode).\n"
+                                "with --write-sets (for example with another Gini mode). `merge` combines\n"
+                                "EXRs written with --write-sets from disjoint sample ranges (--first-sample,\n"
+                                "--spp) of one scene, seed and M into the render of their union: exactly\n"
+                                "the set sums, and so the estimates, of one render over all the samples.\n"
                                 "\n"
                                 "Sampling\n"
                                 "  --spp N              samples per pixel (default: the scene's Sampler\n"
@@ -37,36 +41,55 @@ static const char help_text[] = "usage: gmonrt [options] [scene.pbrt]\n"
                                 "                       luminance: sort and trim whole sets by luminance\n"
                                 "  --diagnostics        add layers: Gini G, trim count c, non-finite samples\n"
                                 "  --write-sets         add the exact per-set sums, for `estimate` and merging\n"
-                                "\n"
-                                "Output\n"
-                                "  --outfile PATH       EXR file (default: the scene's Film \"filename\" with an\n"
-                                "                       .exr extension, else render.exr); the PNG preview goes\n"
-                                "                       beside it with a .png extension\n"
-                                "  --preview NAME       estimator shown in the PNG: mean, mon or gmon (default\n"
-                                "                       gmon, or the only one requested)\n"
-                                "  --exposure X         PNG exposure multiplier (default 1)\n"
-                                "  --quiet              no progress bar and no summary line\n"
-                                "\n"
-                                "Devices\n"
-                                "  --list-devices       list OpenCL devices and exit\n"
-                                "  --device SPEC        all, cpu, gpu, or comma-separated indices from\n"
-                                "                       --list-devices (default: the first device)\n"
-                                "\n"
-                                "Scene input\n"
-                                "  --allow-unsupported  turn errors on unsupported scene features into warnings,\n"
-                                "                       each with a documented substitute\n"
-                                "\n"
-                                "Developer\n"
-                                "  --kernel-dir DIR     load OpenCL sources from DIR instead of the embedded copies\n"
-                                "                       (also: environment variable GMON_KERNEL_DIR)\n"
-                                "  --help               this text\n"
-                                "\n"
-                                "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
-                                "by Ctrl-C (after writing the image of the samples done).\n";
+                                "                       (without it, --estimators mean accumulates one sum\n"
+                                "                       per pixel instead of M)\n"
+                                "\n";
+/* Two parts: C compilers need not support longer string literals. */
+static const char help_text_output[] =
+    "Output\n"
+    "  --outfile PATH       EXR file (default: the scene's Film \"filename\" with an\n"
+    "                       .exr extension, else render.exr); the PNG preview goes\n"
+    "                       beside it with a .png extension\n"
+    "  --preview NAME       estimator shown in the PNG: mean, mon or gmon (default\n"
+    "                       gmon, or the only one requested)\n"
+    "  --exposure X         PNG exposure multiplier (default 1)\n"
+    "  --quiet              no progress bar and no summary line\n"
+    "  --checkpoints DIR    at 1, 2, 4, ... samples per pixel and at the end, write\n"
+    "                       DIR/spp-NNNNNN.exr (attribute `seconds`: render time so\n"
+    "                       far) and a row per estimator to DIR/checkpoints.csv\n"
+    "                       (spp,seconds,estimator,rmse,relmse), from one render\n"
+    "  --reference EXR      with --checkpoints: fill rmse and relmse against this\n"
+    "                       image's mean layer (relmse: mean of (x-r)^2/(r^2+0.01))\n"
+    "\n"
+    "Devices\n"
+    "  --list-devices       list OpenCL devices and exit\n"
+    "  --device SPEC        all, cpu, gpu, or comma-separated indices from\n"
+    "                       --list-devices (default all): the devices render at\n"
+    "                       once, each a share of the pixels proportional to its\n"
+    "                       speed; the image is the same whatever the devices\n"
+    "\n"
+    "Scene input\n"
+    "  --allow-unsupported  turn errors on unsupported scene features into warnings,\n"
+    "                       each with a documented substitute\n"
+    "\n"
+    "Developer\n"
+    "  --kernel-dir DIR     load OpenCL sources from DIR instead of the embedded copies\n"
+    "                       (also: environment variable GMON_KERNEL_DIR)\n"
+    "  --dump-kernel FILE   write the path tracer source as specialized for this\n"
+    "                       scene and these outputs, with its defines, to FILE\n"
+    "  --all-features       build the kernels with every feature instead of only\n"
+    "                       what the scene and outputs use (for comparisons)\n"
+    "  --help               this text\n"
+    "\n"
+    "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
+    "by Ctrl-C (after writing the image of the samples done).\n";
 
 const char *options_help(void)
 {
-    return help_text;
+    static char text[sizeof help_text + sizeof help_text_output];
+    if (!text[0])
+        snprintf(text, sizeof text, "%s%s", help_text, help_text_output);
+    return text;
 }
 
 static int fail(char *error, size_t size, const char *format, const char *a, const char *b)
@@ -135,6 +158,9 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     if (argc > 1 && strcmp(argv[1], "estimate") == 0) {
         o->command = COMMAND_ESTIMATE;
         first = 2;
+    } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
+        o->command = COMMAND_MERGE;
+        first = 2;
     }
     for (int i = first; i < argc; ++i) {
         const char *flag = argv[i];
@@ -158,8 +184,9 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     } while (0)
         uint64_t number = 0;
         double real = 0.0;
-        static const char *const switches[] = {"--help",        "-h",           "--list-devices",     "--quiet",
-                                               "--diagnostics", "--write-sets", "--allow-unsupported"};
+        static const char *const switches[] = {
+            "--help",        "-h",           "--list-devices",      "--quiet",
+            "--diagnostics", "--write-sets", "--allow-unsupported", "--all-features"};
         for (size_t k = 0; value && k < sizeof switches / sizeof switches[0]; ++k)
             if (strcmp(flag, switches[k]) == 0)
                 return fail(error, size, "%s takes no value", flag, NULL);
@@ -175,6 +202,17 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
             o->write_sets = 1;
         } else if (strcmp(flag, "--allow-unsupported") == 0) {
             o->allow_unsupported = 1;
+        } else if (strcmp(flag, "--all-features") == 0) {
+            o->all_features = 1;
+        } else if (strcmp(flag, "--checkpoints") == 0) {
+            NEEDS_VALUE();
+            o->checkpoints = value;
+        } else if (strcmp(flag, "--reference") == 0) {
+            NEEDS_VALUE();
+            o->reference = value;
+        } else if (strcmp(flag, "--dump-kernel") == 0) {
+            NEEDS_VALUE();
+            o->dump_kernel = value;
         } else if (strcmp(flag, "--spp") == 0) {
             NEEDS_VALUE();
             if (parse_u64(value, UINT64_C(1) << 40, &number) || number == 0)
@@ -259,6 +297,12 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         } else {
             if (value)
                 return fail(error, size, "unexpected '%s'", argv[i], NULL);
+            if (o->command == COMMAND_MERGE) {
+                if (o->merge_count == OPTIONS_MAX_MERGE)
+                    return fail(error, size, "merge takes at most 1024 files", NULL, NULL);
+                o->merge_inputs[o->merge_count++] = flag;
+                continue;
+            }
             if (o->input)
                 return fail(error, size, "more than one input file: '%s' and '%s'", o->input, flag);
             o->input = flag;
@@ -267,6 +311,10 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     }
     if (o->command == COMMAND_ESTIMATE && !o->input)
         return fail(error, size, "estimate needs an EXR file written with --write-sets", NULL, NULL);
+    if (o->command == COMMAND_MERGE && o->merge_count < 1)
+        return fail(error, size, "merge needs the EXR files to combine (written with --write-sets)", NULL, NULL);
+    if (o->reference && !o->checkpoints)
+        return fail(error, size, "--reference is used with --checkpoints", NULL, NULL);
     if (!o->preview) {
         o->preview = (o->outputs & ESTIMATOR_OUTPUT_GMON)  ? "gmon"
                      : (o->outputs & ESTIMATOR_OUTPUT_MON) ? "mon"

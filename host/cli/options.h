@@ -7,16 +7,21 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#define OPTIONS_MAX_MERGE 1024
+
 typedef enum {
     COMMAND_RENDER,
     COMMAND_ESTIMATE, /* re-estimate a saved EXR's set sums */
+    COMMAND_MERGE,    /* combine EXRs of disjoint sample ranges */
     COMMAND_LIST_DEVICES,
     COMMAND_HELP,
 } Command;
 
 typedef struct {
     Command command;
-    const char *input;   /* scene file (render) or EXR (estimate); NULL: default scene */
+    const char *input;                           /* scene file (render) or EXR (estimate); NULL: default scene */
+    const char *merge_inputs[OPTIONS_MAX_MERGE]; /* merge: the EXRs */
+    int merge_count;
     const char *outfile; /* EXR path; NULL: from the scene's Film, else render.exr */
     uint64_t spp;        /* 0: the scene's Sampler pixelsamples */
     uint32_t seed;
@@ -31,9 +36,13 @@ typedef struct {
     unsigned width, height;      /* --resolution, 0: the scene's */
     int max_depth;               /* --maxdepth, -1: the scene's */
     int bsdf_only;               /* --integrator bsdf */
-    const char *devices;         /* --device: all, cpu, gpu or indices; NULL: first device */
+    const char *devices;         /* --device: all, cpu, gpu or indices; NULL: all */
     uint64_t first_sample;       /* --first-sample: start of the sample range */
     int allow_unsupported;
+    const char *checkpoints; /* --checkpoints DIR */
+    const char *reference;   /* --reference EXR, for the checkpoints' errors */
+    const char *dump_kernel; /* --dump-kernel FILE */
+    int all_features;        /* --all-features: no kernel specialization */
     const char *kernel_dir;
 } Options;
 

@@ -71,25 +71,29 @@ EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const flo
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
+    const uint32_t first_set = (uint32_t)(settings->first_sample % m);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
         for (uint32_t j = 0; j < m; ++j)
             for (uint32_t c = 0; c < EST_CHANNELS; ++c)
-                sums[c][j] = set_sums[set_sum_index(j, c, p, pixel_count)];
+                sums[c][j] = set_sums[set_sum_index((j + first_set) % m, c, p, pixel_count)];
         PixelEstimates e = estimate_pixel(sums, sample_count, (int)m, (int)settings->gini_mode);
         store(&e, p, images);
     }
     return ESTIMATOR_OK;
 }
 
-static void sums_of_pixel(const uint64_t *accumulators, uint32_t m, size_t pixel, size_t pixel_count,
-                          float sums[EST_CHANNELS][EST_CAPACITY])
+/* The sums of one pixel, sums[c][j] from set (j + first_set) mod m (so that
+ * j counts sets in the order the samples filled them). */
+static void sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t first_set, size_t pixel,
+                          size_t pixel_count, float sums[EST_CHANNELS][EST_CAPACITY])
 {
     for (uint32_t j = 0; j < m; ++j)
         for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
             FixedSum s;
-            s.lo = accumulators[accumulator_index(j, c, 0, pixel, pixel_count)];
-            s.hi = accumulators[accumulator_index(j, c, 1, pixel, pixel_count)];
+            uint32_t set = (j + first_set) % m;
+            s.lo = accumulators[accumulator_index(set, c, 0, pixel, pixel_count)];
+            s.hi = accumulators[accumulator_index(set, c, 1, pixel, pixel_count)];
             sums[c][j] = fixed_to_float(s);
         }
 }
@@ -104,9 +108,10 @@ EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, c
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
+    const uint32_t first_set = (uint32_t)(settings->first_sample % m);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
-        sums_of_pixel(accumulators, m, p, pixel_count, sums);
+        sums_of_pixel(accumulators, m, first_set, p, pixel_count, sums);
         PixelEstimates e = estimate_pixel(sums, sample_count, (int)m, (int)settings->gini_mode);
         store(&e, p, images);
     }
@@ -128,7 +133,7 @@ EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *
         return invalid(message, message_size, "buffers too short for M = %d and %zu pixels", set_count, pixel_count);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
-        sums_of_pixel(accumulators, (uint32_t)set_count, p, pixel_count, sums);
+        sums_of_pixel(accumulators, (uint32_t)set_count, 0, p, pixel_count, sums);
         for (uint32_t j = 0; j < (uint32_t)set_count; ++j)
             for (uint32_t c = 0; c < EST_CHANNELS; ++c)
                 set_sums[set_sum_index(j, c, p, pixel_count)] = sums[c][j];

@@ -31,6 +31,10 @@ enum {
 typedef struct {
     int set_count; /* M, 1..64 */
     GiniMode gini_mode;
+    /* Index of the input's first sample (a render of a sample range): its
+     * sets fill from set first_sample mod M on, which decides which sets
+     * hold one sample more when n is not a multiple of M. */
+    uint64_t first_sample;
 } EstimatorSettings;
 
 /* Output images, 3 values (RGB) per pixel; NULL where not wanted. */

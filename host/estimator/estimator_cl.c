@@ -74,8 +74,10 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
         goto fail;
     char options[256];
     snprintf(options, sizeof options,
-             "-DEST_SETS=%d -DEST_GINI_MODE=%d -DEST_OUTPUTS=%d -DEST_VECTOR_WIDTH=%d -DEST_PREFETCH=%d",
-             settings->set_count, (int)settings->gini_mode, outputs, p->launch.vector_width, p->launch.prefetch);
+             "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DGMON_FEATURES=%d -DEST_VECTOR_WIDTH=%d "
+             "-DEST_PREFETCH=%d",
+             settings->set_count, (int)(settings->first_sample % (uint64_t)settings->set_count),
+             (int)settings->gini_mode, outputs, p->launch.vector_width, p->launch.prefetch);
     p->program = cl_program_build(device, "estimator", options, kernel_dir);
     if (!p->program)
         goto fail;

@@ -150,3 +150,30 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     params->environment_pick = has_environment ? (scene->emitter_count > 0 ? 0.5f : 1.0f) : 0.0f;
     return 0;
 }
+
+uint32_t render_scene_features(const RenderScene *scene, int outputs)
+{
+    uint32_t features = (uint32_t)outputs & FEATURES_OUTPUTS;
+    for (int i = 0; i < scene->primitive_count; ++i)
+        features |= (scene->primitives[i].kind & PRIM_KIND_MASK) == PRIM_SPHERE ? FEATURE_SPHERES : FEATURE_TRIANGLES;
+    static const uint32_t by_type[] = {
+        [MAT_DIFFUSE] = FEATURE_DIFFUSE,
+        [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,
+        [MAT_CONDUCTOR] = FEATURE_CONDUCTOR,
+        [MAT_COATED_DIFFUSE] = FEATURE_COATED_DIFFUSE,
+    };
+    for (int i = 0; i < scene->material_count; ++i) {
+        const Material *m = &scene->materials[i];
+        features |= by_type[m->type];
+        if (m->type != MAT_DIFFUSE && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA))
+            features |= FEATURE_ROUGH;
+    }
+    if (scene->emitter_count > 0)
+        features |= FEATURE_AREA_LIGHTS;
+    const float *environment = scene->params.environment;
+    if (environment[0] > 0.0f || environment[1] > 0.0f || environment[2] > 0.0f)
+        features |= FEATURE_ENVIRONMENT;
+    if (scene->params.flags & RENDER_NEE)
+        features |= FEATURE_NEE;
+    return features;
+}

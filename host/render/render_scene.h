@@ -4,10 +4,12 @@
 #ifndef HOST_RENDER_RENDER_SCENE_H
 #define HOST_RENDER_RENDER_SCENE_H
 
+#include "feature_mask.h"
 #include "render/bvh.h"
 #include "scene_types.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 typedef struct {
     RenderParams params;
@@ -43,5 +45,9 @@ void render_scene_set_camera(RenderScene *scene, const float position[3], const 
 /* Builds the BVH and the light-picking distribution (by emitted power).
  * Returns 0, or -1 with a message. */
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
+
+/* The feature mask (kernels/feature_mask.h) of what rendering the scene uses,
+ * with the ESTIMATOR_OUTPUT_* bits of `outputs`. */
+uint32_t render_scene_features(const RenderScene *scene, int outputs);
 
 #endif

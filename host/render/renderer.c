@@ -1,8 +1,10 @@
 #define _POSIX_C_SOURCE 200809L
 #include "render/renderer.h"
 
+#include "cl/kernel_sources.h"
 #include "estimator/estimator_cl.h"
 #include "estimator_core.h"
+#include "feature_mask.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,224 +40,709 @@ void render_output_free(RenderOutput *o)
     memset(o, 0, sizeof *o);
 }
 
+/* The sums and counters of pixels, as planes of `pixels` values: the
+ * accumulators' planes, then the rejected counts, then the ray counts. */
 typedef struct {
-    cl_mem params, nodes, primitives, materials, emitters;
-    cl_mem accumulators, rejected, rays;
-    cl_mem images[5];
-} DeviceBuffers;
+    uint64_t *accumulators;
+    uint32_t *rejected;
+    uint64_t *rays;
+} HostState;
 
-static void release_buffers(DeviceBuffers *b)
+/* One device's part of the render. */
+typedef struct {
+    ClDevice *device;
+    RenderDeviceReport *report;
+    int live;
+    int fault_pass; /* injected failure in this pass (1-based); 0: none */
+    cl_program program;
+    cl_kernel kernel;
+    EstimatorProgram *estimator;
+    cl_mem scene[5]; /* params, nodes, primitives, materials, emitters */
+    cl_mem accumulators, rejected, rays;
+    size_t first, count; /* its pixels */
+    size_t scene_bytes;
+    cl_event pass;
+    double pass_seconds;
+    uint64_t unsaved_samples; /* pixel samples since the last host copy */
+} Worker;
+
+typedef struct {
+    const RenderScene *scene;
+    const RenderSettings *settings;
+    int sets;      /* M as rendered */
+    size_t pixels; /* of the image */
+    size_t planes; /* accumulator planes: sets * channels * 2 words */
+    Worker workers[RENDER_MAX_DEVICES];
+    int worker_count;
+    HostState saved;   /* every pixel's state after saved_samples samples */
+    HostState scratch; /* where a new copy is gathered before it replaces `saved` */
+    uint64_t saved_samples;
+    double save_seconds; /* cost of the last copy */
+    double saved_at;
+} Render;
+
+static int live_workers(const Render *r)
 {
-    cl_mem *all[] = {&b->params,       &b->nodes,     &b->primitives, &b->materials, &b->emitters,
-                     &b->accumulators, &b->rejected,  &b->rays,       &b->images[0], &b->images[1],
-                     &b->images[2],    &b->images[3], &b->images[4]};
-    for (size_t i = 0; i < sizeof all / sizeof all[0]; ++i)
-        if (*all[i]) {
-            clReleaseMemObject(*all[i]);
-            *all[i] = NULL;
+    int live = 0;
+    for (int i = 0; i < r->worker_count; ++i)
+        live += r->workers[i].live;
+    return live;
+}
+
+static void release_state(Worker *w)
+{
+    cl_mem *state[] = {&w->accumulators, &w->rejected, &w->rays};
+    for (int i = 0; i < 3; ++i)
+        if (*state[i]) {
+            clReleaseMemObject(*state[i]);
+            *state[i] = NULL;
         }
 }
 
-/* A read-only buffer initialised from host data (at least one byte, as
- * OpenCL refuses empty buffers). */
+static void release_worker(Worker *w)
+{
+    release_state(w);
+    for (int i = 0; i < 5; ++i)
+        if (w->scene[i])
+            clReleaseMemObject(w->scene[i]);
+    if (w->pass)
+        clReleaseEvent(w->pass);
+    estimator_program_destroy(w->estimator);
+    if (w->kernel)
+        clReleaseKernel(w->kernel);
+    if (w->program)
+        clReleaseProgram(w->program);
+    memset(w->scene, 0, sizeof w->scene);
+    w->pass = NULL;
+    w->estimator = NULL;
+    w->kernel = NULL;
+    w->program = NULL;
+}
+
+/* Drops a device from the render: its pixels go to the others. */
+static void drop_worker(Render *r, Worker *w, const char *why)
+{
+    w->live = 0;
+    w->report->failed = 1;
+    snprintf(w->report->error, sizeof w->report->error, "%s", why);
+    release_worker(w);
+    int left = live_workers(r);
+    fprintf(stderr, "gmonrt: device %d '%s' failed: %s; %s\n", (int)(w - r->workers), w->report->name, why,
+            left ? "going on without it (its pixels are re-rendered by the others from the last saved sums)"
+                 : "no device left");
+}
+
+static void drop_on_cl_error(Render *r, Worker *w, const char *what)
+{
+    char why[512];
+    snprintf(why, sizeof why, "%s: %s", what, cl_last_error());
+    drop_worker(r, w, why);
+}
+
+/* Device memory a worker holds now, plus `extra`. */
+static size_t worker_bytes(const Render *r, const Worker *w, size_t extra)
+{
+    size_t state =
+        w->accumulators ? w->count * (r->planes * sizeof(uint64_t) + sizeof(uint32_t) + sizeof(uint64_t)) : 0;
+    return w->scene_bytes + state + extra;
+}
+
+static void track_peak(const Render *r, Worker *w, size_t extra)
+{
+    size_t bytes = worker_bytes(r, w, extra);
+    if (bytes > w->report->peak_bytes)
+        w->report->peak_bytes = bytes;
+}
+
+/* Parses RENDER_FAULT_ENV for device `index`: -1 to fail its build, a pass
+ * number, or 0 for no fault. */
+static int injected_fault(int index)
+{
+    const char *spec = getenv(RENDER_FAULT_ENV);
+    while (spec && *spec) {
+        int device = -1, pass = 0, used = 0;
+        if (sscanf(spec, "%d:pass:%d%n", &device, &pass, &used) == 2 && device == index)
+            return pass;
+        if (sscanf(spec, "%d:build%n", &device, &used) == 1 && used > 0 && device == index)
+            return -1;
+        spec = strchr(spec, ',');
+        spec = spec ? spec + 1 : NULL;
+    }
+    return 0;
+}
+
 static cl_mem upload(ClDevice *device, const void *data, size_t bytes, cl_int *err)
 {
-    static const uint64_t zero = 0;
+    static const uint64_t zero = 0; /* OpenCL refuses empty buffers */
     return clCreateBuffer(device->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes ? bytes : sizeof zero,
                           bytes ? (void *)data : (void *)&zero, err);
 }
 
-static cl_mem zeroed(ClDevice *device, size_t bytes, cl_int *err)
+/* Builds the programs and uploads the scene. Returns 0, or -1 after
+ * dropping the worker. */
+static int start_worker(Render *r, Worker *w, const char *options)
 {
-    cl_mem m = clCreateBuffer(device->context, CL_MEM_READ_WRITE, bytes, NULL, err);
-    if (*err != CL_SUCCESS)
-        return NULL;
-    const cl_uchar zero = 0;
-    *err = clEnqueueFillBuffer(device->queue, m, &zero, 1, 0, bytes, 0, NULL, NULL);
-    return m;
+    const RenderScene *scene = r->scene;
+    const RenderSettings *s = r->settings;
+    double start = now_seconds();
+    if (w->fault_pass < 0) {
+        drop_worker(r, w, "the path tracer failed to build (injected by " RENDER_FAULT_ENV ")");
+        return -1;
+    }
+    w->program = cl_program_build(w->device, "path_tracer", options, s->kernel_dir);
+    if (!w->program) {
+        drop_worker(r, w, "the path tracer failed to build (build log above)");
+        return -1;
+    }
+    cl_int err = CL_SUCCESS;
+    w->kernel = clCreateKernel(w->program, "render_samples", &err);
+    if (err != CL_SUCCESS) {
+        drop_worker(r, w, "clCreateKernel(render_samples) failed");
+        return -1;
+    }
+    EstimatorSettings estimator = s->estimator;
+    estimator.set_count = r->sets;
+    estimator.first_sample = s->first_sample;
+    /* The estimator writes exactly the requested images (also with
+     * all_features, where the mask has every output bit). */
+    w->estimator = estimator_program_new(w->device, &estimator, s->outputs, s->kernel_dir);
+    if (!w->estimator) {
+        drop_worker(r, w, "the estimator failed to build (build log above)");
+        return -1;
+    }
+    w->report->build_seconds = now_seconds() - start;
+
+    RenderParams params = scene->params;
+    params.seed = s->seed;
+    const void *data[5] = {&params, scene->bvh.nodes, scene->bvh.primitives, scene->materials, scene->emitters};
+    const size_t bytes[5] = {sizeof params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
+                             (size_t)scene->bvh.primitive_count * sizeof(Primitive),
+                             (size_t)scene->material_count * sizeof(Material),
+                             (size_t)scene->emitter_count * sizeof(Emitter)};
+    for (int i = 0; i < 5; ++i) {
+        w->scene[i] = upload(w->device, data[i], bytes[i], &err);
+        if (err != CL_SUCCESS) {
+            drop_worker(r, w, "cannot allocate the scene's buffers");
+            return -1;
+        }
+        w->scene_bytes += bytes[i] ? bytes[i] : sizeof(uint64_t);
+        CL_CHECK(clSetKernelArg(w->kernel, (cl_uint)i, sizeof(cl_mem), &w->scene[i]), failed);
+    }
+    track_peak(r, w, 0);
+    return 0;
+failed:
+    drop_on_cl_error(r, w, "setting the path tracer's arguments");
+    return -1;
 }
 
-int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSettings *s, RenderOutput *out, char *error,
-                 size_t error_size)
+/* Copies a worker's state to (write = 0) or from (write = 1) a host copy of
+ * the whole image: rectangles of `count` values out of every plane. */
+static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *host)
+{
+    struct {
+        cl_mem buffer;
+        void *host;
+        size_t element, planes;
+    } parts[3] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
+                  {w->rejected, host->rejected, sizeof(uint32_t), 1},
+                  {w->rays, host->rays, sizeof(uint64_t), 1}};
+    for (int i = 0; i < 3; ++i) {
+        size_t element = parts[i].element;
+        size_t buffer_origin[3] = {0, 0, 0}, host_origin[3] = {w->first * element, 0, 0};
+        size_t region[3] = {w->count * element, parts[i].planes, 1};
+        size_t buffer_pitch = w->count * element, host_pitch = r->pixels * element;
+        cl_int err =
+            write ? clEnqueueWriteBufferRect(w->device->queue, parts[i].buffer, CL_TRUE, buffer_origin, host_origin,
+                                             region, buffer_pitch, 0, host_pitch, 0, parts[i].host, 0, NULL, NULL)
+                  : clEnqueueReadBufferRect(w->device->queue, parts[i].buffer, CL_TRUE, buffer_origin, host_origin,
+                                            region, buffer_pitch, 0, host_pitch, 0, parts[i].host, 0, NULL, NULL);
+        if (err != CL_SUCCESS)
+            return err;
+    }
+    return CL_SUCCESS;
+}
+
+/* Splits the image among the live workers in proportion to `weights` (each
+ * gets at least one pixel) and gives each the saved state of its pixels.
+ * Returns 0; -1 if a worker failed (dropped: call again); -2 if a share does
+ * not fit a device (message in `error`). */
+static int assign_pixels(Render *r, const double *weights, char *error, size_t error_size)
+{
+    double total = 0.0;
+    int live = live_workers(r);
+    for (int i = 0; i < r->worker_count; ++i)
+        if (r->workers[i].live)
+            total += weights[i] > 0.0 ? weights[i] : 0.0;
+    size_t first = 0;
+    int seen = 0;
+    double cumulative = 0.0;
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (!w->live)
+            continue;
+        ++seen;
+        cumulative += total > 0.0 ? (weights[i] > 0.0 ? weights[i] : 0.0) / total : 1.0 / live;
+        size_t end = seen == live ? r->pixels : (size_t)(cumulative * (double)r->pixels + 0.5);
+        size_t most = r->pixels - (size_t)(live - seen); /* leave a pixel for each worker after */
+        end = end < first + 1 ? first + 1 : (end > most ? most : end);
+        size_t count = end - first;
+        int unchanged = w->accumulators && w->first == first && w->count == count;
+        if (!unchanged) {
+            release_state(w);
+            size_t accumulator_bytes = count * r->planes * sizeof(uint64_t);
+            if (accumulator_bytes > w->device->info.max_allocation) {
+                snprintf(error, error_size,
+                         "the exact set sums of %zu pixels with M = %d need %.2f GiB in one buffer, but device '%s' "
+                         "allows %.2f GiB: lower the resolution or --sets, or add devices",
+                         count, r->sets, (double)accumulator_bytes / 1073741824.0, w->device->info.name,
+                         (double)w->device->info.max_allocation / 1073741824.0);
+                return -2;
+            }
+            cl_int err = CL_SUCCESS;
+            cl_context context = w->device->context;
+            w->first = first;
+            w->count = count;
+            w->accumulators = clCreateBuffer(context, CL_MEM_READ_WRITE, accumulator_bytes, NULL, &err);
+            if (err == CL_SUCCESS)
+                w->rejected = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint32_t), NULL, &err);
+            if (err == CL_SUCCESS)
+                w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
+            if (err == CL_SUCCESS)
+                err = transfer_state(r, w, 1, &r->saved);
+            if (err != CL_SUCCESS) {
+                cl_report_error("allocating and filling the accumulators", err, __FILE__, __LINE__);
+                drop_on_cl_error(r, w, "allocating and filling the accumulators");
+                return -1;
+            }
+            track_peak(r, w, 0);
+        }
+        first = end;
+    }
+    return 0;
+}
+
+/* assign_pixels, again while workers fail. Returns 0, -1 when none is
+ * left, -2 as assign_pixels. */
+static int assign_until_settled(Render *r, const double *weights, char *error, size_t error_size)
+{
+    for (;;) {
+        if (live_workers(r) == 0)
+            return -1;
+        int status = assign_pixels(r, weights, error, error_size);
+        if (status != -1)
+            return status;
+    }
+}
+
+/* Gathers every worker's state into the host copy. Returns 0, or -1 after
+ * dropping a worker that failed (the previous copy stays). */
+static int save_state(Render *r, uint64_t samples)
+{
+    double start = now_seconds();
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (w->live && transfer_state(r, w, 0, &r->scratch) != CL_SUCCESS) {
+            drop_on_cl_error(r, w, "reading back its sums");
+            return -1;
+        }
+    }
+    HostState swap = r->saved;
+    r->saved = r->scratch;
+    r->scratch = swap;
+    r->saved_samples = samples;
+    for (int i = 0; i < r->worker_count; ++i) {
+        r->workers[i].report->samples += r->workers[i].unsaved_samples;
+        r->workers[i].unsaved_samples = 0;
+    }
+    r->saved_at = now_seconds();
+    r->save_seconds = r->saved_at - start;
+    return 0;
+}
+
+/* Renders samples [first_sample, first_sample + count) on every live
+ * worker's pixels, all devices at once. Returns the number of workers that
+ * failed (dropped). */
+static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_number)
+{
+    int failures = 0;
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (!w->live)
+            continue;
+        if (w->fault_pass == pass_number) {
+            drop_worker(r, w, "a pass failed (injected by " RENDER_FAULT_ENV ")");
+            ++failures;
+            continue;
+        }
+        cl_ulong first = first_sample, first_pixel = w->first, pixel_count = w->count;
+        cl_mem state[3] = {w->accumulators, w->rejected, w->rays};
+        size_t global = w->count;
+        for (cl_uint a = 0; a < 3; ++a)
+            CL_CHECK(clSetKernelArg(w->kernel, 5 + a, sizeof(cl_mem), &state[a]), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 8, sizeof first, &first), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 9, sizeof count, &count), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 10, sizeof first_pixel, &first_pixel), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 11, sizeof pixel_count, &pixel_count), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 12, sizeof first_pixel, &first_pixel), failed);
+        CL_CHECK(clSetKernelArg(w->kernel, 13, sizeof pixel_count, &pixel_count), failed);
+        CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, NULL, 0, NULL, &w->pass),
+                 failed);
+        CL_CHECK(clFlush(w->device->queue), failed);
+        continue;
+    failed:
+        drop_on_cl_error(r, w, "starting a pass");
+        ++failures;
+    }
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (!w->live || !w->pass)
+            continue;
+        cl_int status = CL_SUCCESS;
+        cl_int err = clWaitForEvents(1, &w->pass);
+        if (err == CL_SUCCESS)
+            err = clGetEventInfo(w->pass, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, NULL);
+        if (err == CL_SUCCESS && status < 0)
+            err = status;
+        if (err != CL_SUCCESS) {
+            cl_report_error("the path tracer kernel", err, __FILE__, __LINE__);
+            drop_on_cl_error(r, w, "a pass failed");
+            ++failures;
+            continue;
+        }
+        w->pass_seconds = cl_event_seconds(w->pass);
+        w->report->busy_seconds += w->pass_seconds;
+        w->unsaved_samples += (uint64_t)count * w->count;
+        clReleaseEvent(w->pass);
+        w->pass = NULL;
+    }
+    return failures;
+}
+
+static int allocate_images(RenderOutput *out, int outputs, size_t pixels)
+{
+    const size_t bytes = pixels * EST_CHANNELS * sizeof(float);
+    if ((outputs & ESTIMATOR_OUTPUT_MEAN) && !out->mean && !(out->mean = malloc(bytes)))
+        return -1;
+    if ((outputs & ESTIMATOR_OUTPUT_MON) && !out->mon && !(out->mon = malloc(bytes)))
+        return -1;
+    if ((outputs & ESTIMATOR_OUTPUT_GMON) && !out->gmon && !(out->gmon = malloc(bytes)))
+        return -1;
+    if ((outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS) && !out->gini && !(out->gini = malloc(bytes)))
+        return -1;
+    if ((outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS) && !out->trim && !(out->trim = malloc(bytes)))
+        return -1;
+    return 0;
+}
+
+/* The estimates of `samples` samples per pixel, each worker on its pixels,
+ * into the output's images. Returns 0, or -1 after dropping a worker. */
+static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
+{
+    void *hosts[5] = {out->mean, out->mon, out->gmon, out->gini, out->trim};
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (!w->live)
+            continue;
+        const size_t bytes = w->count * EST_CHANNELS * sizeof(float);
+        cl_mem images[5] = {NULL};
+        cl_int err = CL_SUCCESS;
+        size_t allocated = 0;
+        for (int k = 0; k < 5 && err == CL_SUCCESS; ++k)
+            if (hosts[k]) {
+                images[k] = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
+                allocated += bytes;
+            }
+        cl_event done = NULL;
+        if (err == CL_SUCCESS) {
+            track_peak(r, w, allocated);
+            done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images[0], images[1],
+                                             images[2], images[3], images[4]);
+            err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+        }
+        for (int k = 0; k < 5 && err == CL_SUCCESS; ++k)
+            if (images[k])
+                err = clEnqueueReadBuffer(w->device->queue, images[k], CL_TRUE, 0, bytes,
+                                          (char *)hosts[k] + w->first * EST_CHANNELS * sizeof(float), 0, NULL, NULL);
+        if (done)
+            clReleaseEvent(done);
+        for (int k = 0; k < 5; ++k)
+            if (images[k])
+                clReleaseMemObject(images[k]);
+        if (err != CL_SUCCESS) {
+            drop_on_cl_error(r, w, "the estimator failed");
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The same on the host from the saved state (bit-identical to the kernels),
+ * for when no device is left. */
+static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out)
+{
+    EstimatorSettings settings = r->settings->estimator;
+    settings.set_count = r->sets;
+    settings.first_sample = r->settings->first_sample;
+    EstimatorImages images = {out->mean, out->mon, out->gmon, out->gini, out->trim, r->pixels * EST_CHANNELS};
+    return estimator_from_accumulators(&settings, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
+                                       &images, NULL, 0) == ESTIMATOR_OK
+               ? 0
+               : -1;
+}
+
+/* After a failure: every worker goes back to the saved state, split among
+ * those left, and renders the samples since again (the same samples, so the
+ * image does not change). Returns -2 as assign_pixels, else 0. */
+static int roll_back(Render *r, const double *weights, uint64_t *done_samples, char *error, size_t error_size)
+{
+    for (int i = 0; i < r->worker_count; ++i)
+        r->workers[i].unsaved_samples = 0;
+    *done_samples = r->saved_samples;
+    return assign_until_settled(r, weights, error, error_size) == -2 ? -2 : 0;
+}
+
+static int is_power_of_two(uint64_t x)
+{
+    return x && !(x & (x - 1));
+}
+
+/* Writes the specialized path tracer source with its defines. */
+static int dump_kernel(const RenderSettings *s, const char *options, int sets, uint32_t features, char *error,
+                       size_t error_size)
+{
+    const char *include_dir = NULL;
+    char message[512];
+    char *source = kernel_source_load("path_tracer", s->kernel_dir, &include_dir, message, (int)sizeof message);
+    if (!source) {
+        snprintf(error, error_size, "%s", message);
+        return -1;
+    }
+    FILE *f = fopen(s->dump_kernel, "w");
+    int ok = f != NULL;
+    if (f) {
+        fprintf(f, "/* gmonrt: the path tracer as built for this render.\n * Build options: %s */\n", options);
+        fprintf(f, "#define EST_SETS %d\n#define GMON_FEATURES 0x%x\n", sets, (unsigned)features);
+        fputs(source, f);
+        ok = fclose(f) == 0 && ok;
+    }
+    free(source);
+    if (!ok)
+        snprintf(error, error_size, "cannot write %s", s->dump_kernel);
+    return ok ? 0 : -1;
+}
+
+static void free_state(HostState *h)
+{
+    free(h->accumulators);
+    free(h->rejected);
+    free(h->rays);
+    memset(h, 0, sizeof *h);
+}
+
+static int allocate_state(HostState *h, size_t planes, size_t pixels)
+{
+    h->accumulators = calloc(planes * pixels, sizeof(uint64_t));
+    h->rejected = calloc(pixels, sizeof(uint32_t));
+    h->rays = calloc(pixels, sizeof(uint64_t));
+    return h->accumulators && h->rejected && h->rays ? 0 : -1;
+}
+
+RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene *scene, const RenderSettings *s,
+                          RenderOutput *out, char *error, size_t error_size)
 {
     memset(out, 0, sizeof *out);
     const int m = s->estimator.set_count;
     if (m < 1 || m > EST_MAX_SETS) {
         snprintf(error, error_size, "set count M = %d is out of range 1..%d", m, EST_MAX_SETS);
-        return -1;
+        return RENDER_FAILED;
     }
-    const size_t pixels = (size_t)scene->params.width * scene->params.height;
-    const size_t words = (size_t)m * EST_CHANNELS * 2 * pixels;
-    const size_t accumulator_bytes = words * sizeof(uint64_t);
-    if (accumulator_bytes > device->info.max_allocation) {
-        snprintf(error, error_size,
-                 "the exact set sums of a %ux%u image with M = %d need %.2f GiB in one buffer, but device '%s' "
-                 "allows %.2f GiB: lower the resolution or --sets",
-                 scene->params.width, scene->params.height, m, (double)accumulator_bytes / 1073741824.0,
-                 device->info.name, (double)device->info.max_allocation / 1073741824.0);
-        return -1;
+    if (device_count < 1 || device_count > RENDER_MAX_DEVICES) {
+        snprintf(error, error_size, "%d devices given, 1..%d supported", device_count, RENDER_MAX_DEVICES);
+        return RENDER_FAILED;
     }
+    Render r;
+    memset(&r, 0, sizeof r);
+    r.scene = scene;
+    r.settings = s;
+    /* Only the mean needs no sets: one sum per pixel. */
+    r.sets = (s->outputs & ~ESTIMATOR_OUTPUT_MEAN) || s->keep_sets ? m : 1;
+    r.pixels = (size_t)scene->params.width * scene->params.height;
+    r.planes = (size_t)r.sets * EST_CHANNELS * 2;
+    r.worker_count = device_count;
     out->width = scene->params.width;
     out->height = scene->params.height;
-    out->set_count = m;
+    out->set_count = r.sets;
     out->gini_mode = s->estimator.gini_mode;
     out->seed = s->seed;
     out->first_sample = s->first_sample;
+    out->device_count = device_count;
+    out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene, s->outputs);
+    RenderStatus status = RENDER_FAILED;
 
-    DeviceBuffers b;
-    memset(&b, 0, sizeof b);
-    cl_program program = NULL;
-    cl_kernel kernel = NULL;
-    EstimatorProgram *estimator = NULL;
-    int status = -1;
-    cl_int err = CL_SUCCESS;
+    if (allocate_state(&r.saved, r.planes, r.pixels) || allocate_state(&r.scratch, r.planes, r.pixels) ||
+        allocate_images(out, s->outputs, r.pixels))
+        goto out_of_memory;
 
-    double build_start = now_seconds();
     /* The path tracer needs no bit-exact agreement with the host (only its
      * integer accumulation does, which no float option touches), so it may
-     * reassociate: about 10% faster on PoCL. Results stay deterministic for
-     * a given device and compiler. */
-    char options[96];
-    snprintf(options, sizeof options, "-DEST_SETS=%d -cl-unsafe-math-optimizations", m);
-    program = cl_program_build(device, "path_tracer", options, s->kernel_dir);
-    if (!program) {
-        snprintf(error, error_size, "the path tracer failed to build on device '%s'", device->info.name);
+     * reassociate: about 10% faster on PoCL. */
+    char options[160];
+    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%x -cl-unsafe-math-optimizations", r.sets,
+             (unsigned)out->features);
+    if (s->dump_kernel && dump_kernel(s, options, r.sets, out->features, error, error_size))
         goto done;
+    for (int i = 0; i < device_count; ++i) {
+        Worker *w = &r.workers[i];
+        w->device = &devices[i];
+        w->report = &out->devices[i];
+        w->live = 1;
+        w->fault_pass = injected_fault(i);
+        snprintf(w->report->name, sizeof w->report->name, "%s", devices[i].info.name);
     }
-    kernel = clCreateKernel(program, "render_samples", &err);
-    CL_CHECK(err, cl_failed);
-    estimator = estimator_program_new(device, &s->estimator, s->outputs, s->kernel_dir);
-    if (!estimator) {
-        snprintf(error, error_size, "the estimator failed to build on device '%s'", device->info.name);
+    for (int i = 0; i < device_count; ++i) {
+        start_worker(&r, &r.workers[i], options);
+        out->build_seconds += r.workers[i].report->build_seconds;
+    }
+    double weights[RENDER_MAX_DEVICES];
+    for (int i = 0; i < device_count; ++i)
+        weights[i] = 1.0;
+    int assigned = assign_until_settled(&r, weights, error, error_size);
+    if (assigned == -2)
         goto done;
-    }
-    out->build_seconds = now_seconds() - build_start;
 
-    RenderParams params = scene->params;
-    params.seed = s->seed;
-    b.params = upload(device, &params, sizeof params, &err);
-    CL_CHECK(err, cl_failed);
-    b.nodes = upload(device, scene->bvh.nodes, (size_t)scene->bvh.node_count * sizeof(BvhNode), &err);
-    CL_CHECK(err, cl_failed);
-    b.primitives = upload(device, scene->bvh.primitives, (size_t)scene->bvh.primitive_count * sizeof(Primitive), &err);
-    CL_CHECK(err, cl_failed);
-    b.materials = upload(device, scene->materials, (size_t)scene->material_count * sizeof(Material), &err);
-    CL_CHECK(err, cl_failed);
-    b.emitters = upload(device, scene->emitters, (size_t)scene->emitter_count * sizeof(Emitter), &err);
-    CL_CHECK(err, cl_failed);
-    b.accumulators = zeroed(device, accumulator_bytes, &err);
-    CL_CHECK(err, cl_failed);
-    b.rejected = zeroed(device, pixels * sizeof(uint32_t), &err);
-    CL_CHECK(err, cl_failed);
-    b.rays = zeroed(device, pixels * sizeof(uint64_t), &err);
-    CL_CHECK(err, cl_failed);
-
-    cl_ulong first_pixel = 0, pixel_count = pixels;
-    CL_CHECK(clSetKernelArg(kernel, 0, sizeof(cl_mem), &b.params), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 1, sizeof(cl_mem), &b.nodes), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 2, sizeof(cl_mem), &b.primitives), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 3, sizeof(cl_mem), &b.materials), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 4, sizeof(cl_mem), &b.emitters), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 5, sizeof(cl_mem), &b.accumulators), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 6, sizeof(cl_mem), &b.rejected), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 7, sizeof(cl_mem), &b.rays), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 10, sizeof first_pixel, &first_pixel), cl_failed);
-    CL_CHECK(clSetKernelArg(kernel, 11, sizeof pixel_count, &pixel_count), cl_failed);
-
-    /* Progressive passes: the first renders one sample per pixel, later ones
-     * as many as fit the pass length, judged from the speed so far. */
-    double start = now_seconds();
+    /* Progressive passes, all devices on the same samples: the first pass
+     * renders one sample per pixel, later ones as many as fit the pass
+     * length, judged from the slowest device's speed. */
+    const double target = s->seconds_per_pass > 0.0 ? s->seconds_per_pass : 0.5;
+    const double start = now_seconds();
+    double callback_seconds = 0.0;
     uint64_t done_samples = 0;
     uint32_t per_pass = 1;
-    double target = s->seconds_per_pass > 0.0 ? s->seconds_per_pass : 0.5;
-    while (done_samples < s->sample_count) {
-        if (s->cancel && *s->cancel)
-            break;
+    int pass_number = 0, stop = 0;
+    r.saved_at = start;
+    while (live_workers(&r) > 0) {
+        if (done_samples >= s->sample_count || stop) {
+            if (save_state(&r, done_samples) == 0)
+                break;
+            /* A device failed while its sums were read. */
+            if (roll_back(&r, weights, &done_samples, error, error_size))
+                goto done;
+            continue;
+        }
+        if (s->cancel && *s->cancel) {
+            stop = 1;
+            continue;
+        }
         uint64_t remaining = s->sample_count - done_samples;
         uint32_t count = remaining < per_pass ? (uint32_t)remaining : per_pass;
-        cl_ulong first = s->first_sample + done_samples;
-        CL_CHECK(clSetKernelArg(kernel, 8, sizeof first, &first), cl_failed);
-        CL_CHECK(clSetKernelArg(kernel, 9, sizeof count, &count), cl_failed);
-        double pass_start = now_seconds();
-        size_t global = pixels;
-        CL_CHECK(clEnqueueNDRangeKernel(device->queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL), cl_failed);
-        CL_CHECK(clFinish(device->queue), cl_failed);
-        double pass_seconds = now_seconds() - pass_start;
+        if (s->checkpoint) { /* end the pass at the next power of two */
+            uint64_t next = 1;
+            while (next <= done_samples)
+                next *= 2;
+            if (next - done_samples < count)
+                count = (uint32_t)(next - done_samples);
+        }
+        int failures = run_pass(&r, s->first_sample + done_samples, count, ++pass_number);
+        if (failures > 0) {
+            if (roll_back(&r, weights, &done_samples, error, error_size))
+                goto done;
+            per_pass = 1;
+            continue;
+        }
         done_samples += count;
-        double elapsed = now_seconds() - start;
+        double elapsed = now_seconds() - start - callback_seconds;
         if (s->progress)
             s->progress(s->progress_user, done_samples, s->sample_count, elapsed);
         if (s->time_budget > 0.0 && elapsed >= s->time_budget)
-            break;
-        double per_sample = pass_seconds / count;
+            stop = 1;
+
+        /* Speeds, the slowest device's time a sample, and whether the split
+         * should change (as Cycles' work balancer: when the slowest device
+         * takes 10% longer than the fastest). */
+        double slowest = 0.0, fastest = 0.0;
+        int live = 0;
+        for (int i = 0; i < r.worker_count; ++i) {
+            Worker *w = &r.workers[i];
+            if (!w->live)
+                continue;
+            double seconds = w->pass_seconds > 1e-9 ? w->pass_seconds : 1e-9;
+            weights[i] = (double)w->count / seconds;
+            slowest = live == 0 || seconds > slowest ? seconds : slowest;
+            fastest = live == 0 || seconds < fastest ? seconds : fastest;
+            ++live;
+        }
+        int rebalance = live > 1 && slowest > 1.1 * fastest && !stop && done_samples < s->sample_count;
+        /* A host copy of the sums whenever it costs under 5% of the time
+         * since the last one, so that a failure loses little. */
+        int save_due = now_seconds() - r.saved_at >= 20.0 * r.save_seconds;
+        if ((rebalance || save_due) && done_samples < s->sample_count && !stop) {
+            if (save_state(&r, done_samples) != 0 ||
+                (rebalance && (++out->rebalances, assign_pixels(&r, weights, error, error_size) != 0))) {
+                if (roll_back(&r, weights, &done_samples, error, error_size))
+                    goto done;
+                per_pass = 1;
+                continue;
+            }
+        }
+        if (s->checkpoint && (is_power_of_two(done_samples) || done_samples == s->sample_count)) {
+            if (estimate_on_devices(&r, done_samples, out) != 0) {
+                if (roll_back(&r, weights, &done_samples, error, error_size))
+                    goto done;
+                continue;
+            }
+            double callback_start = now_seconds();
+            out->sample_count = done_samples;
+            out->seconds = callback_start - start - callback_seconds;
+            int refused = s->checkpoint(s->checkpoint_user, out);
+            callback_seconds += now_seconds() - callback_start;
+            if (refused) {
+                snprintf(error, error_size, "writing the checkpoint at %llu samples failed",
+                         (unsigned long long)done_samples);
+                goto done;
+            }
+        }
+        double per_sample = slowest / count;
         double budget_left = s->time_budget > 0.0 ? s->time_budget - elapsed : target;
         double fit = (budget_left < target ? budget_left : target) / (per_sample > 0.0 ? per_sample : 1e-9);
         per_pass = fit < 1.0 ? 1u : (fit > 4096.0 ? 4096u : (uint32_t)fit);
     }
-    out->seconds = now_seconds() - start;
-    out->sample_count = done_samples;
 
-    /* Estimates, on the device, from the exact accumulators. */
-    const int bits[5] = {ESTIMATOR_OUTPUT_MEAN, ESTIMATOR_OUTPUT_MON, ESTIMATOR_OUTPUT_GMON,
-                         ESTIMATOR_OUTPUT_DIAGNOSTICS, ESTIMATOR_OUTPUT_DIAGNOSTICS};
-    void **hosts[5] = {(void **)&out->mean, (void **)&out->mon, (void **)&out->gmon, (void **)&out->gini,
-                       (void **)&out->trim};
-    const size_t image_bytes = pixels * EST_CHANNELS * sizeof(float);
-    for (int i = 0; i < 5; ++i) {
-        if (!(s->outputs & bits[i]))
-            continue;
-        b.images[i] = clCreateBuffer(device->context, CL_MEM_WRITE_ONLY, image_bytes, NULL, &err);
-        CL_CHECK(err, cl_failed);
-        *hosts[i] = malloc(image_bytes);
-        if (!*hosts[i])
-            goto out_of_memory;
-    }
-    cl_event estimated = estimator_program_enqueue(estimator, b.accumulators, 1, pixels, done_samples, b.images[0],
-                                                   b.images[1], b.images[2], b.images[3], b.images[4]);
-    if (!estimated)
-        goto cl_failed;
-    clReleaseEvent(estimated);
-    for (int i = 0; i < 5; ++i)
-        if (b.images[i])
-            CL_CHECK(clEnqueueReadBuffer(device->queue, b.images[i], CL_TRUE, 0, image_bytes, *hosts[i], 0, NULL, NULL),
-                     cl_failed);
-
-    out->accumulators = malloc(words * sizeof(uint64_t));
-    out->rejected = malloc(pixels * sizeof(uint32_t));
-    uint64_t *rays = malloc(pixels * sizeof(uint64_t));
-    if (!out->accumulators || !out->rejected || !rays) {
-        free(rays);
+    /* The image: the saved state, estimated on the devices (or on the host
+     * when none is left). */
+    out->sample_count = r.saved_samples;
+    int complete = live_workers(&r) > 0;
+    if (complete && estimate_on_devices(&r, r.saved_samples, out) != 0)
+        complete = 0;
+    if (!complete && estimate_on_host(&r, r.saved_samples, out) != 0)
         goto out_of_memory;
+    out->seconds = now_seconds() - start - callback_seconds;
+    out->accumulators = r.saved.accumulators;
+    out->rejected = r.saved.rejected;
+    for (size_t i = 0; i < r.pixels; ++i) {
+        out->rays += r.saved.rays[i];
+        out->rejected_total += r.saved.rejected[i];
     }
-    CL_CHECK(clEnqueueReadBuffer(device->queue, b.accumulators, CL_TRUE, 0, words * sizeof(uint64_t), out->accumulators,
-                                 0, NULL, NULL),
-             cl_failed);
-    CL_CHECK(clEnqueueReadBuffer(device->queue, b.rejected, CL_TRUE, 0, pixels * sizeof(uint32_t), out->rejected, 0,
-                                 NULL, NULL),
-             cl_failed);
-    err = clEnqueueReadBuffer(device->queue, b.rays, CL_TRUE, 0, pixels * sizeof(uint64_t), rays, 0, NULL, NULL);
-    for (size_t i = 0; i < pixels && err == CL_SUCCESS; ++i) {
-        out->rays += rays[i];
-        out->rejected_total += out->rejected[i];
+    r.saved.accumulators = NULL;
+    r.saved.rejected = NULL;
+    if (complete) {
+        status = RENDER_OK;
+    } else {
+        size_t used = (size_t)snprintf(error, error_size, "every device failed:");
+        for (int i = 0; i < device_count && used < error_size; ++i)
+            used += (size_t)snprintf(error + used, error_size - used, " '%s': %s;", out->devices[i].name,
+                                     out->devices[i].error);
+        status = RENDER_INCOMPLETE;
     }
-    free(rays);
-    CL_CHECK(err, cl_failed);
-    status = 0;
     goto done;
 
 out_of_memory:
-    snprintf(error, error_size, "out of memory for a %ux%u image with M = %d", out->width, out->height, m);
-    goto done;
-cl_failed:
-    snprintf(error, error_size, "OpenCL failure on device '%s': %s", device->info.name, cl_last_error());
+    snprintf(error, error_size, "out of memory for a %ux%u image with M = %d", out->width, out->height, r.sets);
 done:
-    release_buffers(&b);
-    estimator_program_destroy(estimator);
-    if (kernel)
-        clReleaseKernel(kernel);
-    if (program)
-        clReleaseProgram(program);
-    if (status != 0)
+    for (int i = 0; i < r.worker_count; ++i)
+        release_worker(&r.workers[i]);
+    free_state(&r.saved);
+    free_state(&r.scratch);
+    if (status == RENDER_FAILED)
         render_output_free(out);
     return status;
 }

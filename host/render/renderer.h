@@ -1,5 +1,15 @@
-/* A render on one OpenCL device: progressive passes of the path tracer into
- * exact per-set accumulators, then the estimator kernel. */
+/* A render on one or several OpenCL devices at once: progressive passes of
+ * the path tracer into exact per-set accumulators, then the estimator
+ * kernel.
+ *
+ * Each device owns a contiguous range of pixels and every sample of those
+ * pixels, so a pixel's sums live in one place. Shares start even and are
+ * re-weighted between passes from each device's measured speed; the sums
+ * move with the pixels (through a host copy). Samples depend only on (seed,
+ * pixel, sample index) and sums are exact integers, so the image does not
+ * depend on the devices or the split. A device that fails is dropped and
+ * its pixels go to the others, which re-render them from the last host copy
+ * of the sums (the same samples again, so the image is unchanged). */
 #ifndef HOST_RENDER_RENDERER_H
 #define HOST_RENDER_RENDERER_H
 
@@ -8,11 +18,23 @@
 #include "render/render_scene.h"
 
 #include <signal.h>
+#include <stddef.h>
 #include <stdint.h>
 
+#define RENDER_MAX_DEVICES 16
+
+/* Fault injection for tests, "<device>:build" or "<device>:pass:<n>" (device:
+ * index among the render's devices, n: 1 for the first pass): that device
+ * fails to build or fails in that pass. */
+#define RENDER_FAULT_ENV "GMON_FAULT"
+
+typedef struct RenderOutput RenderOutput;
+
 typedef struct {
-    EstimatorSettings estimator; /* M and the Gini mode */
+    EstimatorSettings estimator; /* M and the Gini mode (its first_sample is set from first_sample) */
     int outputs;                 /* ESTIMATOR_OUTPUT_* mask */
+    int keep_sets;               /* keep M sets even when only the mean is asked for (--write-sets) */
+    int all_features;            /* build the all-features kernels instead of specializing */
     uint32_t seed;
     uint64_t first_sample;               /* render samples [first, first + count) */
     uint64_t sample_count;               /* samples per pixel */
@@ -21,12 +43,29 @@ typedef struct {
     const volatile sig_atomic_t *cancel; /* stop after the current pass when set */
     void (*progress)(void *user, uint64_t done, uint64_t total, double seconds);
     void *progress_user;
-    const char *kernel_dir; /* NULL: embedded kernels */
+    /* With a checkpoint callback, passes end at every power of two samples
+     * (and at the last sample), and the callback gets the estimates so far
+     * (output->seconds: render time to that point, without the callbacks).
+     * A non-zero return stops the render with an error. */
+    int (*checkpoint)(void *user, const RenderOutput *output);
+    void *checkpoint_user;
+    const char *dump_kernel; /* write the specialized path tracer source here; NULL: no */
+    const char *kernel_dir;  /* NULL: embedded kernels */
 } RenderSettings;
 
 typedef struct {
+    char name[256];
+    int failed;           /* dropped: at build time or during the render */
+    char error[512];      /* why it was dropped */
+    uint64_t samples;     /* pixel samples it delivered to the image */
+    double busy_seconds;  /* its kernels' run time */
+    double build_seconds; /* its program builds */
+    size_t peak_bytes;    /* device memory allocated, at most */
+} RenderDeviceReport;
+
+struct RenderOutput {
     unsigned width, height;
-    int set_count;
+    int set_count; /* M as rendered: 1 when only the mean was asked for */
     GiniMode gini_mode;
     uint32_t seed;
     uint64_t first_sample;
@@ -35,19 +74,32 @@ typedef struct {
     uint32_t *rejected;     /* per pixel: non-finite or out-of-range samples */
     uint64_t rejected_total;
     uint64_t rays;
-    double seconds;       /* rendering passes only */
-    double build_seconds; /* program builds */
+    double seconds;       /* rendering passes and estimates */
+    double build_seconds; /* program builds, all devices */
+    uint32_t features;    /* the kernels' feature mask (feature_mask.h) */
+    int rebalances;       /* times pixels moved between devices */
+    int device_count;
+    RenderDeviceReport devices[RENDER_MAX_DEVICES];
     /* Estimates (RGB per pixel); NULL where not requested. */
     float *mean, *mon, *gmon, *gini;
     int32_t *trim;
-} RenderOutput;
+};
+
+typedef enum {
+    RENDER_OK = 0,
+    RENDER_FAILED = -1,    /* no image; the message says why */
+    RENDER_INCOMPLETE = 1, /* every device failed; the output holds the samples saved before */
+} RenderStatus;
 
 void render_settings_default(RenderSettings *settings);
 
-/* Renders `scene` (finalized). Returns 0 on success, -1 with a message. A
- * cancelled or time-limited render succeeds with fewer samples. */
-int renderer_run(ClDevice *device, const RenderScene *scene, const RenderSettings *settings, RenderOutput *output,
-                 char *error, size_t error_size);
+/* Renders `scene` (finalized) on devices[0 .. device_count - 1]. A
+ * cancelled or time-limited render succeeds with fewer samples. On
+ * RENDER_FAILED the output is empty and `error` says why; on
+ * RENDER_INCOMPLETE `error` names the failures and the output is a valid
+ * render of fewer samples (possibly 0). */
+RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene *scene, const RenderSettings *settings,
+                          RenderOutput *output, char *error, size_t error_size);
 
 void render_output_free(RenderOutput *output);
 

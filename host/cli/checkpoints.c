@@ -1,0 +1,120 @@
+#define _POSIX_C_SOURCE 200809L
+#include "cli/checkpoints.h"
+
+#include "render/render_exr.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+int checkpoints_open(Checkpoints *c, const char *directory, const char *reference_path, unsigned width, unsigned height,
+                     char *error, size_t error_size)
+{
+    memset(c, 0, sizeof *c);
+    c->directory = directory;
+    if (mkdir(directory, 0777) != 0 && errno != EEXIST) {
+        snprintf(error, error_size, "--checkpoints: cannot create directory %s: %s", directory, strerror(errno));
+        return -1;
+    }
+    if (reference_path) {
+        ExrImage reference;
+        char message[1024];
+        if (exr_image_read(reference_path, &reference, message, sizeof message) != IMAGE_IO_OK) {
+            snprintf(error, error_size, "--reference: %s", message);
+            exr_image_free(&reference);
+            return -1;
+        }
+        int usable = reference.mean && reference.width == (int)width && reference.height == (int)height;
+        if (usable) {
+            size_t bytes = (size_t)width * height * 3 * sizeof(float);
+            if ((c->reference = malloc(bytes)))
+                memcpy(c->reference, reference.mean, bytes);
+        }
+        exr_image_free(&reference);
+        if (!usable) {
+            snprintf(error, error_size, "--reference %s: needs a mean layer of %ux%u pixels", reference_path, width,
+                     height);
+            return -1;
+        }
+        if (!c->reference) {
+            snprintf(error, error_size, "out of memory");
+            return -1;
+        }
+    }
+    char path[4096];
+    snprintf(path, sizeof path, "%s/checkpoints.csv", directory);
+    c->csv = fopen(path, "w");
+    if (!c->csv) {
+        snprintf(error, error_size, "--checkpoints: cannot write %s: %s", path, strerror(errno));
+        free(c->reference);
+        c->reference = NULL;
+        return -1;
+    }
+    fprintf(c->csv, "spp,seconds,estimator,rmse,relmse\n");
+    return 0;
+}
+
+void image_errors(const float *image, const float *reference, size_t values, double *rmse, double *relmse)
+{
+    double squared = 0.0, relative = 0.0;
+    for (size_t i = 0; i < values; ++i) {
+        double d = (double)image[i] - (double)reference[i];
+        double r = reference[i];
+        squared += d * d;
+        relative += d * d / (r * r + 0.01);
+    }
+    *rmse = sqrt(squared / (double)values);
+    *relmse = relative / (double)values;
+}
+
+int checkpoints_write(void *user, const RenderOutput *out)
+{
+    Checkpoints *c = user;
+    char path[4096], seconds[32];
+    snprintf(path, sizeof path, "%s/spp-%06llu.exr", c->directory, (unsigned long long)out->sample_count);
+    snprintf(seconds, sizeof seconds, "%.6f", out->seconds);
+    ExrImage image = render_output_exr(out);
+    image.accumulators = NULL;
+    image.nonfinite = NULL;
+    if (!c->diagnostics) {
+        image.gini = NULL;
+        image.trim = NULL;
+    }
+    image.metadata.scene_path = c->scene_path;
+    image.metadata.scene_hash = c->scene_hash;
+    const ExrKeyValue extras[] = {{"seconds", seconds}};
+    image.metadata.extras = extras;
+    image.metadata.extra_count = 1;
+    char error[1024];
+    if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK) {
+        fprintf(stderr, "gmonrt: %s\n", error);
+        return -1;
+    }
+    const char *names[3] = {"mean", "mon", "gmon"};
+    const float *images[3] = {out->mean, out->mon, out->gmon};
+    for (int k = 0; k < 3; ++k) {
+        if (!images[k])
+            continue;
+        fprintf(c->csv, "%llu,%.6f,%s,", (unsigned long long)out->sample_count, out->seconds, names[k]);
+        if (c->reference) {
+            double rmse = 0.0, relmse = 0.0;
+            image_errors(images[k], c->reference, (size_t)out->width * out->height * 3, &rmse, &relmse);
+            fprintf(c->csv, "%.9g,%.9g\n", rmse, relmse);
+        } else {
+            fprintf(c->csv, ",\n");
+        }
+    }
+    return fflush(c->csv) == 0 ? 0 : -1;
+}
+
+int checkpoints_close(Checkpoints *c)
+{
+    int status = 0;
+    if (c->csv && fclose(c->csv) != 0)
+        status = -1;
+    free(c->reference);
+    memset(c, 0, sizeof *c);
+    return status;
+}

@@ -1,0 +1,20 @@
+/* Writing a render's files: the EXR and its PNG preview beside it. */
+#ifndef HOST_CLI_OUTPUT_FILES_H
+#define HOST_CLI_OUTPUT_FILES_H
+
+#include "io/exr_image.h"
+
+#include <stddef.h>
+
+/* PATH with its extension replaced by `extension` (e.g. ".png"). */
+void replace_extension(const char *path, const char *extension, char *out, size_t size);
+
+/* The image named "mean", "mon" or "gmon". */
+const float *preview_image(const char *name, const float *mean, const float *mon, const float *gmon);
+
+/* Writes `image` to exr_path and the sRGB preview of `preview` beside it.
+ * Returns 0, or 1 after printing the error. */
+int write_render_files(const char *exr_path, const ExrImage *image, const float *preview, float exposure,
+                       const char *preview_name, int quiet);
+
+#endif

@@ -1,0 +1,46 @@
+/* Kernel specialization: the host computes one bit mask of what a render
+ * uses (shapes, materials, lights, integrator mode, estimator outputs) from
+ * the scene and the requested outputs, and builds every program with
+ * -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_* macros
+ * (0 or 1) for `#if` guards and constant conditions, so code a render does
+ * not need is compiled out. Without the define (host code, tests, the
+ * all-features build) every feature is in. */
+#ifndef KERNELS_FEATURES_H
+#define KERNELS_FEATURES_H
+
+/* The estimator outputs keep the values of ESTIMATOR_OUTPUT_* and
+ * EST_OUTPUT_*, so an output mask is a feature mask as it is. */
+#define FEATURE_MEAN 0x1u
+#define FEATURE_MON 0x2u
+#define FEATURE_GMON 0x4u
+#define FEATURE_DIAGNOSTICS 0x8u
+#define FEATURE_TRIANGLES 0x10u
+#define FEATURE_SPHERES 0x20u
+#define FEATURE_DIFFUSE 0x40u
+#define FEATURE_DIELECTRIC 0x80u
+#define FEATURE_CONDUCTOR 0x100u
+#define FEATURE_COATED_DIFFUSE 0x200u
+#define FEATURE_ROUGH 0x400u        /* GGX lobes (any material with roughness) */
+#define FEATURE_AREA_LIGHTS 0x800u  /* emitting shapes */
+#define FEATURE_ENVIRONMENT 0x1000u /* a constant infinite light */
+#define FEATURE_NEE 0x2000u         /* next-event estimation with MIS; else BSDF sampling only */
+#define FEATURES_OUTPUTS 0xfu
+#define FEATURES_ALL 0x3fffu
+
+#ifndef GMON_FEATURES
+#define GMON_FEATURES FEATURES_ALL
+#endif
+
+#define GMON_HAS(bit) ((GMON_FEATURES & (bit)) != 0)
+#define GMON_HAS_TRIANGLES GMON_HAS(FEATURE_TRIANGLES)
+#define GMON_HAS_SPHERES GMON_HAS(FEATURE_SPHERES)
+#define GMON_HAS_DIFFUSE GMON_HAS(FEATURE_DIFFUSE)
+#define GMON_HAS_DIELECTRIC GMON_HAS(FEATURE_DIELECTRIC)
+#define GMON_HAS_CONDUCTOR GMON_HAS(FEATURE_CONDUCTOR)
+#define GMON_HAS_COATED_DIFFUSE GMON_HAS(FEATURE_COATED_DIFFUSE)
+#define GMON_HAS_ROUGH GMON_HAS(FEATURE_ROUGH)
+#define GMON_HAS_AREA_LIGHTS GMON_HAS(FEATURE_AREA_LIGHTS)
+#define GMON_HAS_ENVIRONMENT GMON_HAS(FEATURE_ENVIRONMENT)
+#define GMON_HAS_NEE GMON_HAS(FEATURE_NEE)
+
+#endif

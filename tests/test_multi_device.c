@@ -1,0 +1,389 @@
+/* Several devices, one image: a render on every device present equals the
+ * render on the first device alone, bit for bit (sums, counters and every
+ * estimate), also when a device fails to build or fails mid-render; when
+ * every device fails the samples saved before are still a valid render.
+ * Also: checkpoints, the mean-only single sum, sample ranges not starting
+ * at set 0, and the feature mask.
+ *
+ * CTest runs this under several POCL_DEVICES settings; GMON_EXPECT_DEVICES
+ * says how many devices that must give, so that a setting PoCL ignored
+ * cannot pass unnoticed. */
+#define _POSIX_C_SOURCE 200809L
+#include "cl/cl_device.h"
+#include "estimator/estimator.h"
+#include "estimator_core.h"
+#include "feature_mask.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "test_device.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#define MAX_DEVICES 8
+
+static ClDevice devices[MAX_DEVICES];
+static int device_count;
+static RenderScene glass;
+
+static int setup(void **state)
+{
+    (void)state;
+    char path[1024], error[1024];
+    snprintf(path, sizeof path, "%s/scenes/cornell-glass.pbrt", GMON_SOURCE_DIR);
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, 40, 30, 1, &glass, &summary, error, sizeof error) ||
+        render_scene_finalize(&glass, error, sizeof error)) {
+        fprintf(stderr, "%s\n", error);
+        return -1;
+    }
+    ClDeviceInfo infos[MAX_DEVICES];
+    ClDevice first;
+    if (!test_device_open(&first))
+        return test_running_in_ci() ? -1 : 0;
+    cl_device_close(&first);
+    int count = cl_devices_enumerate(infos, MAX_DEVICES);
+    for (int i = 0; i < count; ++i)
+        if (cl_device_open(&devices[device_count], &infos[i]) == 0)
+            ++device_count;
+    const char *expected = getenv("GMON_EXPECT_DEVICES");
+    if (expected && atoi(expected) != device_count) {
+        fprintf(stderr, "expected %s devices (POCL_DEVICES=%s), found %d\n", expected, getenv("POCL_DEVICES"),
+                device_count);
+        return -1;
+    }
+    printf("  %d device%s:", device_count, device_count == 1 ? "" : "s");
+    for (int i = 0; i < device_count; ++i)
+        printf(" '%s'", devices[i].info.name);
+    printf("\n");
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    for (int i = 0; i < device_count; ++i)
+        cl_device_close(&devices[i]);
+    render_scene_destroy(&glass);
+    return 0;
+}
+
+#define REQUIRE_DEVICES(n)                                                                                             \
+    do {                                                                                                               \
+        if (device_count < (n))                                                                                        \
+            skip();                                                                                                    \
+    } while (0)
+
+static RenderSettings small_settings(void)
+{
+    RenderSettings s;
+    render_settings_default(&s);
+    s.estimator.set_count = 5;
+    s.outputs = ESTIMATOR_OUTPUT_ALL;
+    s.sample_count = 23;
+    s.seed = 7;
+    s.seconds_per_pass = 0.002; /* many short passes: many chances to rebalance */
+    return s;
+}
+
+static RenderStatus render_on(int first_device, int count, const RenderSettings *s, RenderOutput *out)
+{
+    char error[2048];
+    RenderStatus status = renderer_run(devices + first_device, count, &glass, s, out, error, sizeof error);
+    if (status != RENDER_OK)
+        printf("  renderer: %s\n", error);
+    return status;
+}
+
+static void assert_same_render(const RenderOutput *a, const RenderOutput *b)
+{
+    const size_t pixels = (size_t)a->width * a->height;
+    assert_int_equal(a->sample_count, b->sample_count);
+    assert_int_equal(a->set_count, b->set_count);
+    assert_memory_equal(a->accumulators, b->accumulators, (size_t)a->set_count * 6 * pixels * sizeof(uint64_t));
+    assert_memory_equal(a->rejected, b->rejected, pixels * sizeof(uint32_t));
+    assert_int_equal(a->rays, b->rays);
+    const float *images_a[4] = {a->mean, a->mon, a->gmon, a->gini};
+    const float *images_b[4] = {b->mean, b->mon, b->gmon, b->gini};
+    for (int k = 0; k < 4; ++k) {
+        assert_true((images_a[k] == NULL) == (images_b[k] == NULL));
+        if (images_a[k])
+            assert_memory_equal(images_a[k], images_b[k], pixels * 3 * sizeof(float));
+    }
+    if (a->trim)
+        assert_memory_equal(a->trim, b->trim, pixels * 3 * sizeof(int32_t));
+}
+
+static void test_all_devices_equal_one_device(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    RenderOutput one, all;
+    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
+    assert_int_equal(render_on(0, device_count, &s, &all), RENDER_OK);
+    assert_same_render(&one, &all);
+    uint64_t total = 0;
+    for (int i = 0; i < device_count; ++i) {
+        printf("  device %d: %llu pixel samples, %.1f KiB\n", i, (unsigned long long)all.devices[i].samples,
+               (double)all.devices[i].peak_bytes / 1024.0);
+        assert_true(all.devices[i].samples > 0); /* every device does work */
+        assert_false(all.devices[i].failed);
+        total += all.devices[i].samples;
+    }
+    assert_int_equal(total, (uint64_t)s.sample_count * one.width * one.height);
+    printf("  %d device(s), %d rebalances: identical to device 0 alone\n", device_count, all.rebalances);
+    render_output_free(&one);
+    render_output_free(&all);
+}
+
+static void test_device_failing_mid_render_changes_nothing(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(2);
+    RenderSettings s = small_settings();
+    RenderOutput one, rest;
+    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
+    setenv(RENDER_FAULT_ENV, "1:pass:4", 1);
+    RenderStatus status = render_on(0, device_count, &s, &rest);
+    unsetenv(RENDER_FAULT_ENV);
+    assert_int_equal(status, RENDER_OK);
+    assert_true(rest.devices[1].failed);
+    assert_non_null(strstr(rest.devices[1].error, "injected"));
+    assert_false(rest.devices[0].failed);
+    assert_same_render(&one, &rest);
+    render_output_free(&one);
+    render_output_free(&rest);
+}
+
+static void test_device_failing_to_build_is_left_out(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(2);
+    RenderSettings s = small_settings();
+    RenderOutput one, rest;
+    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
+    setenv(RENDER_FAULT_ENV, "0:build", 1);
+    RenderStatus status = render_on(0, device_count, &s, &rest);
+    unsetenv(RENDER_FAULT_ENV);
+    assert_int_equal(status, RENDER_OK);
+    assert_true(rest.devices[0].failed);
+    assert_int_equal(rest.devices[0].samples, 0);
+    assert_same_render(&one, &rest);
+    render_output_free(&one);
+    render_output_free(&rest);
+}
+
+/* Every device fails: the output is the render of the samples saved before
+ * (those of a complete render of that many samples), and the status says
+ * so. */
+static void test_every_device_failing_keeps_saved_samples(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    s.seconds_per_pass = 0.0001; /* one sample a pass: pass 6 fails after 5 samples */
+    char faults[256] = "";
+    for (int i = 0; i < device_count; ++i)
+        snprintf(faults + strlen(faults), sizeof faults - strlen(faults), "%s%d:pass:6", i ? "," : "", i);
+    setenv(RENDER_FAULT_ENV, faults, 1);
+    RenderOutput partial, expected;
+    RenderStatus status = render_on(0, device_count, &s, &partial);
+    unsetenv(RENDER_FAULT_ENV);
+    assert_int_equal(status, RENDER_INCOMPLETE);
+    assert_true(partial.sample_count <= 5);
+    printf("  every device failed at pass 6: %llu samples per pixel kept\n", (unsigned long long)partial.sample_count);
+    if (partial.sample_count > 0) {
+        s.sample_count = partial.sample_count;
+        assert_int_equal(render_on(0, 1, &s, &expected), RENDER_OK);
+        assert_same_render(&expected, &partial);
+        render_output_free(&expected);
+    }
+    render_output_free(&partial);
+}
+
+typedef struct {
+    int calls;
+    uint64_t spp[16];
+    float *mean_at_8;
+} CheckpointLog;
+
+static int log_checkpoint(void *user, const RenderOutput *out)
+{
+    CheckpointLog *log = user;
+    if (log->calls < 16)
+        log->spp[log->calls] = out->sample_count;
+    ++log->calls;
+    if (out->sample_count == 8) {
+        size_t bytes = (size_t)out->width * out->height * 3 * sizeof(float);
+        log->mean_at_8 = malloc(bytes);
+        memcpy(log->mean_at_8, out->mean, bytes);
+    }
+    return 0;
+}
+
+static void test_checkpoints_at_powers_of_two_equal_shorter_renders(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    CheckpointLog log = {0};
+    s.checkpoint = log_checkpoint;
+    s.checkpoint_user = &log;
+    RenderOutput out, eight;
+    assert_int_equal(render_on(0, device_count, &s, &out), RENDER_OK);
+    const uint64_t expected[] = {1, 2, 4, 8, 16, 23};
+    assert_int_equal(log.calls, 6);
+    for (int i = 0; i < 6; ++i)
+        assert_int_equal(log.spp[i], expected[i]);
+    s.checkpoint = NULL;
+    s.sample_count = 8;
+    assert_int_equal(render_on(0, 1, &s, &eight), RENDER_OK);
+    assert_non_null(log.mean_at_8);
+    assert_memory_equal(log.mean_at_8, eight.mean, (size_t)eight.width * eight.height * 3 * sizeof(float));
+    free(log.mean_at_8);
+    render_output_free(&out);
+    render_output_free(&eight);
+}
+
+/* Only the mean asked for: one sum per pixel (M = 1), less memory, and the
+ * same mean up to rounding. */
+static void test_mean_only_keeps_one_sum_per_pixel(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    s.estimator.set_count = 21;
+    s.outputs = ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON;
+    RenderOutput all, mean_only;
+    assert_int_equal(render_on(0, 1, &s, &all), RENDER_OK);
+    s.outputs = ESTIMATOR_OUTPUT_MEAN;
+    assert_int_equal(render_on(0, 1, &s, &mean_only), RENDER_OK);
+    assert_int_equal(all.set_count, 21);
+    assert_int_equal(mean_only.set_count, 1);
+    assert_null(mean_only.gmon);
+    printf("  device memory: %zu bytes with M = 21, %zu with the mean only\n", all.devices[0].peak_bytes,
+           mean_only.devices[0].peak_bytes);
+    assert_true(mean_only.devices[0].peak_bytes * 8 < all.devices[0].peak_bytes);
+    double worst = 0.0;
+    for (size_t i = 0; i < (size_t)all.width * all.height * 3; ++i) {
+        double d = fabs((double)all.mean[i] - mean_only.mean[i]) / fmax(fabs((double)all.mean[i]), 1e-6);
+        worst = d > worst ? d : worst;
+    }
+    printf("  mean from 21 sets vs one sum: largest relative difference %.3g\n", worst);
+    assert_true(worst < 1e-5);
+    s.keep_sets = 1; /* --write-sets keeps M */
+    RenderOutput kept;
+    assert_int_equal(render_on(0, 1, &s, &kept), RENDER_OK);
+    assert_int_equal(kept.set_count, 21);
+    render_output_free(&kept);
+    render_output_free(&all);
+    render_output_free(&mean_only);
+}
+
+/* A range starting at sample 7 with M = 5 fills sets 2, 3, 4, 0, 1, ...:
+ * the estimators must divide each set by its own count. The mean is then
+ * the plain sum over all sets over n. */
+static void test_sample_range_not_starting_at_set_zero(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    s.first_sample = 7;
+    s.sample_count = 13;
+    RenderOutput out;
+    assert_int_equal(render_on(0, 1, &s, &out), RENDER_OK);
+    const size_t pixels = (size_t)out.width * out.height;
+    double worst = 0.0;
+    for (size_t p = 0; p < pixels; ++p)
+        for (uint32_t c = 0; c < 3; ++c) {
+            long double sum = 0.0L;
+            for (uint32_t j = 0; j < 5; ++j) {
+                FixedSum f = {out.accumulators[accumulator_index(j, c, 0, p, pixels)],
+                              out.accumulators[accumulator_index(j, c, 1, p, pixels)]};
+                sum += (long double)fixed_to_float(f);
+            }
+            double mean = (double)(sum / 13.0L);
+            double d = fabs(mean - out.mean[p * 3 + c]) / fmax(fabs(mean), 1e-3);
+            worst = d > worst ? d : worst;
+        }
+    printf("  samples [7, 20), M = 5: mean vs sum / n, largest relative difference %.3g\n", worst);
+    assert_true(worst < 1e-5);
+    render_output_free(&out);
+}
+
+static void test_feature_mask_follows_scene_and_outputs(void **state)
+{
+    (void)state;
+    uint32_t glass_features = render_scene_features(&glass, ESTIMATOR_OUTPUT_GMON);
+    assert_true(glass_features & FEATURE_DIELECTRIC);
+    assert_true(glass_features & FEATURE_TRIANGLES);
+    assert_true(glass_features & FEATURE_AREA_LIGHTS);
+    assert_true(glass_features & FEATURE_NEE);
+    assert_int_equal(glass_features & FEATURES_OUTPUTS, ESTIMATOR_OUTPUT_GMON);
+    RenderScene diffuse;
+    char path[1024], error[1024];
+    snprintf(path, sizeof path, "%s/scenes/cornell-diffuse.pbrt", GMON_SOURCE_DIR);
+    SceneSummary summary;
+    assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &diffuse, &summary, error, sizeof error), 0);
+    diffuse.params.flags = 0; /* BSDF sampling only */
+    assert_int_equal(render_scene_finalize(&diffuse, error, sizeof error), 0);
+    uint32_t features = render_scene_features(&diffuse, ESTIMATOR_OUTPUT_MEAN);
+    assert_int_equal(features & (FEATURE_DIELECTRIC | FEATURE_CONDUCTOR | FEATURE_COATED_DIFFUSE | FEATURE_ROUGH |
+                                 FEATURE_SPHERES | FEATURE_ENVIRONMENT | FEATURE_NEE),
+                     0);
+    assert_true(features & FEATURE_DIFFUSE);
+    render_scene_destroy(&diffuse);
+}
+
+/* The specialized kernels render the same image as the all-features ones
+ * (up to the float reassociation the path tracer is allowed). */
+static void test_specialized_kernels_match_all_features(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    RenderOutput specialized, all;
+    assert_int_equal(render_on(0, 1, &s, &specialized), RENDER_OK);
+    s.all_features = 1;
+    assert_int_equal(render_on(0, 1, &s, &all), RENDER_OK);
+    assert_int_equal(all.features, FEATURES_ALL);
+    assert_true(specialized.features != FEATURES_ALL);
+    double sum_a = 0.0, sum_b = 0.0;
+    size_t values = (size_t)all.width * all.height * 3;
+    for (size_t i = 0; i < values; ++i) {
+        sum_a += all.mean[i];
+        sum_b += specialized.mean[i];
+    }
+    printf("  features 0x%x vs all: image means %.6f and %.6f\n", specialized.features, sum_b / values, sum_a / values);
+    assert_true(fabs(sum_a - sum_b) <= 1e-4 * fabs(sum_a));
+    render_output_free(&specialized);
+    render_output_free(&all);
+}
+
+int main(void)
+{
+    /* CTest runs only the device tests under the multi-device settings. */
+    if (getenv("GMON_TEST_FILTER"))
+        cmocka_set_test_filter(getenv("GMON_TEST_FILTER"));
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_all_devices_equal_one_device),
+        cmocka_unit_test(test_device_failing_mid_render_changes_nothing),
+        cmocka_unit_test(test_device_failing_to_build_is_left_out),
+        cmocka_unit_test(test_every_device_failing_keeps_saved_samples),
+        cmocka_unit_test(test_checkpoints_at_powers_of_two_equal_shorter_renders),
+        cmocka_unit_test(test_mean_only_keeps_one_sum_per_pixel),
+        cmocka_unit_test(test_sample_range_not_starting_at_set_zero),
+        cmocka_unit_test(test_feature_mask_follows_scene_and_outputs),
+        cmocka_unit_test(test_specialized_kernels_match_all_features),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
