@@ -41,9 +41,12 @@ def checkpoint_path(run_dir, spp):
 
 
 def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget):
-    """One progressive render with checkpoints; returns the command line run."""
-    arguments = [scene, "--spp", max_spp, "--checkpoints", run_dir, "--reference", reference, "--sets", sets,
-                 "--resolution", resolution, "--seed", seed, "--integrator", integrator, "--quiet",
+    """One progressive render with checkpoints; returns the command line run.
+    A 1-spp render with the same settings first builds the OpenCL programs
+    into PoCL's cache: gmonrt's `seconds` would otherwise include that build."""
+    settings = ["--sets", sets, "--resolution", resolution, "--seed", seed, "--integrator", integrator, "--quiet"]
+    renderer.run(gmonrt, [scene, "--spp", 1, *settings, "--outfile", Path(run_dir) / "warm-up.exr"])
+    arguments = [scene, "--spp", max_spp, "--checkpoints", run_dir, "--reference", reference, *settings,
                  "--outfile", Path(run_dir) / "final.exr"]
     if time_budget:
         arguments += ["--time", time_budget]
@@ -176,7 +179,9 @@ def parser():
     p = argparse.ArgumentParser(prog="sweep.sh", description=__doc__.split("\n\n")[0])
     p.add_argument("scene", type=Path, help="scene file, e.g. scenes/cornell-glass.pbrt")
     p.add_argument("--max-spp", type=int, default=1024, help="last checkpoint (default 1024)")
-    p.add_argument("--time", type=float, help="time budget per render in seconds: stop at the first checkpoint past it")
+    p.add_argument("--time", type=float,
+                   help="time budget per render in seconds: gmonrt stops after the pass that reaches it, keeping "
+                        "the checkpoints written by then")
     p.add_argument("--sets", type=positive_list, default=[21], help="list of M, e.g. 5,11,21,25 (default 21)")
     p.add_argument("--reference", type=Path, help="reference EXR (default references/<scene>.exr)")
     p.add_argument("--resolution", help="WIDTHxHEIGHT; must be the reference's (default: the reference's)")

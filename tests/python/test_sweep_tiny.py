@@ -80,6 +80,14 @@ class TinySweep(unittest.TestCase):
         for name in ("cornell-diffuse.csv", "cornell-diffuse-error-vs-spp.png", "cornell-diffuse-crops.png"):
             self.assertTrue((docs / "results" / name).is_file(), name)
 
+    def test_a_time_budget_stops_early(self):
+        out = WORK / "sweep-timed"
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "64", "--time", "0.001",
+                    "--out", str(out), "--gmonrt", str(GMONRT)])
+        spps = sorted({row["spp"] for row in sweep.read_csv(out / "sweep.csv")})
+        self.assertGreaterEqual(len(spps), 1)
+        self.assertLess(spps[-1], 64)
+
     def test_the_reference_seed_is_refused(self):
         with self.assertRaises(SystemExit):
             sweep.main([str(SCENE), "--reference", str(self.reference), "--seed", "1000", "--out", str(WORK / "x"),
