@@ -106,20 +106,21 @@ def load(reference_exr):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(prog="make-references.sh", description=__doc__.split("\n\n")[0])
-    parser.add_argument("scenes", nargs="*", type=Path, help="scene files (default: every scenes/*.pbrt)")
-    parser.add_argument("--spp", type=int, default=8192, help="samples per pixel in all (default 8192)")
-    parser.add_argument("--resolution", default="128x128", help="WIDTHxHEIGHT (default 128x128)")
-    parser.add_argument("--seed", type=int, default=1000, help="seed of both halves (default 1000; sweeps must use another)")
-    parser.add_argument("--out", type=Path, default=ROOT / "references", help="output directory (default references/)")
-    parser.add_argument("--crops", type=Path, default=ROOT / "scenes" / "crops.json", help="named crops (default scenes/crops.json)")
-    parser.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="the renderer (default build/gmonrt)")
-    args = parser.parse_args(argv)
+    p = argparse.ArgumentParser(prog="make-references.sh", description=__doc__.split("\n\n")[0])
+    p.add_argument("scenes", nargs="*", type=Path, help="scene files (default: every scenes/*.pbrt)")
+    p.add_argument("--spp", type=int, default=8192, help="samples per pixel in all (default 8192)")
+    p.add_argument("--resolution", default="128x128", help="WIDTHxHEIGHT (default 128x128)")
+    p.add_argument("--seed", type=int, default=1000, help="seed of both halves (default 1000; sweeps must use another)")
+    p.add_argument("--out", type=Path, default=ROOT / "references", help="output directory (default references/)")
+    p.add_argument("--crops", type=Path, default=ROOT / "scenes" / "crops.json", help="default scenes/crops.json")
+    p.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="default build/gmonrt")
+    args = p.parse_args(argv)
     renderer.pocl_cache(ROOT / "build" / "pocl-cache")
     scenes = args.scenes or sorted((ROOT / "scenes").glob("*.pbrt"))
     with tempfile.TemporaryDirectory(prefix="gmon-references-") as work_dir:
         for scene in scenes:
-            record = make_reference(args.gmonrt, scene, args.out, args.spp, args.resolution, args.seed, args.crops, work_dir)
+            record = make_reference(args.gmonrt, scene, args.out, args.spp, args.resolution, args.seed, args.crops,
+                                    work_dir)
             floor = record["residual"]["image"]
             print(f"{args.out / crops.scene_name(scene)}.exr: {args.spp} spp {args.resolution} in "
                   f"{record['render_seconds']} s, residual RMSE {floor['rmse']:.4g}, relMSE {floor['relmse']:.4g}",

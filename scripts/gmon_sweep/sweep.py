@@ -63,14 +63,22 @@ def read_renderer_csv(path):
     return [(int(r["spp"]), float(r["seconds"]), r["estimator"], float(r["rmse"]) if r["rmse"] else None) for r in rows]
 
 
+def at_floor(value, floor, key):
+    """Whether a measured `key` error ("rmse" or "relmse") is one the
+    reference's own error (`floor`, the same kind) could account for: a
+    squared error under twice the reference's, i.e. half or more of it may be
+    the reference's, so the value tells about the reference rather than the
+    estimator."""
+    return value**2 < 2 * floor**2 if key == "rmse" else value < 2 * floor
+
+
 def floor_columns(values, floor):
-    """rmse_floor, relmse_floor, at_floor: at_floor is 1 when the measured
-    MSE or relMSE is under twice the reference's own, i.e. the reference's
-    error may be half or more of what was measured, so the value tells about
-    the reference rather than the estimator; empty where there is no floor."""
+    """rmse_floor, relmse_floor, and at_floor: 1 when the RMSE or the relMSE
+    is at the reference's floor (at_floor above); empty where there is no
+    floor."""
     if not floor:
         return {"rmse_floor": "", "relmse_floor": "", "at_floor": ""}
-    limited = values["rmse"] ** 2 < 2 * floor["rmse"] ** 2 or values["relmse"] < 2 * floor["relmse"]
+    limited = any(at_floor(values[key], floor[key], key) for key in ("rmse", "relmse"))
     return {"rmse_floor": floor["rmse"], "relmse_floor": floor["relmse"], "at_floor": int(limited)}
 
 
@@ -161,7 +169,7 @@ def sweep(args):
     plots.error_plots(rows, floors, "seconds", out / "error-vs-time.png", title)
     shown_sets = figure_sets(args.sets)
     run_spps = sorted({r["spp"] for r in rows if r["sets"] == shown_sets})
-    figure_spps = [s for s in (args.figure_spp or [run_spps[-1]]) if s in run_spps]
+    figure_spps = [s for s in (args.figure_spp or []) if s in run_spps] or [run_spps[-1]]
     images = {spp: exr.read(checkpoint_path(out / f"M{shown_sets}", spp))[0] for spp in figure_spps}
     plots.crops_figure(images, reference, {n: r for n, r in regions.items() if r}, out / "crops.png",
                        f"{scene}, M = {shown_sets}")
@@ -188,7 +196,8 @@ def parser():
     p.add_argument("--seed", type=int, default=0, help="seed (default 0; not the reference's)")
     p.add_argument("--integrator", choices=("nee", "bsdf"), default="nee", help="default nee")
     p.add_argument("--crops", type=Path, default=ROOT / "scenes" / "crops.json", help="default scenes/crops.json")
-    p.add_argument("--figure-spp", type=positive_list, help="checkpoints shown in crops.png (default the last)")
+    p.add_argument("--figure-spp", type=positive_list,
+                   help="checkpoints shown in crops.png (default, and in place of any not reached: the last)")
     p.add_argument("--out", type=Path, help="output directory (default build/sweep/<scene>)")
     p.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="default build/gmonrt")
     return p
