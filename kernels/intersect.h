@@ -6,7 +6,8 @@
 #include "compat.h"
 #include "scene_types.h"
 
-#define BVH_STACK_SIZE 96
+/* Entries; the builder checks that its tree needs no more. */
+#define BVH_STACK_SIZE 128
 
 typedef struct {
     float origin[3];
@@ -99,24 +100,6 @@ KERNEL_FN int intersect_sphere(const Ray *ray, const GLOBAL Primitive *p, float 
     return 0;
 }
 
-/* Slab test against a node's box with the ray's reciprocal direction:
- * returns 1 and the entry distance if the ray meets the box before t_max. */
-KERNEL_FN int intersect_box(const GLOBAL BvhNode *node, const float *origin, const float *inverse_direction,
-                            float t_max, float *t_entry)
-{
-    float near_t = 0.0f, far_t = t_max;
-    for (int i = 0; i < 3; ++i) {
-        float t0 = (node->lower[i] - origin[i]) * inverse_direction[i];
-        float t1 = (node->upper[i] - origin[i]) * inverse_direction[i];
-        float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
-        /* NaN (0 * inf on a slab plane) leaves the interval unchanged. */
-        near_t = lo > near_t ? lo : near_t;
-        far_t = hi < far_t ? hi : far_t;
-    }
-    *t_entry = near_t;
-    return near_t <= far_t;
-}
-
 KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, float t_min, float t_max, Hit *hit)
 {
     float t = 0.0f, u = 0.0f, v = 0.0f;
@@ -130,10 +113,130 @@ KERNEL_FN int intersect_primitive(const Ray *ray, const GLOBAL Primitive *p, flo
     return found;
 }
 
+#ifdef __OPENCL_C_VERSION__
+#define lowest_bit(x) (31 - (int)clz((x) & -(x)))
+
+/* Bit i set where lane i of a vector comparison is true. */
+KERNEL_FN int lane_bits(int8 mask)
+{
+    int8 bits = mask & (int8)(1, 2, 4, 8, 16, 32, 64, 128);
+    int4 four = bits.lo | bits.hi;
+    int2 two = four.lo | four.hi;
+    return two.x | two.y;
+}
+
+/* Narrows [near_t, far_t] to a slab's [t0, t1] (either order); NaN (0 * inf
+ * on a slab plane) leaves it unchanged. */
+KERNEL_FN void narrow_to_slab(float8 t0, float8 t1, float8 *near_t, float8 *far_t)
+{
+    float8 lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+    *near_t = lo > *near_t ? lo : *near_t;
+    *far_t = hi < *far_t ? hi : *far_t;
+}
+
+/* Slab tests of a node's children with the ray's reciprocal direction: bit
+ * i set if child i is met before t_max, its entry distance in entry[i]. */
+KERNEL_FN int intersect_children(const GLOBAL BvhWideNode *node, const float *origin, const float *inverse_direction,
+                                 float t_max, float *entry)
+{
+    /* Written out per axis: pocl leaves loops over arrays of vectors in memory. */
+    float8 x0 = (vload8(0, node->lower[0]) - origin[0]) * inverse_direction[0];
+    float8 x1 = (vload8(0, node->upper[0]) - origin[0]) * inverse_direction[0];
+    float8 y0 = (vload8(0, node->lower[1]) - origin[1]) * inverse_direction[1];
+    float8 y1 = (vload8(0, node->upper[1]) - origin[1]) * inverse_direction[1];
+    float8 z0 = (vload8(0, node->lower[2]) - origin[2]) * inverse_direction[2];
+    float8 z1 = (vload8(0, node->upper[2]) - origin[2]) * inverse_direction[2];
+    float8 near_t = 0.0f, far_t = t_max;
+    narrow_to_slab(x0, x1, &near_t, &far_t);
+    narrow_to_slab(y0, y1, &near_t, &far_t);
+    narrow_to_slab(z0, z1, &near_t, &far_t);
+    vstore8(near_t, 0, entry);
+    return lane_bits((near_t <= far_t) & (vload8(0, node->count) >= 0));
+}
+
+/* intersect_triangle on a packet's 8 triangles at once: the nearest hit's
+ * lane (the first of equals, as a loop would find), or -1. */
+KERNEL_FN int intersect_packet(const Ray *ray, const GLOBAL TrianglePacket *p, float t_min, float t_max, float *t_out,
+                               float *u_out, float *v_out)
+{
+    float8 e1x = vload8(0, p->b[0]), e1y = vload8(0, p->b[1]), e1z = vload8(0, p->b[2]);
+    float8 e2x = vload8(0, p->c[0]), e2y = vload8(0, p->c[1]), e2z = vload8(0, p->c[2]);
+    float8 sx = ray->origin[0] - vload8(0, p->a[0]), sy = ray->origin[1] - vload8(0, p->a[1]),
+           sz = ray->origin[2] - vload8(0, p->a[2]);
+    float dx = ray->direction[0], dy = ray->direction[1], dz = ray->direction[2];
+    float8 pvx = dy * e2z - dz * e2y, pvy = dz * e2x - dx * e2z, pvz = dx * e2y - dy * e2x;
+    float8 det = e1x * pvx + e1y * pvy + e1z * pvz;
+    float8 sign = det < 0.0f ? (float8)(-1.0f) : (float8)(1.0f);
+    det *= sign;
+    float8 u = (sx * pvx + sy * pvy + sz * pvz) * sign;
+    float8 qx = sy * e1z - sz * e1y, qy = sz * e1x - sx * e1z, qz = sx * e1y - sy * e1x;
+    float8 v = (dx * qx + dy * qy + dz * qz) * sign;
+    float8 inv = 1.0f / det;
+    float8 t = (e2x * qx + e2y * qy + e2z * qz) * sign * inv;
+    int8 hit = (det != 0.0f) & (u >= 0.0f) & (u <= det) & (v >= 0.0f) & (u + v <= det) & (t > t_min) & (t < t_max);
+    if (!lane_bits(hit))
+        return -1;
+    float8 ts = hit ? t : (float8)(INFINITY);
+    float4 m4 = fmin(ts.lo, ts.hi);
+    float2 m2 = fmin(m4.lo, m4.hi);
+    float nearest = fmin(m2.x, m2.y);
+    int lane = lowest_bit(lane_bits(hit & (ts == nearest)));
+    float lanes[8];
+    *t_out = nearest;
+    vstore8(u * inv, 0, lanes);
+    *u_out = lanes[lane];
+    vstore8(v * inv, 0, lanes);
+    *v_out = lanes[lane];
+    return lane;
+}
+#else
+#define lowest_bit(x) __builtin_ctz((unsigned)(x))
+
+/* Host versions of the above, one lane at a time, rounding as the scalar
+ * tests do (test_bvh compares them with those bit for bit). */
+KERNEL_FN int intersect_children(const BvhWideNode *node, const float *origin, const float *inverse_direction,
+                                 float t_max, float *entry)
+{
+    int bits = 0;
+    for (int j = 0; j < BVH_WIDTH; ++j) {
+        float near_t = 0.0f, far_t = t_max;
+        for (int i = 0; i < 3; ++i) {
+            float t0 = (node->lower[i][j] - origin[i]) * inverse_direction[i];
+            float t1 = (node->upper[i][j] - origin[i]) * inverse_direction[i];
+            float lo = t0 < t1 ? t0 : t1, hi = t0 < t1 ? t1 : t0;
+            near_t = lo > near_t ? lo : near_t;
+            far_t = hi < far_t ? hi : far_t;
+        }
+        entry[j] = near_t;
+        bits |= (near_t <= far_t && node->count[j] >= 0) << j;
+    }
+    return bits;
+}
+
+KERNEL_FN int intersect_packet(const Ray *ray, const TrianglePacket *p, float t_min, float t_max, float *t_out,
+                               float *u_out, float *v_out)
+{
+    int lane = -1;
+    for (int j = 0; j < BVH_WIDTH; ++j) {
+        Primitive triangle;
+        for (int i = 0; i < 3; ++i) {
+            triangle.a[i] = p->a[i][j];
+            triangle.b[i] = p->b[i][j];
+            triangle.c[i] = p->c[i][j];
+        }
+        if (intersect_triangle(ray, &triangle, t_min, t_max, t_out, u_out, v_out)) {
+            t_max = *t_out;
+            lane = j;
+        }
+    }
+    return lane;
+}
+#endif
+
 /* Nearest hit in (t_min, t_max). With any_hit, returns at the first hit
- * (shadow rays). Returns 1 if something was hit. Children are tested from
- * their parent; the nearer one is visited first and the other is pushed
- * only if the ray meets it. */
+ * (shadow rays). Returns 1 if something was hit. A node's children are
+ * tested together; those the ray meets are pushed nearest on top, and a
+ * popped one is skipped if a hit nearer than its entry has been found. */
 KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive *primitives, const Ray *ray,
                             float t_min, float t_max, int any_hit, Hit *hit)
 {
@@ -144,40 +247,54 @@ KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive 
     hit->primitive = -1;
     hit->u = 0.0f;
     hit->v = 0.0f;
-    int stack[BVH_STACK_SIZE];
+    int stack[BVH_STACK_SIZE]; /* a child as its node's block * BVH_WIDTH + its lane */
+    float stack_entry[BVH_STACK_SIZE];
     int top = 0;
     int node_index = 0;
-    float entry = 0.0f;
-    if (!intersect_box(nodes, ray->origin, inverse_direction, t_max, &entry))
-        return 0;
-    for (;;) {
-        const GLOBAL BvhNode *node = nodes + node_index;
-        if (node->count >= 0) { /* a leaf; 0 only in an empty scene */
-            for (int i = node->first; i < node->first + node->count; ++i)
-                if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
-                    hit->primitive = i;
-                    if (any_hit)
-                        return 1;
-                }
-        } else {
-            int left = node_index + 1, right = node->first;
-            float left_entry = 0.0f, right_entry = 0.0f;
-            int hit_left = intersect_box(nodes + left, ray->origin, inverse_direction, hit->t, &left_entry);
-            int hit_right = intersect_box(nodes + right, ray->origin, inverse_direction, hit->t, &right_entry);
-            if (hit_left && hit_right) {
-                int near_child = left_entry <= right_entry ? left : right;
-                stack[top++] = near_child == left ? right : left; /* the builder bounds the depth */
-                node_index = near_child;
-                continue;
+    while (node_index >= 0) {
+        float entry[BVH_WIDTH];
+        int bits = intersect_children(&nodes[node_index].node, ray->origin, inverse_direction, hit->t, entry);
+        for (int base = top; bits; bits &= bits - 1) { /* the builder bounds the stack */
+            int lane = lowest_bit(bits), i = top++;
+            for (; i > base && stack_entry[i - 1] < entry[lane]; --i) {
+                stack[i] = stack[i - 1];
+                stack_entry[i] = stack_entry[i - 1];
             }
-            if (hit_left || hit_right) {
-                node_index = hit_left ? left : right;
-                continue;
-            }
+            stack[i] = node_index * BVH_WIDTH + lane;
+            stack_entry[i] = entry[lane];
         }
-        if (top == 0)
-            break;
-        node_index = stack[--top];
+        node_index = -1;
+        while (top > 0 && node_index < 0) {
+            --top;
+            if (stack_entry[top] > hit->t)
+                continue;
+            const GLOBAL BvhWideNode *parent = &nodes[stack[top] / BVH_WIDTH].node;
+            int lane = stack[top] % BVH_WIDTH, first = parent->child[lane], count = parent->count[lane];
+            if (count == 0) {
+                node_index = first;
+                continue;
+            }
+            int found = 0;
+            if (parent->packet[lane] >= 0) {
+                float t = 0.0f, u = 0.0f, v = 0.0f;
+                int k = intersect_packet(ray, &nodes[parent->packet[lane]].triangles, t_min, hit->t, &t, &u, &v);
+                if (k >= 0) {
+                    hit->t = t;
+                    hit->u = u;
+                    hit->v = v;
+                    hit->primitive = first + k;
+                    found = 1;
+                }
+            } else {
+                for (int i = first; i < first + count; ++i)
+                    if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
+                        hit->primitive = i;
+                        found = 1;
+                    }
+            }
+            if (found && any_hit)
+                return 1;
+        }
     }
     return hit->primitive >= 0;
 }

@@ -23,15 +23,34 @@ typedef struct {
     int32_t emitter; /* index into the emitter array, or -1 */
 } Primitive;
 
-/* A flattened BVH node, 32 bytes. Leaves (count > 0) hold primitives
- * [first, first + count) of the reordered primitive array. Interior nodes
- * have count = -(split axis + 1), their left child right after them and
- * their right child at `first`. */
+/* The BVH, an 8-wide tree flattened into an array of BvhNode blocks (block 0
+ * is the root). A node holds the boxes of up to 8 children, which a kernel
+ * tests at once with 8-wide vector operations, structure of arrays. A child
+ * is an inner node or a leaf of 1..8 primitives [first, first + count) of the
+ * reordered primitive array; an all-triangle leaf also has a packet of its
+ * triangles, in a block of its own, for an 8-wide intersection test. */
+#define BVH_WIDTH 8
+
 typedef struct {
-    float lower[3];
-    int32_t first;
-    float upper[3];
-    int32_t count;
+    float lower[3][BVH_WIDTH]; /* [axis][child] */
+    float upper[3][BVH_WIDTH];
+    int32_t child[BVH_WIDTH];  /* an inner child's block; a leaf's first primitive */
+    int32_t count[BVH_WIDTH];  /* 0: inner node; 1..BVH_WIDTH: a leaf; -1: no child */
+    int32_t packet[BVH_WIDTH]; /* a leaf's triangle packet block, or -1: test one by one */
+} BvhWideNode;
+
+/* A leaf's triangles as Primitive stores them ([component][triangle]); lanes
+ * past the leaf's count have zero edges, which never hit. */
+typedef struct {
+    float a[3][BVH_WIDTH];
+    float b[3][BVH_WIDTH];
+    float c[3][BVH_WIDTH];
+} TrianglePacket;
+
+/* 288 bytes. */
+typedef union {
+    BvhWideNode node;
+    TrianglePacket triangles;
 } BvhNode;
 
 /* Primitive.kind: the shape in the low byte, flags above it. */
@@ -101,7 +120,7 @@ typedef struct {
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
-_Static_assert(sizeof(BvhNode) == 32, "BvhNode must match the kernel's layout");
+_Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
 _Static_assert(sizeof(Material) == 64, "Material must match the kernel's layout");
 _Static_assert(sizeof(Emitter) == 32, "Emitter must match the kernel's layout");
 _Static_assert(sizeof(RenderParams) == 96, "RenderParams must match the kernel's layout");

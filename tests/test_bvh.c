@@ -20,14 +20,15 @@ static float uniform(TestRng *rng, float lo, float hi)
     return lo + (hi - lo) * (float)test_rng_uniform(rng);
 }
 
-static Primitive *random_scene(int count, TestRng *rng)
+/* Every sphere_every-th primitive a sphere (none if 0), the rest triangles. */
+static Primitive *random_scene(int count, int sphere_every, TestRng *rng)
 {
     Primitive *p = calloc((size_t)count, sizeof *p);
     for (int i = 0; i < count; ++i) {
         float centre[3] = {uniform(rng, -10, 10), uniform(rng, -10, 10), uniform(rng, -10, 10)};
         p[i].material = i % 3;
         p[i].emitter = -1;
-        if (i % 7 == 0) {
+        if (sphere_every && i % sphere_every == 0) {
             p[i].kind = PRIM_SPHERE;
             memcpy(p[i].a, centre, sizeof centre);
             p[i].b[0] = uniform(rng, 0.05f, 0.6f);
@@ -59,10 +60,10 @@ static Ray random_ray(TestRng *rng)
     return r;
 }
 
-static void check_against_brute_force(int count, int ray_count, int min_hits, uint64_t seed)
+static void check_against_brute_force(int count, int sphere_every, int ray_count, int min_hits, uint64_t seed)
 {
     TestRng rng = test_rng(seed);
-    Primitive *primitives = random_scene(count, &rng);
+    Primitive *primitives = random_scene(count, sphere_every, &rng);
     Bvh bvh;
     char error[256];
     assert_int_equal(bvh_build(primitives, count, &bvh, error, sizeof error), 0);
@@ -118,9 +119,12 @@ static void check_against_brute_force(int count, int ray_count, int min_hits, ui
 static void test_matches_brute_force(void **state)
 {
     (void)state;
-    check_against_brute_force(1, 2000, 100, 1);
-    check_against_brute_force(17, 2000, 150, 2);
-    check_against_brute_force(3000, 4000, 1000, 3);
+    check_against_brute_force(1, 7, 2000, 100, 1);
+    check_against_brute_force(17, 7, 2000, 150, 2);
+    check_against_brute_force(3000, 7, 4000, 1000, 3);
+    /* Triangles only: every leaf is a triangle packet. */
+    check_against_brute_force(17, 0, 2000, 150, 4);
+    check_against_brute_force(3000, 0, 4000, 1000, 5);
 }
 
 static void test_empty_scene(void **state)
@@ -145,6 +149,7 @@ static void test_identical_primitives_stay_shallow(void **state)
     Bvh bvh;
     char error[256];
     assert_int_equal(bvh_build(p, 100, &bvh, error, sizeof error), 0);
+    assert_true(bvh.largest_leaf > BVH_WIDTH); /* too many for a packet: tested one by one */
     Ray ray = {{0.2f, 0.2f, -1}, {0, 0, 1}};
     Hit hit;
     assert_true(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 0.0f, INFINITY, 0, &hit));

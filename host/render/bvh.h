@@ -1,6 +1,6 @@
 /* Bounding volume hierarchy over triangles and spheres, built on the host
- * with the surface area heuristic (binned) and flattened for the kernels
- * (kernels/intersect.h traverses it). */
+ * as a binary tree with the surface area heuristic (binned), then collapsed
+ * into the 8-wide tree the kernels traverse (kernels/intersect.h). */
 #ifndef HOST_RENDER_BVH_H
 #define HOST_RENDER_BVH_H
 
@@ -8,15 +8,15 @@
 
 #include <stddef.h>
 
-/* Deepest tree the kernels' traversal stack allows for. */
-#define BVH_MAX_DEPTH (BVH_STACK_SIZE - 4)
+/* Deepest binary tree the builder accepts. */
+#define BVH_MAX_DEPTH 92
 
 typedef struct {
-    BvhNode *nodes;
+    BvhNode *nodes; /* wide nodes and triangle packets */
     int node_count;
     Primitive *primitives; /* reordered so leaves reference ranges */
     int primitive_count;
-    int depth;
+    int depth; /* of the binary tree */
     int largest_leaf;
 } Bvh;
 

@@ -409,7 +409,7 @@ static int read_faces(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
                     return -1;
                 continue;
             }
-            size_t count;
+            size_t count = 0; /* set by read_list_count; gcc -O2 cannot tell */
             if (read_list_count(r, e, p, item, &count))
                 return -1;
             if (count != 3 && count != 4)
