@@ -21,8 +21,9 @@ def _value(row, key):
 
 
 def _lines(rows):
-    """(label, colour, rows) per line: the mean once (it is the same image for
-    every M; its times come from the first M's render), MoN and G-MoN per M."""
+    """(label, colour, rows) per line: the mean once (the same for every M up
+    to float rounding; its times come from the first M's render), MoN and
+    G-MoN per M."""
     all_sets = sorted({r["sets"] for r in rows})
     lines = [("mean", COLOURS["mean"], [r for r in rows if r["estimator"] == "mean" and r["sets"] == all_sets[0]])]
     for estimator in ("mon", "gmon"):

@@ -144,8 +144,9 @@ def page(all_rows, all_settings, arguments, docs):
            f"Each scene: one progressive render per M in {{{', '.join(map(str, first['sets']))}}} with checkpoints at "
            f"every power of two up to {first['max_spp']} spp, {first['resolution']}, seed {first['seed']}, "
            f"integrator {first['integrator']} (the references use seed 1000 and next-event estimation). The mean "
-           "is the same image for every M; the sets only change MoN and G-MoN. Times are wall-clock seconds on "
-           "the machine that ran the command (PoCL on CPU; shared, so noisy), render and estimators included.", "",
+           "is the same for every M up to float rounding; the sets only change MoN and G-MoN. Times are "
+           "wall-clock seconds on the machine that ran the command (PoCL on CPU; shared, so noisy), render and "
+           "estimators included.", "",
            "Reference floor: the reference's own RMSE and relMSE, estimated from its two independent halves "
            "(`scripts/gmon_sweep/references.py`). A value is marked † (column `at_floor` in the CSVs) when the "
            "measured MSE or relMSE is under twice the reference's: half or more of it may be the reference's own "

@@ -59,11 +59,12 @@ class TinySweep(unittest.TestCase):
         self.assertLess(mean[-1]["relmse"], mean[0]["relmse"] / 8)
         self.assertGreater(mean[-1]["ssim"], mean[0]["ssim"])
 
-    def test_the_mean_is_the_same_for_every_m(self):
+    def test_the_mean_is_the_same_for_every_m_up_to_rounding(self):
         lines = self.lines()
         for region in ("image", "light"):
             for a, b in zip(lines[(5, "mean", region)], lines[(21, "mean", region)]):
-                self.assertEqual((a["rmse"], a["ssim"], a["flip"]), (b["rmse"], b["ssim"], b["flip"]))
+                for key in ("rmse", "ssim", "flip"):  # the same samples, summed into other sets
+                    self.assertAlmostEqual(a[key], b[key], delta=1e-5 * abs(a[key]), msg=(region, key))
 
     def test_plots_are_written(self):
         for name in ("error-vs-spp.png", "error-vs-time.png", "crops.png"):
