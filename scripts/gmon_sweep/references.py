@@ -17,7 +17,6 @@ Writes <out>/<scene>.exr (float `mean` layer, ZIP) and <out>/<scene>.json
 
 import argparse
 import json
-import shlex
 import sys
 import tempfile
 from pathlib import Path
@@ -26,13 +25,7 @@ import numpy as np
 
 from . import crops, exr, metrics, renderer
 
-ROOT = Path(__file__).resolve().parents[2]
-
-
-def shown(path):
-    """A path as the repository-relative text written to files."""
-    path = Path(path).resolve()
-    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+ROOT = renderer.ROOT
 
 
 def residuals(half_a, half_b, regions):
@@ -61,15 +54,14 @@ def make_reference(gmonrt, scene, out_dir, spp, resolution, seed, crops_file, wo
         arguments = [scene, "--spp", half, "--first-sample", first, "--seed", seed, "--resolution", resolution,
                      "--integrator", "nee", "--estimators", "mean", "--quiet", "--outfile", outfile]
         seconds += renderer.run(gmonrt, arguments)
-        shown_arguments = [shown(scene), *map(str, arguments[1:-1]), outfile.name]
-        commands.append(shlex.join(["build/gmonrt", *shown_arguments]))
+        commands.append(renderer.command_line([*arguments[:-1], outfile.name]))  # the file name, not the temp dir
         images.append(renderer.read_estimate(outfile, "mean"))
     half_a, half_b = images
     reference = (half_a + half_b) / 2
     height, width, _ = reference.shape
     residual = residuals(half_a, half_b, crops.regions(crops_file, name, width, height))
     record = {
-        "scene": shown(scene),
+        "scene": renderer.shown(scene),
         "resolution": [width, height],
         "spp": spp,
         "seed": seed,
@@ -87,7 +79,7 @@ def make_reference(gmonrt, scene, out_dir, spp, resolution, seed, crops_file, wo
         "gmon.samples": spp,
         "gmon.seed": seed,
         "gmon.firstSample": 0,
-        "gmon.sceneFile": shown(scene),
+        "gmon.sceneFile": renderer.shown(scene),
         "residualRmse": f"{residual['image']['rmse']:.6g}",
         "residualRelmse": f"{residual['image']['relmse']:.6g}",
     })
@@ -117,7 +109,7 @@ def main(argv=None):
     p.add_argument("--seed", type=int, default=1000, help="seed of both halves (default 1000; sweeps must use another)")
     p.add_argument("--out", type=Path, default=ROOT / "references", help="output directory (default references/)")
     p.add_argument("--crops", type=Path, default=ROOT / "scenes" / "crops.json", help="default scenes/crops.json")
-    p.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="default build/gmonrt")
+    p.add_argument("--gmonrt", type=Path, default=renderer.GMONRT, help="default build/gmonrt")
     args = p.parse_args(argv)
     renderer.pocl_cache(ROOT / "build" / "pocl-cache")
     scenes = args.scenes or sorted((ROOT / "scenes").glob("*.pbrt"))

@@ -1,16 +1,32 @@
 """Running gmonrt."""
 
 import os
+import shlex
 import subprocess
 import time
+from pathlib import Path
 
 import numpy as np
 
 from . import exr
 
+ROOT = Path(__file__).resolve().parents[2]  # the repository
+GMONRT = ROOT / "build" / "gmonrt"
+
 # Estimates lie between set means, and gmonrt rejects a sample of 2^38 or
 # more as non-finite: no estimate it writes can exceed this.
 IMPLAUSIBLE = 2.0**38
+
+
+def shown(path):
+    """A path as written to records: relative to the repository if inside it."""
+    path = Path(path).resolve()
+    return str(path.relative_to(ROOT)) if path.is_relative_to(ROOT) else str(path)
+
+
+def command_line(arguments):
+    """The command `build/gmonrt ARGUMENTS` as text, paths shown()."""
+    return shlex.join(["build/gmonrt", *(shown(a) if isinstance(a, Path) else str(a) for a in arguments)])
 
 
 def run(gmonrt, arguments):

@@ -14,9 +14,9 @@ import shutil
 import sys
 from pathlib import Path
 
-from . import crops, references, renderer, sweep
+from . import crops, renderer, sweep
 
-ROOT = references.ROOT
+ROOT = renderer.ROOT
 NAMES = {"mean": "mean", "mon": "MoN", "gmon": "G-MoN"}
 FIGURES = ("error-vs-spp.png", "error-vs-time.png", "crops.png")
 
@@ -177,7 +177,7 @@ def main(argv=None):
     p.add_argument("--sweeps", type=Path, default=ROOT / "build" / "results",
                    help="where the sweeps go, one directory per scene (default build/results/)")
     p.add_argument("--no-render", action="store_true", help="rebuild the page from the sweeps already in --sweeps")
-    p.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="default build/gmonrt")
+    p.add_argument("--gmonrt", type=Path, default=renderer.GMONRT, help="default build/gmonrt")
     args = p.parse_args(argv)
     renderer.pocl_cache(ROOT / "build" / "pocl-cache")
     scenes = args.scenes or [s for s in sorted((ROOT / "scenes").glob("*.pbrt"))

@@ -7,11 +7,11 @@ the three estimates of the samples so far and records its wall-clock time to
 that point (estimators included, file writing excluded) and, given the
 reference, each estimator's RMSE and relMSE. Nothing is rendered twice for
 one M; the mean is the same for every M up to float rounding (the samples do
-not depend on M), only its time differs. This script then measures every checkpoint image
-on the whole image and on the scene's named crops (RMSE, relMSE, SSIM, FLIP,
-relative bias), checks its whole-image RMSE against the renderer's, flags
-errors the reference's own residual error could account for, and draws the
-plots.
+not depend on M), only its time differs. This script then measures every
+checkpoint image on the whole image and on the scene's named crops (RMSE,
+relMSE, SSIM, FLIP, relative bias), checks its whole-image RMSE against the
+renderer's, flags errors the reference's own residual error could account
+for, and draws the plots.
 
 Outputs in --out: sweep.csv (one row per M, checkpoint, estimator and
 region), sweep.json (settings, reference, commands), error-vs-spp.png,
@@ -21,13 +21,12 @@ error-vs-time.png, crops.png, and the renders (M<m>/spp-<n>.exr).
 import argparse
 import csv
 import json
-import shlex
 import sys
 from pathlib import Path
 
 from . import crops, exr, metrics, plots, references, renderer
 
-ROOT = references.ROOT
+ROOT = renderer.ROOT
 COLUMNS = ("scene", "sets", "estimator", "spp", "seconds", "region", "rmse", "relmse", "ssim", "flip", "rel_bias",
            "rmse_floor", "relmse_floor", "at_floor")
 # The renderer's RMSE and ours come from the same float pixels; they differ
@@ -50,7 +49,7 @@ def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, i
     if time_budget:
         arguments += ["--time", time_budget]
     renderer.run(gmonrt, arguments)
-    return shlex.join(["build/gmonrt", *(references.shown(a) if isinstance(a, Path) else str(a) for a in arguments)])
+    return renderer.command_line(arguments)
 
 
 def read_renderer_csv(path):
@@ -153,7 +152,7 @@ def sweep(args):
         rows += measure_run(run_dir, scene, sets, reference, regions, floors)
         print(f"{scene}: M = {sets} done", file=sys.stderr)
     write_csv(rows, out / "sweep.csv")
-    settings = {"scene": references.shown(args.scene), "reference": references.shown(reference_path),
+    settings = {"scene": renderer.shown(args.scene), "reference": renderer.shown(reference_path),
                 "reference_record": record, "resolution": resolution, "max_spp": args.max_spp, "time_budget": args.time,
                 "sets": args.sets, "seed": args.seed, "integrator": args.integrator,
                 "crops": {name: region for name, region in regions.items() if region}, "commands": commands}
@@ -193,7 +192,7 @@ def parser():
     p.add_argument("--figure-spp", type=positive_list,
                    help="checkpoints shown in crops.png (default, and in place of any not reached: the last)")
     p.add_argument("--out", type=Path, help="output directory (default build/sweep/<scene>)")
-    p.add_argument("--gmonrt", type=Path, default=ROOT / "build" / "gmonrt", help="default build/gmonrt")
+    p.add_argument("--gmonrt", type=Path, default=renderer.GMONRT, help="default build/gmonrt")
     return p
 
 
