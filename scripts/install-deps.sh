@@ -6,6 +6,7 @@ packages=(
   build-essential cmake pkg-config clang-format
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
   libopenexr-dev libcglm-dev libcmocka-dev
+  python3 python3-venv
 )
 
 missing=()
