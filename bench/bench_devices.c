@@ -64,35 +64,36 @@ static int load_scene(const char *path, const Options *o, RenderScene *scene)
     return 0;
 }
 
-/* Renders `repeats` times (after one warm-up); median samples/s. The
- * warm-up's build time goes to *first_build, the median of the others' to
- * *warm_build; the last run's output stays in *last (caller frees). */
-static int measure(ClDevice *devices, int count, const RenderScene *scene, const RenderSettings *s,
-                   unsigned long repeats, double *samples_per_second, double *first_build, double *warm_build,
-                   RenderOutput *last)
+/* One render: its samples/s and build time; the output is kept in *kept
+ * when that is not NULL (caller frees). */
+static int run_once(ClDevice *devices, int count, const RenderScene *scene, const RenderSettings *s, double *speed,
+                    double *build, RenderOutput *kept)
 {
-    double speeds[MAX_REPEATS], builds[MAX_REPEATS];
     char error[2048];
-    for (unsigned long r = 0; r <= repeats; ++r) {
-        RenderOutput out;
-        if (renderer_run(devices, count, scene, s, &out, error, sizeof error) != RENDER_OK) {
-            fprintf(stderr, "bench_devices: %s\n", error);
-            return -1;
-        }
-        double samples = (double)out.sample_count * out.width * out.height;
-        if (r == 0) {
-            *first_build = out.build_seconds;
-        } else {
-            speeds[r - 1] = samples / out.seconds;
-            builds[r - 1] = out.build_seconds;
-        }
-        if (r == repeats)
-            *last = out;
-        else
-            render_output_free(&out);
+    RenderOutput out;
+    if (renderer_run(devices, count, scene, s, &out, error, sizeof error) != RENDER_OK) {
+        fprintf(stderr, "bench_devices: %s\n", error);
+        return -1;
     }
+    *speed = (double)out.sample_count * out.width * out.height / out.seconds;
+    *build = out.build_seconds;
+    if (kept)
+        *kept = out;
+    else
+        render_output_free(&out);
+    return 0;
+}
+
+/* One warm-up render, then the median samples/s of `repeats` renders; the
+ * last render's output stays in *last (caller frees). */
+static int measure(ClDevice *devices, int count, const RenderScene *scene, const RenderSettings *s,
+                   unsigned long repeats, double *samples_per_second, RenderOutput *last)
+{
+    double speeds[MAX_REPEATS], build = 0.0;
+    for (unsigned long r = 0; r <= repeats; ++r)
+        if (run_once(devices, count, scene, s, r ? &speeds[r - 1] : &build, &build, r == repeats ? last : NULL))
+            return -1;
     *samples_per_second = median(speeds, repeats);
-    *warm_build = median(builds, repeats);
     return 0;
 }
 
@@ -106,17 +107,17 @@ static int devices_mode(ClDevice *devices, int count, const Options *o)
     s.sample_count = o->spp;
     printf("scene: %s, %lux%lu, %lu spp, M = %d; medians of %lu runs\n", o->scene, o->width, o->height, o->spp,
            s.estimator.set_count, o->repeats);
-    double alone[MAX_DEVICES], sum = 0.0, build = 0.0, warm = 0.0;
+    double alone[MAX_DEVICES], sum = 0.0;
     RenderOutput out;
     for (int i = 0; i < count; ++i) {
-        if (measure(&devices[i], 1, &scene, &s, o->repeats, &alone[i], &build, &warm, &out))
+        if (measure(&devices[i], 1, &scene, &s, o->repeats, &alone[i], &out))
             return 1;
         render_output_free(&out);
         printf("device %d alone: %.3f Msamples/s  (%s)\n", i, alone[i] * 1e-6, devices[i].info.name);
         sum += alone[i];
     }
     double together = 0.0;
-    if (measure(devices, count, &scene, &s, o->repeats, &together, &build, &warm, &out))
+    if (measure(devices, count, &scene, &s, o->repeats, &together, &out))
         return 1;
     printf("all %d devices: %.3f Msamples/s, %d rebalances in the last run\n", count, together * 1e-6, out.rebalances);
     uint64_t total = 0;
@@ -159,20 +160,30 @@ static int features_mode(ClDevice *device, const Options *o)
         RenderScene scene;
         if (load_scene(scenes[k], o, &scene))
             return 1;
-        double speed[2];
+        /* The two variants' runs alternate, so that drifts in the machine's
+         * speed hit both alike. */
+        RenderSettings settings[2];
+        double cold[2], warm[2][MAX_REPEATS], speeds[2][MAX_REPEATS], speed[2], ignored = 0.0;
+        RenderOutput last[2];
         for (int all = 0; all < 2; ++all) {
-            RenderSettings s;
-            render_settings_default(&s);
-            s.sample_count = o->spp;
-            s.all_features = all;
-            double cold = 0.0, warm = 0.0;
-            RenderOutput out;
-            if (measure(device, 1, &scene, &s, o->repeats, &speed[all], &cold, &warm, &out))
+            render_settings_default(&settings[all]);
+            settings[all].sample_count = o->spp;
+            settings[all].all_features = all;
+            if (run_once(device, 1, &scene, &settings[all], &ignored, &cold[all], NULL))
                 return 1;
-            const char *name = strrchr(scenes[k], '/');
+        }
+        for (unsigned long r = 0; r < o->repeats; ++r)
+            for (int all = 0; all < 2; ++all)
+                if (run_once(device, 1, &scene, &settings[all], &speeds[all][r], &warm[all][r],
+                             r + 1 == o->repeats ? &last[all] : NULL))
+                    return 1;
+        const char *name = strrchr(scenes[k], '/');
+        for (int all = 0; all < 2; ++all) {
+            speed[all] = median(speeds[all], o->repeats);
             printf("%-28s %-12s %8x %12.3f %10.2f s %10.2f s\n", name ? name + 1 : scenes[k],
-                   all ? "all" : "specialized", (unsigned)out.features, speed[all] * 1e-6, cold, warm);
-            render_output_free(&out);
+                   all ? "all" : "specialized", (unsigned)last[all].features, speed[all] * 1e-6, cold[all],
+                   median(warm[all], o->repeats));
+            render_output_free(&last[all]);
         }
         printf("%-28s specialized / all: %.3f\n", "", speed[0] / speed[1]);
         render_scene_destroy(&scene);
