@@ -256,17 +256,21 @@ static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *h
                                              region, buffer_pitch, 0, host_pitch, 0, parts[i].host, 0, NULL, NULL)
                   : clEnqueueReadBufferRect(w->device->queue, parts[i].buffer, CL_TRUE, buffer_origin, host_origin,
                                             region, buffer_pitch, 0, host_pitch, 0, parts[i].host, 0, NULL, NULL);
-        if (err != CL_SUCCESS)
+        if (err != CL_SUCCESS) {
+            cl_report_error(write ? "clEnqueueWriteBufferRect" : "clEnqueueReadBufferRect", err, __FILE__, __LINE__);
             return err;
+        }
     }
     return CL_SUCCESS;
 }
 
 /* Splits the image among the live workers in proportion to `weights` (each
- * gets at least one pixel) and gives each the saved state of its pixels.
- * Returns 0; -1 if a worker failed (dropped: call again); -2 if a share does
- * not fit a device (message in `error`). */
-static int assign_pixels(Render *r, const double *weights, char *error, size_t error_size)
+ * gets at least one pixel) and gives each the saved state of its pixels; a
+ * worker whose pixels stay the same keeps its state unless `reload` (its
+ * state is newer than the saved one after a failure). Returns 0; -1 if a
+ * worker failed (dropped: call again); -2 if a share does not fit a device
+ * (message in `error`). */
+static int assign_pixels(Render *r, const double *weights, int reload, char *error, size_t error_size)
 {
     double total = 0.0;
     int live = live_workers(r);
@@ -286,7 +290,7 @@ static int assign_pixels(Render *r, const double *weights, char *error, size_t e
         size_t most = r->pixels - (size_t)(live - seen); /* leave a pixel for each worker after */
         end = end < first + 1 ? first + 1 : (end > most ? most : end);
         size_t count = end - first;
-        int unchanged = w->accumulators && w->first == first && w->count == count;
+        int unchanged = !reload && w->accumulators && w->first == first && w->count == count;
         if (!unchanged) {
             release_state(w);
             size_t accumulator_bytes = count * r->planes * sizeof(uint64_t);
@@ -307,10 +311,11 @@ static int assign_pixels(Render *r, const double *weights, char *error, size_t e
                 w->rejected = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint32_t), NULL, &err);
             if (err == CL_SUCCESS)
                 w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
-            if (err == CL_SUCCESS)
+            if (err != CL_SUCCESS)
+                cl_report_error("clCreateBuffer", err, __FILE__, __LINE__);
+            else
                 err = transfer_state(r, w, 1, &r->saved);
             if (err != CL_SUCCESS) {
-                cl_report_error("allocating and filling the accumulators", err, __FILE__, __LINE__);
                 drop_on_cl_error(r, w, "allocating and filling the accumulators");
                 return -1;
             }
@@ -321,14 +326,15 @@ static int assign_pixels(Render *r, const double *weights, char *error, size_t e
     return 0;
 }
 
-/* assign_pixels, again while workers fail. Returns 0, -1 when none is
- * left, -2 as assign_pixels. */
+/* assign_pixels with every worker reloaded from the saved state, again
+ * while workers fail. Returns 0, -1 when none is left, -2 as
+ * assign_pixels. */
 static int assign_until_settled(Render *r, const double *weights, char *error, size_t error_size)
 {
     for (;;) {
         if (live_workers(r) == 0)
             return -1;
-        int status = assign_pixels(r, weights, error, error_size);
+        int status = assign_pixels(r, weights, 1, error, error_size);
         if (status != -1)
             return status;
     }
@@ -689,7 +695,7 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         int save_due = now_seconds() - r.saved_at >= 20.0 * r.save_seconds;
         if ((rebalance || save_due) && done_samples < s->sample_count && !stop) {
             if (save_state(&r, done_samples) != 0 ||
-                (rebalance && (++out->rebalances, assign_pixels(&r, weights, error, error_size) != 0))) {
+                (rebalance && (++out->rebalances, assign_pixels(&r, weights, 0, error, error_size) != 0))) {
                 if (roll_back(&r, weights, &done_samples, error, error_size))
                     goto done;
                 per_pass = 1;
