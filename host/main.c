@@ -138,10 +138,9 @@ static int render(const Options *o)
     RenderOutput out;
     RenderStatus rendered = renderer_run(devices, device_count, &scene, &settings, &out, error, sizeof error);
     progress_finish(&progress);
-    if (o->checkpoints && checkpoints_close(&checkpoints) != 0 && rendered != RENDER_FAILED) {
+    int checkpoints_failed = o->checkpoints && checkpoints_close(&checkpoints) != 0;
+    if (checkpoints_failed)
         fprintf(stderr, "gmonrt: writing %s/checkpoints.csv failed\n", o->checkpoints);
-        rendered = RENDER_INCOMPLETE;
-    }
     if (rendered == RENDER_FAILED) {
         fprintf(stderr, "gmonrt: %s\n", error);
         devices_close(devices, device_count);
@@ -172,7 +171,7 @@ static int render(const Options *o)
     render_output_free(&out);
     devices_close(devices, device_count);
     render_scene_destroy(&scene);
-    if (status == 0 && rendered == RENDER_INCOMPLETE)
+    if (status == 0 && (rendered == RENDER_INCOMPLETE || checkpoints_failed))
         status = 1;
     return status == 0 && interrupted ? 130 : status;
 }
