@@ -58,8 +58,8 @@ static void print_summary(const Options *o, const RenderOutput *out)
                (double)d->peak_bytes / (1024.0 * 1024.0), d->build_seconds, d->failed ? ", FAILED: " : "",
                d->failed ? d->error : "");
     }
-    printf("  kernel features 0x%x, %d rebalance%s\n", (unsigned)out->features, out->rebalances,
-           out->rebalances == 1 ? "" : "s");
+    printf("  kernel features 0x%x, %d rebalance%s, start-up %.2f s (program builds and first-launch compiles)\n",
+           (unsigned)out->features, out->rebalances, out->rebalances == 1 ? "" : "s", out->build_seconds);
 }
 
 static int render(const Options *o)
