@@ -145,22 +145,31 @@ static void test_all_devices_equal_one_device(void **state)
     render_output_free(&all);
 }
 
+/* Renders on every device with `fault` injected: the render succeeds without
+ * device `failed`, and equals the render on device 0 alone. The output stays
+ * in *rest (caller frees). */
+static void assert_fault_changes_nothing(const char *fault, int failed, RenderOutput *rest)
+{
+    RenderSettings s = small_settings();
+    RenderOutput one;
+    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
+    setenv(RENDER_FAULT_ENV, fault, 1);
+    RenderStatus status = render_on(0, device_count, &s, rest);
+    unsetenv(RENDER_FAULT_ENV);
+    assert_int_equal(status, RENDER_OK);
+    for (int i = 0; i < device_count; ++i)
+        assert_int_equal(rest->devices[i].failed, i == failed);
+    assert_non_null(strstr(rest->devices[failed].error, "injected"));
+    assert_same_render(&one, rest);
+    render_output_free(&one);
+}
+
 static void test_device_failing_mid_render_changes_nothing(void **state)
 {
     (void)state;
     REQUIRE_DEVICES(2);
-    RenderSettings s = small_settings();
-    RenderOutput one, rest;
-    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
-    setenv(RENDER_FAULT_ENV, "1:pass:4", 1);
-    RenderStatus status = render_on(0, device_count, &s, &rest);
-    unsetenv(RENDER_FAULT_ENV);
-    assert_int_equal(status, RENDER_OK);
-    assert_true(rest.devices[1].failed);
-    assert_non_null(strstr(rest.devices[1].error, "injected"));
-    assert_false(rest.devices[0].failed);
-    assert_same_render(&one, &rest);
-    render_output_free(&one);
+    RenderOutput rest;
+    assert_fault_changes_nothing("1:pass:4", 1, &rest);
     render_output_free(&rest);
 }
 
@@ -168,17 +177,9 @@ static void test_device_failing_to_build_is_left_out(void **state)
 {
     (void)state;
     REQUIRE_DEVICES(2);
-    RenderSettings s = small_settings();
-    RenderOutput one, rest;
-    assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
-    setenv(RENDER_FAULT_ENV, "0:build", 1);
-    RenderStatus status = render_on(0, device_count, &s, &rest);
-    unsetenv(RENDER_FAULT_ENV);
-    assert_int_equal(status, RENDER_OK);
-    assert_true(rest.devices[0].failed);
+    RenderOutput rest;
+    assert_fault_changes_nothing("0:build", 0, &rest);
     assert_int_equal(rest.devices[0].samples, 0);
-    assert_same_render(&one, &rest);
-    render_output_free(&one);
     render_output_free(&rest);
 }
 
