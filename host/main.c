@@ -191,44 +191,7 @@ static int estimate(const Options *o)
         exr_image_free(&in);
         return 1;
     }
-    EstimatorSettings settings = o->estimator;
-    settings.set_count = in.metadata.set_count; /* the file's M and sample range */
-    settings.first_sample = in.metadata.first_sample;
-    size_t pixels = (size_t)in.width * (size_t)in.height;
-    size_t values = pixels * 3;
-    float *mean = malloc(values * sizeof(float)), *mon = malloc(values * sizeof(float)),
-          *gmon = malloc(values * sizeof(float)), *gini = malloc(values * sizeof(float));
-    int32_t *trim = malloc(values * sizeof(int32_t));
-    int status = 1;
-    if (!mean || !mon || !gmon || !gini || !trim) {
-        fprintf(stderr, "gmonrt: out of memory\n");
-        goto done;
-    }
-    EstimatorImages images = {mean, mon, gmon, gini, trim, values};
-    if (estimator_from_accumulators(&settings, in.accumulators, (size_t)settings.set_count * 3 * 2 * pixels, pixels,
-                                    in.metadata.sample_count, &images, error, sizeof error) != ESTIMATOR_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
-        goto done;
-    }
-    ExrImage out = in;
-    out.storage = NULL;
-    out.mean = (o->outputs & ESTIMATOR_OUTPUT_MEAN) ? mean : NULL;
-    out.mon = (o->outputs & ESTIMATOR_OUTPUT_MON) ? mon : NULL;
-    out.gmon = (o->outputs & ESTIMATOR_OUTPUT_GMON) ? gmon : NULL;
-    out.gini = o->diagnostics ? gini : NULL;
-    out.trim = o->diagnostics ? trim : NULL;
-    out.accumulators = o->write_sets ? in.accumulators : NULL;
-    out.metadata.gini_mode = settings.gini_mode;
-    char exr_name[4096];
-    replace_extension(o->outfile ? o->outfile : "estimate.exr", ".exr", exr_name, sizeof exr_name);
-    status = write_render_files(exr_name, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview,
-                                o->quiet);
-done:
-    free(mean);
-    free(mon);
-    free(gmon);
-    free(gini);
-    free(trim);
+    int status = write_estimates(o, &in, o->write_sets, "estimate.exr");
     exr_image_free(&in);
     return status;
 }

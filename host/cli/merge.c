@@ -51,7 +51,6 @@ int merge_command(const Options *o)
 {
     const int count = o->merge_count;
     Part *parts = calloc((size_t)count, sizeof *parts);
-    float *images[5] = {NULL};
     uint64_t *sums = NULL;
     uint32_t *nonfinite = NULL;
     int status = 1;
@@ -93,9 +92,7 @@ int merge_command(const Options *o)
     const size_t words = (size_t)m * EST_CHANNELS * 2 * pixels;
     sums = calloc(words, sizeof *sums);
     nonfinite = calloc(pixels, sizeof *nonfinite);
-    for (int k = 0; k < 5; ++k)
-        images[k] = malloc(pixels * EST_CHANNELS * sizeof(float));
-    if (!sums || !nonfinite || !images[0] || !images[1] || !images[2] || !images[3] || !images[4])
+    if (!sums || !nonfinite)
         goto out_of_memory;
     uint64_t samples = 0;
     for (int i = 0; i < count; ++i) {
@@ -115,39 +112,20 @@ int merge_command(const Options *o)
         samples += part->metadata.sample_count;
     }
 
-    EstimatorSettings settings = o->estimator;
-    settings.set_count = m;
-    settings.first_sample = first->metadata.first_sample;
-    EstimatorImages estimates = {
-        images[0], images[1], images[2], images[3], (int32_t *)images[4], pixels * EST_CHANNELS};
-    char error[1024];
-    if (estimator_from_accumulators(&settings, sums, words, pixels, samples, &estimates, error, sizeof error) !=
-        ESTIMATOR_OK) {
-        fprintf(stderr, "gmonrt: merge: %s\n", error);
-        goto done;
-    }
     ExrImage merged = *first;
     merged.storage = NULL;
-    merged.mean = (o->outputs & ESTIMATOR_OUTPUT_MEAN) ? images[0] : NULL;
-    merged.mon = (o->outputs & ESTIMATOR_OUTPUT_MON) ? images[1] : NULL;
-    merged.gmon = (o->outputs & ESTIMATOR_OUTPUT_GMON) ? images[2] : NULL;
-    merged.gini = o->diagnostics ? images[3] : NULL;
-    merged.trim = o->diagnostics ? (const int32_t *)images[4] : NULL;
     merged.nonfinite = o->diagnostics ? nonfinite : NULL;
-    merged.accumulators = sums; /* a merged render can be merged again */
+    merged.accumulators = sums;
     merged.metadata.sample_count = samples;
-    merged.metadata.gini_mode = settings.gini_mode;
     merged.metadata.software = "gmonrt merge";
     merged.metadata.extras = NULL;
     merged.metadata.extra_count = 0;
-    char exr_path[4096];
-    replace_extension(o->outfile ? o->outfile : "merged.exr", ".exr", exr_path, sizeof exr_path);
-    status = write_render_files(exr_path, &merged, preview_image(o->preview, images[0], images[1], images[2]),
-                                o->exposure, o->preview, o->quiet);
+    /* The sums stay in the file: a merged render can be merged again. */
+    status = write_estimates(o, &merged, 1, "merged.exr");
     if (status == 0 && !o->quiet)
         printf("merged %d parts: samples [%llu, %llu), M = %d, %dx%d\n", count,
-               (unsigned long long)settings.first_sample, (unsigned long long)(settings.first_sample + samples), m,
-               first->width, first->height);
+               (unsigned long long)first->metadata.first_sample,
+               (unsigned long long)(first->metadata.first_sample + samples), m, first->width, first->height);
     goto done;
 
 out_of_memory:
@@ -158,7 +136,5 @@ done:
     free(parts);
     free(sums);
     free(nonfinite);
-    for (int k = 0; k < 5; ++k)
-        free(images[k]);
     return status;
 }

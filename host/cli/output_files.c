@@ -3,6 +3,7 @@
 #include "io/png_image.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 void replace_extension(const char *path, const char *extension, char *out, size_t size)
@@ -38,4 +39,45 @@ int write_render_files(const char *exr_path, const ExrImage *image, const float 
     if (!quiet)
         fprintf(stderr, "wrote %s and %s (preview: %s)\n", exr_path, png_path, preview_name);
     return 0;
+}
+
+int write_estimates(const Options *o, const ExrImage *sums, int keep_sets, const char *default_path)
+{
+    EstimatorSettings settings = o->estimator;
+    settings.set_count = sums->metadata.set_count;
+    settings.first_sample = sums->metadata.first_sample;
+    const size_t pixels = (size_t)sums->width * (size_t)sums->height, values = pixels * 3;
+    float *mean = malloc(values * sizeof(float)), *mon = malloc(values * sizeof(float)),
+          *gmon = malloc(values * sizeof(float)), *gini = malloc(values * sizeof(float));
+    int32_t *trim = malloc(values * sizeof(int32_t));
+    int status = 1;
+    char error[1024];
+    EstimatorImages images = {mean, mon, gmon, gini, trim, values};
+    if (!mean || !mon || !gmon || !gini || !trim) {
+        fprintf(stderr, "gmonrt: out of memory\n");
+    } else if (estimator_from_accumulators(&settings, sums->accumulators, (size_t)settings.set_count * 3 * 2 * pixels,
+                                           pixels, sums->metadata.sample_count, &images, error,
+                                           sizeof error) != ESTIMATOR_OK) {
+        fprintf(stderr, "gmonrt: %s\n", error);
+    } else {
+        ExrImage out = *sums;
+        out.storage = NULL;
+        out.mean = (o->outputs & ESTIMATOR_OUTPUT_MEAN) ? mean : NULL;
+        out.mon = (o->outputs & ESTIMATOR_OUTPUT_MON) ? mon : NULL;
+        out.gmon = (o->outputs & ESTIMATOR_OUTPUT_GMON) ? gmon : NULL;
+        out.gini = o->diagnostics ? gini : NULL;
+        out.trim = o->diagnostics ? trim : NULL;
+        out.accumulators = keep_sets ? sums->accumulators : NULL;
+        out.metadata.gini_mode = settings.gini_mode;
+        char exr_path[4096];
+        replace_extension(o->outfile ? o->outfile : default_path, ".exr", exr_path, sizeof exr_path);
+        status = write_render_files(exr_path, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview,
+                                    o->quiet);
+    }
+    free(mean);
+    free(mon);
+    free(gmon);
+    free(gini);
+    free(trim);
+    return status;
 }

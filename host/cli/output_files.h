@@ -2,6 +2,7 @@
 #ifndef HOST_CLI_OUTPUT_FILES_H
 #define HOST_CLI_OUTPUT_FILES_H
 
+#include "cli/options.h"
 #include "io/exr_image.h"
 
 #include <stddef.h>
@@ -16,5 +17,13 @@ const float *preview_image(const char *name, const float *mean, const float *mon
  * Returns 0, or 1 after printing the error. */
 int write_render_files(const char *exr_path, const ExrImage *image, const float *preview, float exposure,
                        const char *preview_name, int quiet);
+
+/* Estimates the set sums of `sums` (its accumulators, M, first sample and
+ * sample count) on the host with the options' Gini mode, and writes `sums`
+ * with the estimator layers the options ask for (its other layers and
+ * metadata as they are; the sums themselves only with keep_sets) to
+ * --outfile, else default_path, and the preview beside it. Returns 0, or 1
+ * after printing the error. */
+int write_estimates(const Options *options, const ExrImage *sums, int keep_sets, const char *default_path);
 
 #endif
