@@ -578,6 +578,128 @@ static void test_exr_write_errors(void **state)
     assert_int_equal(exr_image_write(NULL, &image, NULL, 0), IMAGE_IO_ERROR);
 }
 
+/* Sets the header's compression byte ("compression", type "compression",
+ * size 1) of an EXR file: for the compressions OpenEXRCore 3.1 cannot write
+ * (DWAA, DWAB). */
+static void patch_compression(const char *path, exr_compression_t compression)
+{
+    static const char attribute[] = "compression\0compression\0\1\0\0";
+    size_t size = 0;
+    uint8_t *bytes = read_whole_file(path, &size);
+    assert_non_null(bytes);
+    uint8_t *at = NULL;
+    for (size_t i = 0; !at && i + sizeof attribute < size; ++i)
+        if (memcmp(bytes + i, attribute, sizeof attribute) == 0)
+            at = bytes + i + sizeof attribute;
+    assert_non_null(at);
+    *at = (uint8_t)compression;
+    write_whole_file(path, bytes, size);
+    free(bytes);
+}
+
+/* Re-saves `source` as `path` the way another tool might: the same channels
+ * and attributes, another compression (the pixels are zeros: the reader
+ * must judge the compression before it decodes them). */
+static void resave_with_compression(const char *source, const char *path, exr_compression_t compression)
+{
+    const int patched = compression == EXR_COMPRESSION_DWAA || compression == EXR_COMPRESSION_DWAB;
+    const exr_compression_t written = patched ? EXR_COMPRESSION_NONE : compression;
+    exr_context_t in = NULL, out = NULL;
+    int part = 0;
+    assert_int_equal(exr_start_read(&in, source, NULL), EXR_ERR_SUCCESS);
+    exr_attr_box2i_t window;
+    assert_int_equal(exr_get_data_window(in, 0, &window), EXR_ERR_SUCCESS);
+    const int width = window.max.x - window.min.x + 1, height = window.max.y - window.min.y + 1;
+    assert_int_equal(exr_start_write(&out, path, EXR_WRITE_FILE_DIRECTLY, NULL), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_add_part(out, NULL, EXR_STORAGE_SCANLINE, &part), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_initialize_required_attr_simple(out, part, width, height, written), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_copy_unset_attributes(out, part, in, 0), EXR_ERR_SUCCESS);
+    assert_int_equal(exr_write_header(out), EXR_ERR_SUCCESS);
+    int32_t rows_per_chunk = 0;
+    assert_int_equal(exr_get_scanlines_per_chunk(out, part, &rows_per_chunk), EXR_ERR_SUCCESS);
+    uint8_t *zeros = calloc((size_t)width * (size_t)rows_per_chunk, 4);
+    assert_non_null(zeros);
+    exr_encode_pipeline_t encoder;
+    memset(&encoder, 0, sizeof encoder);
+    for (int y = 0; y < height; y += rows_per_chunk) {
+        exr_chunk_info_t chunk;
+        assert_int_equal(exr_write_scanline_chunk_info(out, part, y, &chunk), EXR_ERR_SUCCESS);
+        assert_int_equal(y == 0 ? exr_encoding_initialize(out, part, &chunk, &encoder)
+                                : exr_encoding_update(out, part, &chunk, &encoder),
+                         EXR_ERR_SUCCESS);
+        for (int c = 0; c < encoder.channel_count; ++c) {
+            exr_coding_channel_info_t *channel = &encoder.channels[c];
+            channel->user_bytes_per_element = channel->bytes_per_element;
+            channel->user_data_type = channel->data_type;
+            channel->user_pixel_stride = channel->bytes_per_element;
+            channel->user_line_stride = channel->bytes_per_element * width;
+            channel->encode_from_ptr = zeros;
+        }
+        if (y == 0)
+            assert_int_equal(exr_encoding_choose_default_routines(out, part, &encoder), EXR_ERR_SUCCESS);
+        assert_int_equal(exr_encoding_run(out, part, &encoder), EXR_ERR_SUCCESS);
+    }
+    exr_encoding_destroy(out, &encoder);
+    assert_int_equal(exr_finish(&out), EXR_ERR_SUCCESS);
+    exr_finish(&in);
+    free(zeros);
+    if (patched)
+        patch_compression(path, compression);
+}
+
+/* Set sums re-saved with a lossy compression, or B44 (decoded wrongly by
+ * OpenEXR 3.1.5, without an error), are refused with the compression's
+ * name; lossless compressions read. */
+static void test_exr_set_sums_refused_with_lossy_compression(void **state)
+{
+    (void)state;
+    const char *source = "test_image_io_compression_source.exr", *path = "test_image_io_compression.exr";
+    char error[512] = "";
+    TestImage t = make_full_image(5, 3, 2, 11);
+    if (exr_image_write(source, &t.image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    static const struct {
+        exr_compression_t compression;
+        const char *name;
+        int refused;
+    } cases[] = {{EXR_COMPRESSION_NONE, "NONE", 0}, {EXR_COMPRESSION_RLE, "RLE", 0},
+                 {EXR_COMPRESSION_ZIPS, "ZIPS", 0}, {EXR_COMPRESSION_ZIP, "ZIP", 0},
+                 {EXR_COMPRESSION_PIZ, "PIZ", 0},   {EXR_COMPRESSION_PXR24, "PXR24", 1},
+                 {EXR_COMPRESSION_B44, "B44", 1},   {EXR_COMPRESSION_B44A, "B44A", 1},
+                 {EXR_COMPRESSION_DWAA, "DWAA", 1}, {EXR_COMPRESSION_DWAB, "DWAB", 1}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        resave_with_compression(source, path, cases[i].compression);
+        ExrImage read;
+        ImageIoStatus status = exr_image_read(path, &read, error, sizeof error);
+        if (cases[i].refused) {
+            if (status == IMAGE_IO_OK)
+                fail_msg("set sums with %s compression were read", cases[i].name);
+            char expected[64];
+            snprintf(expected, sizeof expected, "with %s compression", cases[i].name);
+            if (!strstr(error, expected) || !strstr(error, path))
+                fail_msg("the error for %s does not name it and the file: '%s'", cases[i].name, error);
+        } else {
+            if (status != IMAGE_IO_OK)
+                fail_msg("set sums with %s compression: %s", cases[i].name, error);
+            assert_non_null(read.accumulators);
+            assert_int_equal(read.metadata.set_count, 2);
+        }
+        exr_image_free(&read);
+    }
+    /* Without set sums a lossy file is an ordinary image. */
+    t.image.accumulators = NULL;
+    if (exr_image_write(source, &t.image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    resave_with_compression(source, path, EXR_COMPRESSION_B44);
+    ExrImage read;
+    if (exr_image_read(path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("an image without set sums, B44: %s", error);
+    exr_image_free(&read);
+    free_test_image(&t);
+    remove(source);
+    remove(path);
+}
+
 /* ------------------------------------------------------------------------
  * PNG
  * ---------------------------------------------------------------------- */
@@ -811,6 +933,7 @@ int main(void)
         cmocka_unit_test(test_exr_foreign_file),
         cmocka_unit_test(test_exr_missing_and_damaged_files),
         cmocka_unit_test(test_exr_write_errors),
+        cmocka_unit_test(test_exr_set_sums_refused_with_lossy_compression),
         cmocka_unit_test(test_png_srgb_codes),
         cmocka_unit_test(test_png_small_image),
         cmocka_unit_test(test_png_several_blocks),

@@ -951,6 +951,31 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
     return IMAGE_IO_OK;
 }
 
+/* Set sums must read back exactly: a file re-saved with a lossy
+ * compression, or with B44 (which OpenEXR 3.1.5 decodes wrongly for them,
+ * without an error), is refused rather than read as other sums. */
+static ImageIoStatus check_sums_compression(IoContext *io, exr_const_context_t ctxt)
+{
+    static const struct {
+        exr_compression_t compression;
+        const char *name;
+    } refused[] = {{EXR_COMPRESSION_PXR24, "PXR24"},
+                   {EXR_COMPRESSION_B44, "B44"},
+                   {EXR_COMPRESSION_B44A, "B44A"},
+                   {EXR_COMPRESSION_DWAA, "DWAA"},
+                   {EXR_COMPRESSION_DWAB, "DWAB"}};
+    exr_compression_t compression;
+    if (EXR_FAILED(io, exr_get_compression(ctxt, 0, &compression), "cannot read the compression"))
+        return IMAGE_IO_ERROR;
+    for (size_t i = 0; i < sizeof refused / sizeof refused[0]; ++i)
+        if (compression == refused[i].compression)
+            return fail(io,
+                        "the per-set sums are stored with %s compression, which does not read them back exactly "
+                        "(re-save with NONE, RLE, ZIPS, ZIP or PIZ, or render again)",
+                        refused[i].name);
+    return IMAGE_IO_OK;
+}
+
 static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrImage *image)
 {
     int part_count = 0;
@@ -988,6 +1013,8 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     int found[LAYER_COUNT];
     int set_count = 0, wanted = 0;
     ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &wanted);
+    if (status == IMAGE_IO_OK && found[LAYER_SETS])
+        status = check_sums_compression(io, ctxt);
     if (status == IMAGE_IO_OK && found[LAYER_SETS]) {
         if (image->metadata.set_count == 0)
             image->metadata.set_count = set_count;
