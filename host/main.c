@@ -4,6 +4,8 @@
 #include "cl/cl_device.h"
 #include "cli/checkpoints.h"
 #include "cli/devices.h"
+#include "cli/estimate.h"
+#include "cli/interrupt.h"
 #include "cli/merge.h"
 #include "cli/options.h"
 #include "cli/output_files.h"
@@ -14,7 +16,6 @@
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
-#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,14 +23,6 @@
 #ifndef GMON_DEFAULT_SCENE
 #define GMON_DEFAULT_SCENE "scenes/cornell-glass.pbrt"
 #endif
-
-static volatile sig_atomic_t interrupted;
-
-static void on_interrupt(int signal_number)
-{
-    (void)signal_number;
-    interrupted = 1;
-}
 
 static const char *gini_mode_name(GiniMode mode)
 {
@@ -62,8 +55,22 @@ static void print_summary(const Options *o, const RenderOutput *out)
            (unsigned)out->features, out->rebalances, out->rebalances == 1 ? "" : "s", out->build_seconds);
 }
 
+/* The progress callback: once a pass has samples, a signal keeps them. */
+static void on_progress(void *user, uint64_t done, uint64_t total, double seconds)
+{
+    if (done > 0)
+        interrupt_keep_samples();
+    progress_update(user, done, total, seconds);
+}
+
 static int render(const Options *o)
 {
+    /* Devices first: a --device that names none here is a bad command line,
+     * reported before a long scene load. */
+    ClDevice devices[DEVICES_MAX];
+    int device_count = devices_open(&o->devices, devices, DEVICES_MAX);
+    if (device_count <= 0)
+        return device_count < 0 ? 2 : 1;
     const char *scene_path = o->input ? o->input : GMON_DEFAULT_SCENE;
     RenderScene scene;
     SceneSummary summary;
@@ -71,8 +78,10 @@ static int render(const Options *o)
     if (scene_convert_load(scene_path, o->allow_unsupported, o->width, o->height, o->quiet, &scene, &summary, error,
                            sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
+        devices_close(devices, device_count);
         return 1;
     }
+    int status = 1;
     if (!o->quiet && strcmp(summary.sampler, "independent") != 0 && summary.sampler[0])
         fprintf(stderr,
                 "gmonrt: note: Sampler \"%s\" replaced by an independent sampler (median of means needs "
@@ -85,24 +94,22 @@ static int render(const Options *o)
     scene.params.flags = o->bsdf_only ? 0u : RENDER_NEE;
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
-        render_scene_destroy(&scene);
-        return 1;
+        goto done;
     }
+    /* The output path is known now (a scene may name it); check it before
+     * the render rather than fail after it. */
+    const char *exr_path = o->outfile ? o->outfile : (summary.film_filename[0] ? summary.film_filename : "render.exr");
+    char exr_name[4096];
+    replace_extension(exr_path, ".exr", exr_name, sizeof exr_name);
+    if (check_output_path(exr_name))
+        goto done;
 
-    ClDevice devices[DEVICES_MAX];
-    int device_count = devices_open(o->devices, devices, DEVICES_MAX);
-    if (device_count == 0) {
-        render_scene_destroy(&scene);
-        return 1;
-    }
     Checkpoints checkpoints;
     if (o->checkpoints) {
         if (checkpoints_open(&checkpoints, o->checkpoints, o->reference, scene.params.width, scene.params.height, error,
                              sizeof error)) {
             fprintf(stderr, "gmonrt: %s\n", error);
-            devices_close(devices, device_count);
-            render_scene_destroy(&scene);
-            return 1;
+            goto done;
         }
         checkpoints.scene_path = scene_path;
         checkpoints.scene_hash = summary.hash;
@@ -116,7 +123,7 @@ static int render(const Options *o)
     settings.first_sample = o->first_sample;
     settings.sample_count = o->spp ? o->spp : (summary.pixel_samples ? summary.pixel_samples : 64);
     settings.time_budget = o->time_budget;
-    settings.cancel = &interrupted;
+    settings.cancel = &interrupt_signal;
     settings.kernel_dir = o->kernel_dir;
     settings.keep_sets = o->write_sets;
     settings.all_features = o->all_features;
@@ -127,72 +134,48 @@ static int render(const Options *o)
     }
     Progress progress;
     progress_init(&progress, o->quiet, (uint64_t)scene.params.width * scene.params.height, o->time_budget);
-    settings.progress = progress_update;
+    settings.progress = on_progress;
     settings.progress_user = &progress;
-
-    struct sigaction action;
-    memset(&action, 0, sizeof action);
-    action.sa_handler = on_interrupt;
-    sigaction(SIGINT, &action, NULL);
 
     RenderOutput out;
     RenderStatus rendered = renderer_run(devices, device_count, &scene, &settings, &out, error, sizeof error);
     progress_finish(&progress);
     int checkpoints_failed = o->checkpoints && checkpoints_close(&checkpoints) != 0;
-    if (checkpoints_failed)
-        fprintf(stderr, "gmonrt: writing %s/checkpoints.csv failed\n", o->checkpoints);
     if (rendered == RENDER_FAILED) {
         fprintf(stderr, "gmonrt: %s\n", error);
-        devices_close(devices, device_count);
-        render_scene_destroy(&scene);
-        return 1;
+        goto done;
     }
     if (rendered == RENDER_INCOMPLETE)
         fprintf(stderr, "gmonrt: %s writing the %llu samples per pixel saved before\n", error,
                 (unsigned long long)out.sample_count);
-    if (interrupted && !o->quiet)
+    if (interrupt_signal && !o->quiet)
         fprintf(stderr, "gmonrt: interrupted: writing the %llu samples per pixel done\n",
                 (unsigned long long)out.sample_count);
 
-    const char *exr_path = o->outfile ? o->outfile : (summary.film_filename[0] ? summary.film_filename : "render.exr");
-    char exr_name[4096];
-    replace_extension(exr_path, ".exr", exr_name, sizeof exr_name);
-    ExrImage image = render_output_exr(&out);
-    if (!o->diagnostics)
-        image.nonfinite = NULL;
-    if (!o->write_sets)
-        image.accumulators = NULL;
-    image.metadata.scene_path = scene_path;
-    image.metadata.scene_hash = summary.hash;
-    int status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
-                                    o->exposure, o->preview, o->quiet);
+    if (out.sample_count == 0) {
+        /* A black image would replace a good one. */
+        fprintf(stderr, "gmonrt: no sample was rendered: %s not written\n", exr_name);
+    } else {
+        ExrImage image = render_output_exr(&out);
+        if (!o->diagnostics)
+            image.nonfinite = NULL;
+        if (!o->write_sets)
+            image.accumulators = NULL;
+        image.metadata.scene_path = scene_path;
+        image.metadata.scene_hash = summary.hash;
+        status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
+                                    o->exposure, o->preview);
+    }
     if (!o->quiet)
         print_summary(o, &out);
     render_output_free(&out);
-    devices_close(devices, device_count);
-    render_scene_destroy(&scene);
     if (status == 0 && (rendered == RENDER_INCOMPLETE || checkpoints_failed))
         status = 1;
-    return status == 0 && interrupted ? 130 : status;
-}
-
-/* Recomputes the estimators of an EXR written with --write-sets. */
-static int estimate(const Options *o)
-{
-    ExrImage in;
-    char error[1024];
-    if (exr_image_read(o->input, &in, error, sizeof error) != IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
-        exr_image_free(&in);
-        return 1;
-    }
-    if (!in.accumulators) {
-        fprintf(stderr, "gmonrt: %s has no per-set sums (render with --write-sets)\n", o->input);
-        exr_image_free(&in);
-        return 1;
-    }
-    int status = write_estimates(o, &in, o->write_sets, "estimate.exr");
-    exr_image_free(&in);
+    if (status == 0 && interrupt_signal)
+        status = interrupt_exit_status();
+done:
+    devices_close(devices, device_count);
+    render_scene_destroy(&scene);
     return status;
 }
 
@@ -200,19 +183,21 @@ int main(int argc, char **argv)
 {
     Options options;
     char error[512];
+    interrupt_install();
     int status = options_parse(argc, argv, &options, error, sizeof error);
     if (status) {
         fprintf(stderr, "gmonrt: %s\n", error);
         return status;
     }
-    switch (options.command) {
-    case COMMAND_HELP:
-        fputs(options_help(), stdout);
+    if (options.help) {
+        fputs(options_help(options.command), stdout);
         return 0;
+    }
+    switch (options.command) {
     case COMMAND_LIST_DEVICES:
         return devices_list();
     case COMMAND_ESTIMATE:
-        return estimate(&options);
+        return estimate_command(&options);
     case COMMAND_MERGE:
         return merge_command(&options);
     case COMMAND_RENDER:

@@ -8,6 +8,10 @@ execute_process(COMMAND ${COMMAND} --spp 8 --resolution 16x12 --sets 4 --diagnos
 if(NOT code EQUAL 0 OR NOT EXISTS ${out}.exr OR NOT EXISTS ${out}.png)
   message(FATAL_ERROR "render failed (${code}): ${err}")
 endif()
+# The paths written are printed even with --quiet (a scene may name them).
+if(NOT err MATCHES "wrote [^\n]*cli-render.exr and [^\n]*cli-render.png")
+  message(FATAL_ERROR "the paths written are not printed: '${err}'")
+endif()
 execute_process(COMMAND ${COMMAND} estimate --gini-mode luminance --quiet --outfile ${out}-estimate.exr ${out}.exr
                 RESULT_VARIABLE code ERROR_VARIABLE err)
 if(NOT code EQUAL 0 OR NOT EXISTS ${out}-estimate.exr OR NOT EXISTS ${out}-estimate.png)
@@ -34,9 +38,31 @@ endif()
 if(NOT summary MATCHES "device 0 '[^']+': 100.0% of samples" OR NOT summary MATCHES "MiB allocated")
   message(FATAL_ERROR "the summary lacks the per-device line: ${summary}")
 endif()
-# A device index that does not exist: one clear line, exit 1.
-execute_process(COMMAND ${COMMAND} --device 99 --outfile ${out}-none.exr ${SCENE} RESULT_VARIABLE code
+# A device index that does not exist: one clear line, exit 2 (a bad flag),
+# before the scene loads (this one does not exist).
+execute_process(COMMAND ${COMMAND} --device 99 --outfile ${out}-none.exr /nonexistent/scene.pbrt RESULT_VARIABLE code
                 ERROR_VARIABLE err)
-if(NOT code EQUAL 1 OR NOT err MATCHES "no device 99")
+if(NOT code EQUAL 2 OR NOT err MATCHES "no device 99" OR err MATCHES "nonexistent")
   message(FATAL_ERROR "--device 99: exit ${code}, '${err}'")
+endif()
+# A checkpoint that cannot be written (a directory stands in its place) is an
+# error, and the render goes on: later checkpoints and --outfile are written,
+# exit 1.
+file(REMOVE_RECURSE ${out}-checkpoints)
+file(REMOVE ${out}-checkpoints.exr)
+file(MAKE_DIRECTORY ${out}-checkpoints/spp-000001.exr)
+execute_process(COMMAND ${COMMAND} --spp 4 --resolution 8x8 --quiet --checkpoints ${out}-checkpoints
+                        --outfile ${out}-checkpoints.exr ${SCENE}
+                RESULT_VARIABLE code ERROR_VARIABLE err)
+if(NOT code EQUAL 1 OR NOT err MATCHES "spp-000001.exr" OR NOT EXISTS ${out}-checkpoints.exr
+   OR NOT EXISTS ${out}-checkpoints/spp-000004.exr)
+  message(FATAL_ERROR "a failed checkpoint: exit ${code}, '${err}'")
+endif()
+# The output directory is checked before the render: no checkpoint is made.
+file(REMOVE_RECURSE ${out}-unused)
+execute_process(COMMAND ${COMMAND} --spp 4 --resolution 8x8 --checkpoints ${out}-unused
+                        --outfile ${out}-missing/image.exr ${SCENE}
+                RESULT_VARIABLE code ERROR_VARIABLE err)
+if(NOT code EQUAL 1 OR NOT err MATCHES "cannot write [^\n]*-missing/image.exr" OR EXISTS ${out}-unused)
+  message(FATAL_ERROR "a missing output directory: exit ${code}, '${err}'")
 endif()

@@ -1,5 +1,5 @@
 /* gmonrt's command line: defaults, every flag, and one-line errors with exit
- * code 2 for bad flags and values. */
+ * code 2 for bad flags and values, and for flags a subcommand does not take. */
 #include "cli/options.h"
 
 #include <setjmp.h>
@@ -54,7 +54,8 @@ static void test_every_flag(void **state)
     assert_int_equal(o.height, 200);
     assert_int_equal(o.max_depth, 7);
     assert_int_equal(o.bsdf_only, 1);
-    assert_string_equal(o.devices, "cpu");
+    assert_int_equal(o.devices.kind, DEVICES_CPU);
+    assert_string_equal(o.devices.spec, "cpu");
     assert_string_equal(o.outfile, "x.exr");
     assert_int_equal(o.first_sample, 64);
     assert_true(o.diagnostics && o.write_sets && o.quiet && o.allow_unsupported);
@@ -74,8 +75,65 @@ static void test_subcommands(void **state)
     assert_int_equal(PARSE(&o, error, "--list-devices"), 0);
     assert_int_equal(o.command, COMMAND_LIST_DEVICES);
     assert_int_equal(PARSE(&o, error, "--help"), 0);
-    assert_int_equal(o.command, COMMAND_HELP);
-    assert_non_null(strstr(options_help(), "--spp"));
+    assert_true(o.help);
+    assert_int_equal(o.command, COMMAND_RENDER);
+    assert_non_null(strstr(options_help(COMMAND_RENDER), "--spp N"));
+    assert_non_null(strstr(options_help(COMMAND_RENDER), "143"));
+}
+
+/* Each subcommand takes only the flags it uses, and has its own --help. */
+static void test_subcommand_flags_and_help(void **state)
+{
+    (void)state;
+    Options o;
+    char error[256] = "";
+    const char *render_only[] = {"--spp", "--sets", "--device", "--seed", "--time", "--checkpoints", "--kernel-dir"};
+    for (size_t i = 0; i < sizeof render_only / sizeof render_only[0]; ++i) {
+        assert_int_equal(PARSE(&o, error, "estimate", (char *)render_only[i], "4", "in.exr"), 2);
+        assert_non_null(strstr(error, render_only[i]));
+        assert_non_null(strstr(error, "gmonrt estimate --help"));
+        assert_int_equal(PARSE(&o, error, "merge", (char *)render_only[i], "4", "a.exr", "b.exr"), 2);
+        assert_non_null(strstr(error, "gmonrt merge --help"));
+    }
+    assert_int_equal(PARSE(&o, error, "merge", "--write-sets", "a.exr"), 2); /* merge always keeps the sums */
+    assert_int_equal(PARSE(&o, error, "estimate", "--write-sets", "--diagnostics", "--outfile", "x.exr", "--quiet",
+                           "--estimators", "mean", "--exposure", "2", "in.exr"),
+                     0);
+    assert_int_equal(PARSE(&o, error, "merge", "--diagnostics", "--gini-mode", "pixel", "a.exr", "b.exr"), 0);
+    assert_int_equal(o.merge_count, 2);
+
+    /* --help needs no input file, and lists only the subcommand's flags. */
+    assert_int_equal(PARSE(&o, error, "estimate", "--help"), 0);
+    assert_true(o.help);
+    assert_int_equal(o.command, COMMAND_ESTIMATE);
+    const char *estimate = options_help(COMMAND_ESTIMATE);
+    assert_non_null(strstr(estimate, "usage: gmonrt estimate"));
+    assert_non_null(strstr(estimate, "--gini-mode"));
+    assert_non_null(strstr(estimate, "  --write-sets "));
+    assert_non_null(strstr(estimate, "  --help "));
+    assert_null(strstr(estimate, "--spp"));
+    assert_null(strstr(estimate, "--device"));
+    const char *merge = options_help(COMMAND_MERGE);
+    assert_non_null(strstr(merge, "usage: gmonrt merge"));
+    assert_non_null(strstr(merge, "merged.exr"));
+    assert_null(strstr(merge, "  --write-sets "));
+    assert_null(strstr(merge, "  --sets "));
+}
+
+static void test_device_selection(void **state)
+{
+    (void)state;
+    Options o;
+    char error[256] = "";
+    assert_int_equal(PARSE(&o, error, "scene.pbrt"), 0);
+    assert_int_equal(o.devices.kind, DEVICES_ALL);
+    assert_int_equal(PARSE(&o, error, "--device", "2,0"), 0);
+    assert_int_equal(o.devices.kind, DEVICES_INDICES);
+    assert_int_equal(o.devices.index_count, 2);
+    assert_int_equal(o.devices.indices[0], 2);
+    assert_int_equal(o.devices.indices[1], 0);
+    assert_int_equal(PARSE(&o, error, "--device", "gpu"), 0);
+    assert_int_equal(o.devices.kind, DEVICES_GPU);
 }
 
 static void expect_error(const char *flag, const char *value, const char *fragment)
@@ -112,19 +170,36 @@ static void test_bad_flags_and_values(void **state)
     expect_error("--preview", "median", "--preview");
     expect_error("--maxdepth", "many", "--maxdepth");
     expect_error("--quiet=yes", NULL, "takes no value");
+    /* 4294967304 is 2^32 + 8: read as 32 bits it would render 8x8. */
+    expect_error("--resolution", "4294967304x8", "WIDTHxHEIGHT");
+    expect_error("--resolution", "8x4294967304", "WIDTHxHEIGHT");
+    expect_error("--resolution", "65537x8", "1..65536");
+    expect_error("--resolution", "+8x8", "WIDTHxHEIGHT");
+    expect_error("--resolution", "8x8x", "WIDTHxHEIGHT");
+    expect_error("--device", "", "--device");
+    expect_error("--device", "gpus", "--device");
+    expect_error("--device", "-1", "--device");
+    expect_error("--device", "0,", "--device");
+    expect_error("--device", "0,,1", "--device");
+    expect_error("--device", "1,x", "--device");
+    expect_error("--device", "1,1", "named twice");
+    /* These would write a hidden ./.exr. */
+    expect_error("--outfile", "", "names no file");
+    expect_error("--outfile", "out/", "names no file");
+    expect_error("--outfile", ".exr", "names no file");
     Options o;
     char error[256];
     assert_int_equal(PARSE(&o, error, "--estimators", "mean", "--preview", "gmon"), 2);
     assert_int_equal(PARSE(&o, error, "a.pbrt", "b.pbrt"), 2);
+    assert_int_equal(PARSE(&o, error, "--outfile", "out/.hidden.exr", "--resolution", "65536x1"), 0);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults),
-        cmocka_unit_test(test_every_flag),
-        cmocka_unit_test(test_subcommands),
-        cmocka_unit_test(test_bad_flags_and_values),
+        cmocka_unit_test(test_defaults),         cmocka_unit_test(test_every_flag),
+        cmocka_unit_test(test_subcommands),      cmocka_unit_test(test_subcommand_flags_and_help),
+        cmocka_unit_test(test_device_selection), cmocka_unit_test(test_bad_flags_and_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -2,8 +2,14 @@
  * analytic value; the EXR holds every layer and its estimators equal the
  * host reference applied to the set sums read back from the same file, bit
  * for bit; the image depends only on the seed and the samples, not on how
- * passes batch them; sample ranges add up exactly. */
+ * passes batch them; sample ranges add up exactly. Output files: written
+ * through a temporary name (a failed write leaves the old file), the output
+ * directory checked up front, `estimate` refusing sums without samples. */
+#define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "cli/estimate.h"
+#include "cli/options.h"
+#include "cli/output_files.h"
 #include "estimator/estimator.h"
 #include "estimator_core.h"
 #include "io/exr_image.h"
@@ -20,6 +26,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -234,6 +242,117 @@ static void test_nee_and_bsdf_sampling_agree(void **state)
     }
 }
 
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    assert_int_equal(fclose(f), 0);
+}
+
+static int file_has_text(const char *path, const char *text)
+{
+    char buffer[256] = "";
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    size_t n = fread(buffer, 1, sizeof buffer - 1, f);
+    fclose(f);
+    buffer[n] = '\0';
+    return strcmp(buffer, text) == 0;
+}
+
+/* A writer that writes half a file, then fails (a full disk, say). */
+static int write_half_then_fail(const char *path, const void *data, char *error, size_t error_size)
+{
+    (void)data;
+    write_text(path, "trunc");
+    snprintf(error, error_size, "%s: no space left on device", path);
+    return -1;
+}
+
+static int write_new(const char *path, const void *data, char *error, size_t error_size)
+{
+    (void)error;
+    (void)error_size;
+    write_text(path, data);
+    return 0;
+}
+
+static int partial_files_in(const char *directory)
+{
+    char command[1200];
+    snprintf(command, sizeof command, "ls %s | grep -q partial", directory);
+    return system(command) == 0;
+}
+
+static void test_failed_write_leaves_the_old_file(void **state)
+{
+    (void)state;
+    char directory[] = "/tmp/gmon-test-output-XXXXXX", path[1024], error[1024] = "";
+    assert_non_null(mkdtemp(directory));
+    snprintf(path, sizeof path, "%s/image.exr", directory);
+    write_text(path, "a good image");
+    assert_int_equal(write_replacing(path, write_half_then_fail, NULL, error, sizeof error), -1);
+    assert_non_null(strstr(error, "no space left"));
+    assert_true(file_has_text(path, "a good image"));
+    assert_false(partial_files_in(directory));
+    assert_int_equal(write_replacing(path, write_new, "the new image", error, sizeof error), 0);
+    assert_true(file_has_text(path, "the new image"));
+    assert_false(partial_files_in(directory));
+    remove(path);
+    rmdir(directory);
+}
+
+static void test_output_path_checked_before_render(void **state)
+{
+    (void)state;
+    char directory[] = "/tmp/gmon-test-output-XXXXXX", path[1024];
+    assert_non_null(mkdtemp(directory));
+    snprintf(path, sizeof path, "%s/out.exr", directory);
+    assert_int_equal(check_output_path(path), 0);
+    assert_int_equal(check_output_path("relative.exr"), 0);
+    snprintf(path, sizeof path, "%s/missing/out.exr", directory);
+    assert_int_equal(check_output_path(path), 1);
+    snprintf(path, sizeof path, "%s/file", directory);
+    write_text(path, "not a directory");
+    snprintf(path, sizeof path, "%s/file/out.exr", directory);
+    assert_int_equal(check_output_path(path), 1);
+    snprintf(path, sizeof path, "%s/file", directory);
+    remove(path);
+    assert_int_equal(mkdir(path, 0777), 0);
+    assert_int_equal(check_output_path(path), 1); /* a directory where the file would go */
+    rmdir(path);
+    rmdir(directory);
+}
+
+/* Set sums with no sample count estimate nothing: refused, nothing written. */
+static void test_estimate_refuses_sums_without_samples(void **state)
+{
+    (void)state;
+    char directory[] = "/tmp/gmon-test-output-XXXXXX", in[1024], out[1024], error[1024];
+    assert_non_null(mkdtemp(directory));
+    snprintf(in, sizeof in, "%s/no-samples.exr", directory);
+    snprintf(out, sizeof out, "%s/estimate.exr", directory);
+    uint64_t sums[3 * 2 * 4] = {0}; /* M = 1, 2x2 pixels */
+    float mean[3 * 4] = {0};
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = 2;
+    image.height = 2;
+    image.mean = mean;
+    image.accumulators = sums;
+    image.metadata.set_count = 1;
+    assert_int_equal(exr_image_write(in, &image, error, sizeof error), IMAGE_IO_OK);
+    char *argv[] = {"gmonrt", "estimate", "--quiet", "--outfile", out, in};
+    Options options;
+    assert_int_equal(options_parse(6, argv, &options, error, sizeof error), 0);
+    assert_int_equal(estimate_command(&options), 1);
+    assert_int_equal(access(out, F_OK), -1);
+    remove(in);
+    rmdir(directory);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -241,6 +360,9 @@ int main(void)
         cmocka_unit_test(test_exr_estimates_equal_host_reference_on_its_sums),
         cmocka_unit_test(test_image_independent_of_pass_batching_and_ranges),
         cmocka_unit_test(test_nee_and_bsdf_sampling_agree),
+        cmocka_unit_test(test_failed_write_leaves_the_old_file),
+        cmocka_unit_test(test_output_path_checked_before_render),
+        cmocka_unit_test(test_estimate_refuses_sums_without_samples),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

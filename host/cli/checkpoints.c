@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/checkpoints.h"
 
+#include "cli/output_files.h"
 #include "render/render_exr.h"
 
 #include <errno.h>
@@ -87,11 +88,8 @@ int checkpoints_write(void *user, const RenderOutput *out)
     const ExrKeyValue extras[] = {{"seconds", seconds}};
     image.metadata.extras = extras;
     image.metadata.extra_count = 1;
-    char error[1024];
-    if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
-        return -1;
-    }
+    if (write_exr_file(path, &image))
+        ++c->failures;
     const char *names[3] = {"mean", "mon", "gmon"};
     const float *images[3] = {out->mean, out->mon, out->gmon};
     for (int k = 0; k < 3; ++k) {
@@ -106,14 +104,20 @@ int checkpoints_write(void *user, const RenderOutput *out)
             fprintf(c->csv, ",\n");
         }
     }
-    return fflush(c->csv) == 0 ? 0 : -1;
+    if (fflush(c->csv) != 0) {
+        fprintf(stderr, "gmonrt: writing %s/checkpoints.csv failed: %s\n", c->directory, strerror(errno));
+        ++c->failures;
+    }
+    return 0;
 }
 
 int checkpoints_close(Checkpoints *c)
 {
-    int status = 0;
-    if (c->csv && fclose(c->csv) != 0)
+    int status = c->failures ? -1 : 0;
+    if (c->csv && fclose(c->csv) != 0) {
+        fprintf(stderr, "gmonrt: writing %s/checkpoints.csv failed: %s\n", c->directory, strerror(errno));
         status = -1;
+    }
     free(c->reference);
     memset(c, 0, sizeof *c);
     return status;

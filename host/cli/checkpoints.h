@@ -19,6 +19,7 @@ typedef struct {
     const char *scene_path;
     const char *scene_hash;
     int diagnostics;
+    int failures; /* checkpoints or CSV rows that could not be written */
 } Checkpoints;
 
 /* Creates the directory if needed, opens DIR/checkpoints.csv and reads the
@@ -27,10 +28,13 @@ typedef struct {
 int checkpoints_open(Checkpoints *checkpoints, const char *directory, const char *reference_path, unsigned width,
                      unsigned height, char *error, size_t error_size);
 
-/* A RenderSettings.checkpoint callback; `user` is the Checkpoints. */
+/* A RenderSettings.checkpoint callback; `user` is the Checkpoints. A
+ * checkpoint that cannot be written is reported and counted, and the render
+ * goes on (so that it still writes its image): always returns 0. */
 int checkpoints_write(void *user, const RenderOutput *output);
 
-/* Closes the CSV; returns 0, or -1 if writing it failed. */
+/* Closes the CSV; returns 0, or -1 after reporting it if it or any
+ * checkpoint could not be written. */
 int checkpoints_close(Checkpoints *checkpoints);
 
 /* The two errors of `image` against `reference` (3 * pixels values). */

@@ -28,57 +28,50 @@ int devices_list(void)
     return 0;
 }
 
-/* Marks the devices `spec` selects in chosen[]. Returns 0, or -1 after
- * printing why the spec is wrong. */
-static int select_devices(const char *spec, const ClDeviceInfo *devices, int count, int *chosen)
+/* Marks the devices `selection` names in chosen[]. Returns 0, or -1 after
+ * printing why it names none here. */
+static int select_devices(const DeviceSelection *selection, const ClDeviceInfo *devices, int count, int *chosen)
 {
-    if (!spec || strcmp(spec, "all") == 0) {
+    const char *spec = selection->spec;
+    switch (selection->kind) {
+    case DEVICES_ALL:
         for (int i = 0; i < count; ++i)
             chosen[i] = 1;
         return 0;
-    }
-    if (strcmp(spec, "cpu") == 0 || strcmp(spec, "gpu") == 0) {
-        cl_device_type wanted = spec[0] == 'c' ? CL_DEVICE_TYPE_CPU : CL_DEVICE_TYPE_GPU;
-        int any = 0;
+    case DEVICES_CPU:
+    case DEVICES_GPU: {
+        int cpu = selection->kind == DEVICES_CPU, any = 0;
         for (int i = 0; i < count; ++i)
-            any |= chosen[i] = (devices[i].type & wanted) != 0;
+            any |= chosen[i] = (devices[i].type & (cpu ? CL_DEVICE_TYPE_CPU : CL_DEVICE_TYPE_GPU)) != 0;
         if (!any)
             fprintf(stderr, "gmonrt: --device %s: no %s device (see gmonrt --list-devices)\n", spec,
-                    spec[0] == 'c' ? "CPU" : "GPU");
+                    cpu ? "CPU" : "GPU");
         return any ? 0 : -1;
     }
-    for (const char *p = spec;;) {
-        char *end = NULL;
-        long index = strtol(p, &end, 10);
-        if (end == p || (*end != ',' && *end != '\0') || index < 0) {
-            fprintf(stderr, "gmonrt: --device %s: expected all, cpu, gpu or indices like 0,2\n", spec);
-            return -1;
+    case DEVICES_INDICES:
+        for (int k = 0; k < selection->index_count; ++k) {
+            int index = selection->indices[k];
+            if (index >= count) {
+                fprintf(stderr, "gmonrt: --device %s: no device %d, there are %d (see gmonrt --list-devices)\n", spec,
+                        index, count);
+                return -1;
+            }
+            chosen[index] = 1;
         }
-        if (index >= count) {
-            fprintf(stderr, "gmonrt: --device %s: no device %ld, there are %d (see gmonrt --list-devices)\n", spec,
-                    index, count);
-            return -1;
-        }
-        if (chosen[index]) {
-            fprintf(stderr, "gmonrt: --device %s: device %ld is named twice\n", spec, index);
-            return -1;
-        }
-        chosen[index] = 1;
-        if (*end == '\0')
-            return 0;
-        p = end + 1;
+        return 0;
     }
+    return -1;
 }
 
-int devices_open(const char *spec, ClDevice *opened, int capacity)
+int devices_open(const DeviceSelection *selection, ClDevice *opened, int capacity)
 {
     ClDeviceInfo devices[MAX_LISTED];
     int count = enumerate(devices);
     if (count <= 0)
         return 0;
     int chosen[MAX_LISTED] = {0};
-    if (select_devices(spec, devices, count, chosen))
-        return 0;
+    if (select_devices(selection, devices, count, chosen))
+        return -1;
     int n = 0;
     for (int i = 0; i < count; ++i) {
         if (!chosen[i])

@@ -3,6 +3,7 @@
 #define HOST_CLI_DEVICES_H
 
 #include "cl/cl_device.h"
+#include "cli/options.h"
 
 #define DEVICES_MAX 16
 
@@ -10,11 +11,12 @@
  * device. Returns the exit status. */
 int devices_list(void);
 
-/* Opens the devices `spec` names: "all" (also for NULL), "cpu", "gpu" or
- * comma-separated indices from devices_list. A device that cannot be opened
- * is left out with a warning. Returns the number opened (>= 1), or 0 after
- * printing why none. */
-int devices_open(const char *spec, ClDevice *devices, int capacity);
+/* Opens the devices `selection` names (indices as devices_list numbers
+ * them). A device that cannot be opened is left out with a warning.
+ * Returns the number opened (>= 1); 0 after printing why none could be
+ * (no device, or none opened: exit 1); or -1 after printing that the
+ * selection names no device here (a bad --device: exit 2). */
+int devices_open(const DeviceSelection *selection, ClDevice *devices, int capacity);
 
 void devices_close(ClDevice *devices, int count);
 

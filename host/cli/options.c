@@ -1,106 +1,171 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/options.h"
 
+#include <ctype.h>
 #include <errno.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char help_text[] = "usage: gmonrt [options] [scene.pbrt]\n"
-                                "       gmonrt estimate [options] render.exr\n"
-                                "       gmonrt merge [options] part1.exr part2.exr ...\n"
-                                "       gmonrt --list-devices\n"
-                                "\n"
-                                "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
-                                "G-MoN estimates of the same samples to one EXR, plus a PNG preview. With no\n"
-                                "scene, renders the default scene (a Cornell box with a glass sphere and a small,\n"
-                                "very bright light). `estimate` recomputes the estimators from an EXR written\n"
-                                "with --write-sets (for example with another Gini mode). `merge` combines\n"
-                                "EXRs written with --write-sets from disjoint sample ranges (--first-sample,\n"
-                                "--spp) of one scene, seed and M into the render of their union: exactly\n"
-                                "the set sums, and so the estimates, of one render over all the samples.\n"
-                                "\n"
-                                "Sampling\n"
-                                "  --spp N              samples per pixel (default: the scene's Sampler\n"
-                                "                       \"pixelsamples\", else 64). Sampling is always independent\n"
-                                "                       uniform random, as median of means requires.\n"
-                                "  --seed N             random seed (default 0); the image depends only on the\n"
-                                "                       seed and the sample range, never on passes or devices\n"
-                                "  --first-sample N     first sample index of the range rendered (default 0)\n"
-                                "  --time SECONDS       stop after the pass that reaches this render time\n"
-                                "  --integrator MODE    nee: next-event estimation with MIS (default);\n"
-                                "                       bsdf: BSDF sampling only (the firefly-prone case)\n"
-                                "  --maxdepth N         override the scene's Integrator \"maxdepth\"\n"
-                                "  --resolution WxH     override the scene's Film resolution\n"
-                                "\n"
-                                "Estimators\n"
-                                "  --sets M             number of sets for MoN and G-MoN, 1..64 (default 21)\n"
-                                "  --estimators LIST    comma-separated subset of mean,mon,gmon (default all)\n"
-                                "  --gini-mode MODE     channel: G and trim per channel (default);\n"
-                                "                       pixel: one G per pixel, the mean of the channels' G;\n"
-                                "                       luminance: sort and trim whole sets by luminance\n"
-                                "  --diagnostics        add layers: Gini G, trim count c, non-finite samples\n"
-                                "  --write-sets         add the exact per-set sums, for `estimate` and merging\n"
-                                "                       (without it, --estimators mean accumulates one sum\n"
-                                "                       per pixel instead of M)\n"
-                                "\n";
-/* Two parts: C compilers need not support longer string literals. */
-static const char help_text_output[] =
-    "Output\n"
-    "  --outfile PATH       EXR file (default: the scene's Film \"filename\" with an\n"
-    "                       .exr extension, else render.exr); the PNG preview goes\n"
-    "                       beside it with a .png extension\n"
-    "  --preview NAME       estimator shown in the PNG: mean, mon or gmon (default\n"
-    "                       gmon, or the only one requested)\n"
-    "  --exposure X         PNG exposure multiplier (default 1)\n"
-    "  --quiet              no progress bar and no summary line\n"
-    "  --checkpoints DIR    at 1, 2, 4, ... samples per pixel and at the end, write\n"
-    "                       DIR/spp-NNNNNN.exr (attribute `seconds`: render time so\n"
-    "                       far) and a row per estimator to DIR/checkpoints.csv\n"
-    "                       (spp,seconds,estimator,rmse,relmse), from one render\n"
-    "  --reference EXR      with --checkpoints: fill rmse and relmse against this\n"
-    "                       image's mean layer (relmse: mean of (x-r)^2/(r^2+0.01))\n"
-    "\n"
-    "Devices\n"
-    "  --list-devices       list OpenCL devices and exit\n"
-    "  --device SPEC        all, cpu, gpu, or comma-separated indices from\n"
-    "                       --list-devices (default all): the devices render at\n"
-    "                       once, each a share of the pixels proportional to its\n"
-    "                       speed; the image is the same whatever the devices\n"
-    "\n"
-    "Scene input\n"
-    "  --allow-unsupported  turn errors on unsupported scene features into warnings,\n"
-    "                       each with a documented substitute\n"
-    "\n"
-    "Developer\n"
-    "  --kernel-dir DIR     load OpenCL sources from DIR instead of the embedded copies\n"
-    "                       (also: environment variable GMON_KERNEL_DIR)\n"
-    "  --dump-kernel FILE   write the path tracer source as specialized for this\n"
-    "                       scene and these outputs, with its defines, to FILE\n"
-    "  --all-features       build the kernels with every feature instead of only\n"
-    "                       what the scene and outputs use (for comparisons)\n"
-    "  --help               this text\n"
-    "\n"
-    "Exit status: 0 success, 1 render or I/O failure, 2 bad command line, 130 interrupted\n"
-    "by Ctrl-C (after writing the image of the samples done).\n";
+enum {
+    FOR_RENDER = 1 << COMMAND_RENDER,
+    FOR_ESTIMATE = 1 << COMMAND_ESTIMATE,
+    FOR_MERGE = 1 << COMMAND_MERGE,
+    FOR_ALL = FOR_RENDER | FOR_ESTIMATE | FOR_MERGE,
+};
 
-const char *options_help(void)
+/* Every flag: the subcommands that take it and its --help lines. A flag
+ * with `value` takes one (--flag VALUE or --flag=VALUE). A flag may appear
+ * once per subcommand with its own help; an entry without a name starts a
+ * section of the help. */
+typedef struct {
+    const char *name;
+    const char *value;
+    int commands;
+    const char *help;
+} Flag;
+
+static const Flag flags[] = {
+    {NULL, NULL, FOR_RENDER, "Sampling"},
+    {"--spp", "N", FOR_RENDER,
+     "samples per pixel (default: the scene's Sampler\n\"pixelsamples\", else 64). Sampling is always independent\n"
+     "uniform random, as median of means requires."},
+    {"--seed", "N", FOR_RENDER,
+     "random seed (default 0); the image depends only on the\nseed and the sample range, never on passes or devices"},
+    {"--first-sample", "N", FOR_RENDER, "first sample index of the range rendered (default 0)"},
+    {"--time", "SECONDS", FOR_RENDER, "stop after the pass that reaches this render time"},
+    {"--integrator", "MODE", FOR_RENDER,
+     "nee: next-event estimation with MIS (default);\nbsdf: BSDF sampling only (the firefly-prone case)"},
+    {"--maxdepth", "N", FOR_RENDER, "override the scene's Integrator \"maxdepth\""},
+    {"--resolution", "WxH", FOR_RENDER, "override the scene's Film resolution (each 1..65536)"},
+    {NULL, NULL, FOR_ALL, "Estimators"},
+    {"--sets", "M", FOR_RENDER, "number of sets for MoN and G-MoN, 1..64 (default 21)"},
+    {"--estimators", "LIST", FOR_ALL, "comma-separated subset of mean,mon,gmon (default all)"},
+    {"--gini-mode", "MODE", FOR_ALL,
+     "channel: G and trim per channel (default);\npixel: one G per pixel, the mean of the channels' G;\n"
+     "luminance: sort and trim whole sets by luminance"},
+    {"--diagnostics", NULL, FOR_ALL, "add layers: Gini G, trim count c, non-finite samples"},
+    {"--write-sets", NULL, FOR_RENDER,
+     "add the exact per-set sums, for `estimate` and merging\n(without it, --estimators mean accumulates one sum\n"
+     "per pixel instead of M)"},
+    {"--write-sets", NULL, FOR_ESTIMATE, "keep the per-set sums in the output (`merge` always does)"},
+    {NULL, NULL, FOR_ALL, "Output"},
+    {"--outfile", "PATH", FOR_RENDER,
+     "EXR file (default: the scene's Film \"filename\" with an\n.exr extension, else render.exr); the PNG preview "
+     "goes\n"
+     "beside it with a .png extension. Files are written under\na temporary name and renamed when complete; the paths\n"
+     "written are always printed, and the output directory\nis checked before the render starts"},
+    {"--outfile", "PATH", FOR_ESTIMATE, "EXR file (default estimate.exr); the PNG preview goes\nbeside it"},
+    {"--outfile", "PATH", FOR_MERGE, "EXR file (default merged.exr); the PNG preview goes\nbeside it"},
+    {"--preview", "NAME", FOR_ALL,
+     "estimator shown in the PNG: mean, mon or gmon (default\ngmon, or the only one requested)"},
+    {"--exposure", "X", FOR_ALL, "PNG exposure multiplier (default 1)"},
+    {"--quiet", NULL, FOR_ALL, "no progress bar and no summary line"},
+    {"--checkpoints", "DIR", FOR_RENDER,
+     "at 1, 2, 4, ... samples per pixel and at the end, write\nDIR/spp-NNNNNN.exr (attribute `seconds`: render time "
+     "so\n"
+     "far) and a row per estimator to DIR/checkpoints.csv\n(spp,seconds,estimator,rmse,relmse), from one render. A\n"
+     "failed checkpoint is an error; the render goes on\nand exits 1 after writing --outfile"},
+    {"--reference", "EXR", FOR_RENDER,
+     "with --checkpoints: fill rmse and relmse against this\nimage's mean layer (relmse: mean of (x-r)^2/(r^2+0.01))"},
+    {NULL, NULL, FOR_RENDER, "Devices"},
+    {"--list-devices", NULL, FOR_RENDER, "list OpenCL devices and exit"},
+    {"--device", "SPEC", FOR_RENDER,
+     "all, cpu, gpu, or comma-separated indices from\n--list-devices (default all): the devices render at\n"
+     "once, each a share of the pixels proportional to its\nspeed; the image is the same whatever the devices"},
+    {NULL, NULL, FOR_RENDER, "Scene input"},
+    {"--allow-unsupported", NULL, FOR_RENDER,
+     "turn errors on unsupported scene features into warnings,\neach with a documented substitute"},
+    {NULL, NULL, FOR_RENDER, "Developer"},
+    {"--kernel-dir", "DIR", FOR_RENDER,
+     "load OpenCL sources from DIR instead of the embedded copies\n(also: environment variable GMON_KERNEL_DIR)"},
+    {"--dump-kernel", "FILE", FOR_RENDER,
+     "write the path tracer source as specialized for this\nscene and these outputs, with its defines, to FILE"},
+    {"--all-features", NULL, FOR_RENDER,
+     "build the kernels with every feature instead of only\nwhat the scene and outputs use (for comparisons)"},
+    {"--help", NULL, FOR_RENDER,
+     "this text (`gmonrt estimate --help`, `gmonrt merge --help`:\nthose subcommands' flags)"},
+    {NULL, NULL, FOR_ESTIMATE | FOR_MERGE, "Help"},
+    {"--help", NULL, FOR_ESTIMATE | FOR_MERGE, "this text"},
+    {"-h", NULL, FOR_ALL, NULL},
+};
+
+static const char render_intro[] = "usage: gmonrt [options] [scene.pbrt]\n"
+                                   "       gmonrt estimate [options] render.exr\n"
+                                   "       gmonrt merge [options] part1.exr part2.exr ...\n"
+                                   "       gmonrt --list-devices\n"
+                                   "\n"
+                                   "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
+                                   "G-MoN estimates of the same samples to one EXR, plus a PNG preview. With no\n"
+                                   "scene, renders the default scene (a Cornell box with a glass sphere and a small,\n"
+                                   "very bright light). `estimate` recomputes the estimators from an EXR written\n"
+                                   "with --write-sets (for example with another Gini mode). `merge` combines\n"
+                                   "EXRs written with --write-sets from disjoint sample ranges (--first-sample,\n"
+                                   "--spp) of one scene, seed and M into the render of their union: exactly\n"
+                                   "the set sums, and so the estimates, of one render over all the samples.\n";
+static const char render_exit[] = "Exit status: 0 success; 1 render or I/O failure; 2 bad command line. Ctrl-C\n"
+                                  "(SIGINT), SIGTERM and SIGHUP (sent by `timeout`, Slurm's time limit, a closed\n"
+                                  "terminal) stop the render after its pass and write the image of the samples\n"
+                                  "done, then exit 128 + the signal: 130, 143, 129. Before any sample is done, or\n"
+                                  "at a second signal, gmonrt exits at once with that status and leaves existing\n"
+                                  "files as they were.\n";
+static const char estimate_intro[] = "usage: gmonrt estimate [options] render.exr\n"
+                                     "\n"
+                                     "Recomputes the estimators from the per-set sums of an EXR written with\n"
+                                     "--write-sets (M, the sample range and the sample count come from the file).\n";
+static const char merge_intro[] = "usage: gmonrt merge [options] part1.exr part2.exr ...\n"
+                                  "\n"
+                                  "Combines EXRs written with --write-sets from disjoint sample ranges of one\n"
+                                  "scene, seed and M into the render of their union (the sums stay in the file,\n"
+                                  "so it can be merged again).\n";
+static const char subcommand_exit[] = "Exit status: 0 success, 1 unusable input or I/O failure, 2 bad command line,\n"
+                                      "128 + the signal when interrupted (existing files are left as they were).\n";
+
+const char *options_help(Command command)
 {
-    static char text[sizeof help_text + sizeof help_text_output];
-    if (!text[0])
-        snprintf(text, sizeof text, "%s%s", help_text, help_text_output);
+    static char text[8192];
+    const int bit = 1 << (command == COMMAND_LIST_DEVICES ? COMMAND_RENDER : command);
+    size_t used = (size_t)snprintf(text, sizeof text, "%s",
+                                   bit == FOR_ESTIMATE ? estimate_intro
+                                   : bit == FOR_MERGE  ? merge_intro
+                                                       : render_intro);
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0] && used < sizeof text; ++i) {
+        const Flag *f = &flags[i];
+        if (!(f->commands & bit) || !f->help)
+            continue;
+        if (!f->name) {
+            used += (size_t)snprintf(text + used, sizeof text - used, "\n%s\n", f->help);
+            continue;
+        }
+        char head[64];
+        snprintf(head, sizeof head, "%s%s%s", f->name, f->value ? " " : "", f->value ? f->value : "");
+        used += (size_t)snprintf(text + used, sizeof text - used, "  %-20s ", head);
+        /* Continuation lines line up under the first. */
+        for (const char *line = f->help; *line && used < sizeof text;) {
+            size_t length = strcspn(line, "\n");
+            used += (size_t)snprintf(text + used, sizeof text - used, "%*s%.*s\n", line == f->help ? 0 : 23, "",
+                                     (int)length, line);
+            line += length + (line[length] == '\n');
+        }
+    }
+    if (used < sizeof text)
+        snprintf(text + used, sizeof text - used, "\n%s", bit == FOR_RENDER ? render_exit : subcommand_exit);
     return text;
 }
 
-static int fail(char *error, size_t size, const char *format, const char *a, const char *b)
+__attribute__((format(printf, 3, 4))) static int fail(char *error, size_t size, const char *format, ...)
 {
-    snprintf(error, size, format, a, b);
+    va_list arguments;
+    va_start(arguments, format);
+    vsnprintf(error, size, format, arguments);
+    va_end(arguments);
     return 2;
 }
 
 static int parse_u64(const char *text, uint64_t max, uint64_t *out)
 {
-    if (!text || !*text || *text == '-')
+    if (!text || !isdigit((unsigned char)*text))
         return -1;
     char *end = NULL;
     errno = 0;
@@ -144,6 +209,169 @@ static int parse_estimators(const char *text, int *outputs)
     return *outputs ? 0 : -1;
 }
 
+/* WIDTHxHEIGHT, each 1..65536 (checked as 64-bit numbers: no wrap-around). */
+static int parse_resolution(const char *text, unsigned *width, unsigned *height)
+{
+    const char *x = strchr(text, 'x');
+    char first[24];
+    if (!x || (size_t)(x - text) >= sizeof first)
+        return -1;
+    memcpy(first, text, (size_t)(x - text));
+    first[x - text] = '\0';
+    uint64_t w = 0, h = 0;
+    if (parse_u64(first, 65536, &w) || parse_u64(x + 1, 65536, &h) || w == 0 || h == 0)
+        return -1;
+    *width = (unsigned)w;
+    *height = (unsigned)h;
+    return 0;
+}
+
+/* all, cpu, gpu or distinct comma-separated indices. */
+static int parse_devices(const char *text, DeviceSelection *d, char *error, size_t size)
+{
+    memset(d, 0, sizeof *d);
+    d->spec = text;
+    if (strcmp(text, "all") == 0 || strcmp(text, "cpu") == 0 || strcmp(text, "gpu") == 0) {
+        d->kind = text[0] == 'a' ? DEVICES_ALL : (text[0] == 'c' ? DEVICES_CPU : DEVICES_GPU);
+        return 0;
+    }
+    d->kind = DEVICES_INDICES;
+    for (const char *p = text;;) {
+        char *end = NULL;
+        errno = 0;
+        unsigned long index = isdigit((unsigned char)*p) ? strtoul(p, &end, 10) : 0;
+        if (!end || errno || index > 1000000 || (*end != ',' && *end != '\0'))
+            return fail(error, size, "--device %s: expected all, cpu, gpu or indices like 0,2", text);
+        for (int k = 0; k < d->index_count; ++k)
+            if (d->indices[k] == (int)index)
+                return fail(error, size, "--device %s: device %lu is named twice", text, index);
+        if (d->index_count == OPTIONS_MAX_DEVICES)
+            return fail(error, size, "--device %s: more than %d devices", text, OPTIONS_MAX_DEVICES);
+        d->indices[d->index_count++] = (int)index;
+        if (*end == '\0')
+            return 0;
+        p = end + 1;
+    }
+}
+
+/* Whether PATH, once its extension is replaced, names a file: "", "dir/"
+ * and ".exr" would write a hidden "./.exr". */
+static int names_a_file(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *name = slash ? slash + 1 : path;
+    const char *dot = strrchr(name, '.');
+    return (dot ? (size_t)(dot - name) : strlen(name)) > 0;
+}
+
+/* The flag's entry for `command`; NULL if it has none (*exists: whether
+ * another subcommand takes it). */
+static const Flag *find_flag(const char *name, Command command, int *exists)
+{
+    *exists = 0;
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0]; ++i) {
+        if (!flags[i].name || strcmp(flags[i].name, name) != 0)
+            continue;
+        if (flags[i].commands & (1 << command))
+            return &flags[i];
+        *exists = 1;
+    }
+    return NULL;
+}
+
+/* Applies one flag (its value already taken). Returns 0, or 2 with a message. */
+static int set_flag(Options *o, const char *flag, const char *value, char *error, size_t size)
+{
+    uint64_t number = 0;
+    double real = 0.0;
+    if (strcmp(flag, "--help") == 0 || strcmp(flag, "-h") == 0) {
+        o->help = 1;
+    } else if (strcmp(flag, "--list-devices") == 0) {
+        o->command = COMMAND_LIST_DEVICES;
+    } else if (strcmp(flag, "--quiet") == 0) {
+        o->quiet = 1;
+    } else if (strcmp(flag, "--diagnostics") == 0) {
+        o->diagnostics = 1;
+    } else if (strcmp(flag, "--write-sets") == 0) {
+        o->write_sets = 1;
+    } else if (strcmp(flag, "--allow-unsupported") == 0) {
+        o->allow_unsupported = 1;
+    } else if (strcmp(flag, "--all-features") == 0) {
+        o->all_features = 1;
+    } else if (strcmp(flag, "--checkpoints") == 0) {
+        o->checkpoints = value;
+    } else if (strcmp(flag, "--reference") == 0) {
+        o->reference = value;
+    } else if (strcmp(flag, "--dump-kernel") == 0) {
+        o->dump_kernel = value;
+    } else if (strcmp(flag, "--spp") == 0) {
+        if (parse_u64(value, UINT64_C(1) << 40, &number) || number == 0)
+            return fail(error, size, "--spp: '%s' is not a positive integer", value);
+        o->spp = number;
+    } else if (strcmp(flag, "--seed") == 0) {
+        if (parse_u64(value, UINT32_MAX, &number))
+            return fail(error, size, "--seed: '%s' is not an integer in 0..4294967295", value);
+        o->seed = (uint32_t)number;
+    } else if (strcmp(flag, "--first-sample") == 0) {
+        if (parse_u64(value, UINT64_C(1) << 48, &number))
+            return fail(error, size, "--first-sample: '%s' is not a non-negative integer", value);
+        o->first_sample = number;
+    } else if (strcmp(flag, "--sets") == 0) {
+        if (parse_u64(value, 64, &number) || number < 1)
+            return fail(error, size, "--sets: '%s' is not in 1..64", value);
+        o->estimator.set_count = (int)number;
+    } else if (strcmp(flag, "--estimators") == 0) {
+        if (parse_estimators(value, &o->outputs))
+            return fail(error, size, "--estimators: '%s' is not a list of mean, mon, gmon", value);
+    } else if (strcmp(flag, "--gini-mode") == 0) {
+        if (strcmp(value, "channel") == 0)
+            o->estimator.gini_mode = GINI_PER_CHANNEL;
+        else if (strcmp(value, "pixel") == 0)
+            o->estimator.gini_mode = GINI_PER_PIXEL;
+        else if (strcmp(value, "luminance") == 0)
+            o->estimator.gini_mode = SORT_BY_LUMINANCE;
+        else
+            return fail(error, size, "--gini-mode: '%s' is not channel, pixel or luminance", value);
+    } else if (strcmp(flag, "--preview") == 0) {
+        if (strcmp(value, "mean") && strcmp(value, "mon") && strcmp(value, "gmon"))
+            return fail(error, size, "--preview: '%s' is not mean, mon or gmon", value);
+        o->preview = value;
+    } else if (strcmp(flag, "--exposure") == 0) {
+        if (parse_double(value, &real))
+            return fail(error, size, "--exposure: '%s' is not a non-negative number", value);
+        o->exposure = (float)real;
+    } else if (strcmp(flag, "--time") == 0) {
+        if (parse_double(value, &real) || real <= 0.0)
+            return fail(error, size, "--time: '%s' is not a positive number of seconds", value);
+        o->time_budget = real;
+    } else if (strcmp(flag, "--resolution") == 0) {
+        if (parse_resolution(value, &o->width, &o->height))
+            return fail(error, size, "--resolution: '%s' is not WIDTHxHEIGHT, each 1..65536 (e.g. 640x480)", value);
+    } else if (strcmp(flag, "--maxdepth") == 0) {
+        if (parse_u64(value, 10000, &number))
+            return fail(error, size, "--maxdepth: '%s' is not an integer in 0..10000", value);
+        o->max_depth = (int)number;
+    } else if (strcmp(flag, "--integrator") == 0) {
+        if (strcmp(value, "nee") == 0)
+            o->bsdf_only = 0;
+        else if (strcmp(value, "bsdf") == 0)
+            o->bsdf_only = 1;
+        else
+            return fail(error, size, "--integrator: '%s' is not nee or bsdf", value);
+    } else if (strcmp(flag, "--device") == 0) {
+        return parse_devices(value, &o->devices, error, size);
+    } else if (strcmp(flag, "--outfile") == 0) {
+        if (!names_a_file(value))
+            return fail(error, size, "--outfile '%s' names no file (give one such as out.exr)", value);
+        o->outfile = value;
+    } else if (strcmp(flag, "--kernel-dir") == 0) {
+        o->kernel_dir = value;
+    }
+    return 0;
+}
+
+static const char *const command_names[] = {"render", "estimate", "merge", "--list-devices"};
+
 int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
 {
     memset(o, 0, sizeof *o);
@@ -162,159 +390,56 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         o->command = COMMAND_MERGE;
         first = 2;
     }
+    const Command subcommand = o->command;
     for (int i = first; i < argc; ++i) {
-        const char *flag = argv[i];
-        /* Accept --flag=value as well as --flag value. */
-        char name[64];
-        const char *value = NULL;
-        const char *equals = strchr(flag, '=');
-        if (flag[0] == '-' && equals && (size_t)(equals - flag) < sizeof name) {
-            memcpy(name, flag, (size_t)(equals - flag));
-            name[equals - flag] = '\0';
-            value = equals + 1;
-            flag = name;
-        }
-#define NEEDS_VALUE()                                                                                                  \
-    do {                                                                                                               \
-        if (!value) {                                                                                                  \
-            if (i + 1 >= argc)                                                                                         \
-                return fail(error, size, "%s needs a value (see --help)", flag, NULL);                                 \
-            value = argv[++i];                                                                                         \
-        }                                                                                                              \
-    } while (0)
-        uint64_t number = 0;
-        double real = 0.0;
-        static const char *const switches[] = {
-            "--help",        "-h",           "--list-devices",      "--quiet",
-            "--diagnostics", "--write-sets", "--allow-unsupported", "--all-features"};
-        for (size_t k = 0; value && k < sizeof switches / sizeof switches[0]; ++k)
-            if (strcmp(flag, switches[k]) == 0)
-                return fail(error, size, "%s takes no value", flag, NULL);
-        if (strcmp(flag, "--help") == 0 || strcmp(flag, "-h") == 0) {
-            o->command = COMMAND_HELP;
-        } else if (strcmp(flag, "--list-devices") == 0) {
-            o->command = COMMAND_LIST_DEVICES;
-        } else if (strcmp(flag, "--quiet") == 0) {
-            o->quiet = 1;
-        } else if (strcmp(flag, "--diagnostics") == 0) {
-            o->diagnostics = 1;
-        } else if (strcmp(flag, "--write-sets") == 0) {
-            o->write_sets = 1;
-        } else if (strcmp(flag, "--allow-unsupported") == 0) {
-            o->allow_unsupported = 1;
-        } else if (strcmp(flag, "--all-features") == 0) {
-            o->all_features = 1;
-        } else if (strcmp(flag, "--checkpoints") == 0) {
-            NEEDS_VALUE();
-            o->checkpoints = value;
-        } else if (strcmp(flag, "--reference") == 0) {
-            NEEDS_VALUE();
-            o->reference = value;
-        } else if (strcmp(flag, "--dump-kernel") == 0) {
-            NEEDS_VALUE();
-            o->dump_kernel = value;
-        } else if (strcmp(flag, "--spp") == 0) {
-            NEEDS_VALUE();
-            if (parse_u64(value, UINT64_C(1) << 40, &number) || number == 0)
-                return fail(error, size, "--spp: '%s' is not a positive integer", value, NULL);
-            o->spp = number;
-        } else if (strcmp(flag, "--seed") == 0) {
-            NEEDS_VALUE();
-            if (parse_u64(value, UINT32_MAX, &number))
-                return fail(error, size, "--seed: '%s' is not an integer in 0..4294967295", value, NULL);
-            o->seed = (uint32_t)number;
-        } else if (strcmp(flag, "--first-sample") == 0) {
-            NEEDS_VALUE();
-            if (parse_u64(value, UINT64_C(1) << 48, &number))
-                return fail(error, size, "--first-sample: '%s' is not a non-negative integer", value, NULL);
-            o->first_sample = number;
-        } else if (strcmp(flag, "--sets") == 0) {
-            NEEDS_VALUE();
-            if (parse_u64(value, 64, &number) || number < 1)
-                return fail(error, size, "--sets: '%s' is not in 1..64", value, NULL);
-            o->estimator.set_count = (int)number;
-        } else if (strcmp(flag, "--estimators") == 0) {
-            NEEDS_VALUE();
-            if (parse_estimators(value, &o->outputs))
-                return fail(error, size, "--estimators: '%s' is not a list of mean, mon, gmon", value, NULL);
-        } else if (strcmp(flag, "--gini-mode") == 0) {
-            NEEDS_VALUE();
-            if (strcmp(value, "channel") == 0)
-                o->estimator.gini_mode = GINI_PER_CHANNEL;
-            else if (strcmp(value, "pixel") == 0)
-                o->estimator.gini_mode = GINI_PER_PIXEL;
-            else if (strcmp(value, "luminance") == 0)
-                o->estimator.gini_mode = SORT_BY_LUMINANCE;
-            else
-                return fail(error, size, "--gini-mode: '%s' is not channel, pixel or luminance", value, NULL);
-        } else if (strcmp(flag, "--preview") == 0) {
-            NEEDS_VALUE();
-            if (strcmp(value, "mean") && strcmp(value, "mon") && strcmp(value, "gmon"))
-                return fail(error, size, "--preview: '%s' is not mean, mon or gmon", value, NULL);
-            o->preview = value;
-        } else if (strcmp(flag, "--exposure") == 0) {
-            NEEDS_VALUE();
-            if (parse_double(value, &real))
-                return fail(error, size, "--exposure: '%s' is not a non-negative number", value, NULL);
-            o->exposure = (float)real;
-        } else if (strcmp(flag, "--time") == 0) {
-            NEEDS_VALUE();
-            if (parse_double(value, &real) || real <= 0.0)
-                return fail(error, size, "--time: '%s' is not a positive number of seconds", value, NULL);
-            o->time_budget = real;
-        } else if (strcmp(flag, "--resolution") == 0) {
-            NEEDS_VALUE();
-            unsigned w = 0, h = 0;
-            char tail = 0;
-            if (sscanf(value, "%ux%u%c", &w, &h, &tail) != 2 || w == 0 || h == 0 || w > 65536 || h > 65536)
-                return fail(error, size, "--resolution: '%s' is not WIDTHxHEIGHT (e.g. 640x480)", value, NULL);
-            o->width = w;
-            o->height = h;
-        } else if (strcmp(flag, "--maxdepth") == 0) {
-            NEEDS_VALUE();
-            if (parse_u64(value, 10000, &number))
-                return fail(error, size, "--maxdepth: '%s' is not an integer in 0..10000", value, NULL);
-            o->max_depth = (int)number;
-        } else if (strcmp(flag, "--integrator") == 0) {
-            NEEDS_VALUE();
-            if (strcmp(value, "nee") == 0)
-                o->bsdf_only = 0;
-            else if (strcmp(value, "bsdf") == 0)
-                o->bsdf_only = 1;
-            else
-                return fail(error, size, "--integrator: '%s' is not nee or bsdf", value, NULL);
-        } else if (strcmp(flag, "--device") == 0) {
-            NEEDS_VALUE();
-            o->devices = value;
-        } else if (strcmp(flag, "--outfile") == 0) {
-            NEEDS_VALUE();
-            o->outfile = value;
-        } else if (strcmp(flag, "--kernel-dir") == 0) {
-            NEEDS_VALUE();
-            o->kernel_dir = value;
-        } else if (flag[0] == '-' && flag[1] != '\0') {
-            return fail(error, size, "unknown option '%s' (see --help)", flag, NULL);
-        } else {
-            if (value)
-                return fail(error, size, "unexpected '%s'", argv[i], NULL);
+        const char *arg = argv[i];
+        if (arg[0] != '-' || arg[1] == '\0') {
             if (o->command == COMMAND_MERGE) {
                 if (o->merge_count == OPTIONS_MAX_MERGE)
-                    return fail(error, size, "merge takes at most 1024 files", NULL, NULL);
-                o->merge_inputs[o->merge_count++] = flag;
+                    return fail(error, size, "merge takes at most 1024 files");
+                o->merge_inputs[o->merge_count++] = arg;
                 continue;
             }
             if (o->input)
-                return fail(error, size, "more than one input file: '%s' and '%s'", o->input, flag);
-            o->input = flag;
+                return fail(error, size, "more than one input file: '%s' and '%s'", o->input, arg);
+            o->input = arg;
+            continue;
         }
-#undef NEEDS_VALUE
+        /* --flag=value as well as --flag value. */
+        char name[64];
+        const char *value = NULL;
+        const char *equals = strchr(arg, '=');
+        if (equals && (size_t)(equals - arg) < sizeof name) {
+            memcpy(name, arg, (size_t)(equals - arg));
+            name[equals - arg] = '\0';
+            value = equals + 1;
+            arg = name;
+        }
+        int exists = 0;
+        const Flag *flag = find_flag(arg, subcommand, &exists);
+        if (!flag && exists)
+            return fail(error, size, "`gmonrt %s` does not take %s (see gmonrt %s --help)", command_names[subcommand],
+                        arg, command_names[subcommand]);
+        if (!flag)
+            return fail(error, size, "unknown option '%s' (see --help)", arg);
+        if (!flag->value && value)
+            return fail(error, size, "%s takes no value", arg);
+        if (flag->value && !value) {
+            if (i + 1 >= argc)
+                return fail(error, size, "%s needs a value (see --help)", arg);
+            value = argv[++i];
+        }
+        if (set_flag(o, arg, value, error, size))
+            return 2;
     }
+    if (o->help)
+        return 0;
     if (o->command == COMMAND_ESTIMATE && !o->input)
-        return fail(error, size, "estimate needs an EXR file written with --write-sets", NULL, NULL);
+        return fail(error, size, "estimate needs an EXR file written with --write-sets");
     if (o->command == COMMAND_MERGE && o->merge_count < 1)
-        return fail(error, size, "merge needs the EXR files to combine (written with --write-sets)", NULL, NULL);
+        return fail(error, size, "merge needs the EXR files to combine (written with --write-sets)");
     if (o->reference && !o->checkpoints)
-        return fail(error, size, "--reference is used with --checkpoints", NULL, NULL);
+        return fail(error, size, "--reference is used with --checkpoints");
     if (!o->preview) {
         o->preview = (o->outputs & ESTIMATOR_OUTPUT_GMON)  ? "gmon"
                      : (o->outputs & ESTIMATOR_OUTPUT_MON) ? "mon"
@@ -324,7 +449,7 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
                   : strcmp(o->preview, "mon") == 0 ? ESTIMATOR_OUTPUT_MON
                                                    : ESTIMATOR_OUTPUT_GMON;
         if (!(o->outputs & bit))
-            return fail(error, size, "--preview %s: that estimator is not among --estimators", o->preview, NULL);
+            return fail(error, size, "--preview %s: that estimator is not among --estimators", o->preview);
     }
     return 0;
 }

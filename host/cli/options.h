@@ -8,17 +8,27 @@
 #include <stdint.h>
 
 #define OPTIONS_MAX_MERGE 1024
+#define OPTIONS_MAX_DEVICES 16 /* indices in one --device list */
 
 typedef enum {
     COMMAND_RENDER,
     COMMAND_ESTIMATE, /* re-estimate a saved EXR's set sums */
     COMMAND_MERGE,    /* combine EXRs of disjoint sample ranges */
     COMMAND_LIST_DEVICES,
-    COMMAND_HELP,
 } Command;
+
+/* --device, parsed: which devices exist is known only once they are
+ * enumerated (devices_open). */
+typedef struct {
+    const char *spec; /* as given, for messages; NULL: all */
+    enum { DEVICES_ALL, DEVICES_CPU, DEVICES_GPU, DEVICES_INDICES } kind;
+    int indices[OPTIONS_MAX_DEVICES]; /* DEVICES_INDICES: distinct, in the order given */
+    int index_count;
+} DeviceSelection;
 
 typedef struct {
     Command command;
+    int help;                                    /* --help: print options_help(command) */
     const char *input;                           /* scene file (render) or EXR (estimate); NULL: default scene */
     const char *merge_inputs[OPTIONS_MAX_MERGE]; /* merge: the EXRs */
     int merge_count;
@@ -36,7 +46,7 @@ typedef struct {
     unsigned width, height;      /* --resolution, 0: the scene's */
     int max_depth;               /* --maxdepth, -1: the scene's */
     int bsdf_only;               /* --integrator bsdf */
-    const char *devices;         /* --device: all, cpu, gpu or indices; NULL: all */
+    DeviceSelection devices;     /* --device */
     uint64_t first_sample;       /* --first-sample: start of the sample range */
     int allow_unsupported;
     const char *checkpoints; /* --checkpoints DIR */
@@ -46,11 +56,12 @@ typedef struct {
     const char *kernel_dir;
 } Options;
 
-/* Parses argv. Returns 0 on success; on a bad flag or value writes a
- * one-line message to `error` and returns 2 (the exit code to use). */
+/* Parses argv. Returns 0 on success; on a bad flag or value, or a flag the
+ * subcommand does not use, writes a one-line message to `error` and returns
+ * 2 (the exit code to use). */
 int options_parse(int argc, char **argv, Options *options, char *error, size_t error_size);
 
-/* The full --help text. */
-const char *options_help(void);
+/* The --help text of a command: its usage and only the flags it takes. */
+const char *options_help(Command command);
 
 #endif

@@ -1,10 +1,15 @@
+#define _POSIX_C_SOURCE 200809L
 #include "cli/output_files.h"
 
+#include "cli/interrupt.h"
 #include "io/png_image.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 void replace_extension(const char *path, const char *extension, char *out, size_t size)
 {
@@ -22,22 +27,93 @@ const float *preview_image(const char *name, const float *mean, const float *mon
     return strcmp(name, "mean") == 0 ? mean : (strcmp(name, "mon") == 0 ? mon : gmon);
 }
 
-int write_render_files(const char *exr_path, const ExrImage *image, const float *preview, float exposure,
-                       const char *preview_name, int quiet)
+int write_replacing(const char *path, OutputWriter writer, const void *data, char *error, size_t error_size)
+{
+    char temporary[4096];
+    if ((size_t)snprintf(temporary, sizeof temporary, "%s.partial-%ld", path, (long)getpid()) >= sizeof temporary) {
+        snprintf(error, error_size, "%s: path too long", path);
+        return -1;
+    }
+    interrupt_temporary_file(temporary);
+    int status = writer(temporary, data, error, error_size) == 0 ? 0 : -1;
+    if (status == 0 && rename(temporary, path) != 0) {
+        snprintf(error, error_size, "%s: cannot replace it with %s: %s", path, temporary, strerror(errno));
+        status = -1;
+    }
+    if (status != 0)
+        unlink(temporary);
+    interrupt_temporary_file(NULL);
+    return status;
+}
+
+static int write_exr(const char *path, const void *image, char *error, size_t error_size)
+{
+    return exr_image_write(path, image, error, error_size) != IMAGE_IO_OK;
+}
+
+int write_exr_file(const char *path, const ExrImage *image)
 {
     char error[1024];
-    if (exr_image_write(exr_path, image, error, sizeof error) != IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
+    if (write_replacing(path, write_exr, image, error, sizeof error) == 0)
+        return 0;
+    fprintf(stderr, "gmonrt: %s\n", error);
+    return 1;
+}
+
+typedef struct {
+    int width, height;
+    const float *rgb;
+    float exposure;
+} PngPreview;
+
+static int write_png(const char *path, const void *data, char *error, size_t error_size)
+{
+    const PngPreview *p = data;
+    return png_write_srgb(path, p->width, p->height, p->rgb, p->exposure, error, error_size) != IMAGE_IO_OK;
+}
+
+int check_output_path(const char *path)
+{
+    char directory[4096];
+    snprintf(directory, sizeof directory, "%s", path);
+    char *slash = strrchr(directory, '/');
+    if (!slash)
+        snprintf(directory, sizeof directory, ".");
+    else
+        slash[slash == directory] = '\0'; /* "/x.exr": the root */
+    struct stat info;
+    const char *problem = NULL;
+    if (stat(directory, &info) != 0)
+        problem = strerror(errno);
+    else if (!S_ISDIR(info.st_mode))
+        problem = "not a directory";
+    else if (access(directory, W_OK | X_OK) != 0)
+        problem = strerror(errno);
+    if (problem) {
+        fprintf(stderr, "gmonrt: cannot write %s: directory %s: %s\n", path, directory, problem);
         return 1;
     }
-    char png_path[4096];
+    if (stat(path, &info) == 0 && S_ISDIR(info.st_mode)) {
+        fprintf(stderr, "gmonrt: cannot write %s: it is a directory\n", path);
+        return 1;
+    }
+    return 0;
+}
+
+int write_render_files(const char *exr_path, const ExrImage *image, const float *preview, float exposure,
+                       const char *preview_name)
+{
+    if (write_exr_file(exr_path, image))
+        return 1;
+    char png_path[4096], error[1024];
     replace_extension(exr_path, ".png", png_path, sizeof png_path);
-    if (png_write_srgb(png_path, image->width, image->height, preview, exposure, error, sizeof error) != IMAGE_IO_OK) {
-        fprintf(stderr, "gmonrt: %s\n", error);
+    const PngPreview png = {image->width, image->height, preview, exposure};
+    if (write_replacing(png_path, write_png, &png, error, sizeof error) != 0) {
+        fprintf(stderr, "gmonrt: wrote %s, but not its preview: %s\n", exr_path, error);
         return 1;
     }
-    if (!quiet)
-        fprintf(stderr, "wrote %s and %s (preview: %s)\n", exr_path, png_path, preview_name);
+    /* Always: a scene's Film "filename" may point anywhere. */
+    fprintf(stderr, "wrote %s and %s (preview: %s)\n", exr_path, png_path, preview_name);
     return 0;
 }
 
@@ -71,8 +147,8 @@ int write_estimates(const Options *o, const ExrImage *sums, int keep_sets, const
         out.metadata.gini_mode = settings.gini_mode;
         char exr_path[4096];
         replace_extension(o->outfile ? o->outfile : default_path, ".exr", exr_path, sizeof exr_path);
-        status = write_render_files(exr_path, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview,
-                                    o->quiet);
+        status =
+            write_render_files(exr_path, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview);
     }
     free(mean);
     free(mon);

@@ -13,10 +13,27 @@ void replace_extension(const char *path, const char *extension, char *out, size_
 /* The image named "mean", "mon" or "gmon". */
 const float *preview_image(const char *name, const float *mean, const float *mon, const float *gmon);
 
-/* Writes `image` to exr_path and the sRGB preview of `preview` beside it.
- * Returns 0, or 1 after printing the error. */
+/* Writes one output file: writer(temporary, data, ...) writes it under a
+ * temporary name beside PATH (PATH.partial-PID), renamed to PATH once
+ * complete, so that a failed or interrupted write never leaves a truncated
+ * file in place of a good one. The writer returns 0, or non-zero with a
+ * message. Returns 0, or -1 with a message (the temporary file removed). */
+typedef int (*OutputWriter)(const char *path, const void *data, char *error, size_t error_size);
+int write_replacing(const char *path, OutputWriter writer, const void *data, char *error, size_t error_size);
+
+/* Writes `image` to PATH through write_replacing. Returns 0, or 1 after
+ * printing the error. */
+int write_exr_file(const char *path, const ExrImage *image);
+
+/* Checks, before a render, that PATH can be written: its directory exists
+ * and is writable, and PATH is not a directory. Returns 0, or 1 after
+ * printing why not. */
+int check_output_path(const char *path);
+
+/* Writes `image` to exr_path and the sRGB preview of `preview` beside it,
+ * and prints the paths written. Returns 0, or 1 after printing the error. */
 int write_render_files(const char *exr_path, const ExrImage *image, const float *preview, float exposure,
-                       const char *preview_name, int quiet);
+                       const char *preview_name);
 
 /* Estimates the set sums of `sums` (its accumulators, M, first sample and
  * sample count) on the host with the options' Gini mode, and writes `sums`

@@ -524,13 +524,13 @@ ImageIoStatus exr_image_write(const char *path, const ExrImage *image, char *err
     if (!specs)
         return fail(&io, "out of memory");
 
-    /* The file is written under a temporary name and renamed at the end, so
-     * a failed write leaves any previous file in place. */
+    /* Written directly: gmonrt replaces files through a temporary name of
+     * its own (write_replacing), which it removes when interrupted. */
     exr_context_initializer_t init = context_initializer(&io);
     exr_context_t ctxt = NULL;
     ImageIoStatus status = IMAGE_IO_ERROR;
     int part = 0;
-    if (EXR_FAILED(&io, exr_start_write(&ctxt, path, EXR_INTERMEDIATE_TEMP_FILE, &init), "cannot create the file"))
+    if (EXR_FAILED(&io, exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init), "cannot create the file"))
         goto done;
     if (EXR_FAILED(&io, exr_add_part(ctxt, NULL, EXR_STORAGE_SCANLINE, &part), "cannot add an image part") ||
         EXR_FAILED(&io,
