@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/merge.h"
 #include "cli/options.h"
+#include "estimator_core.h"
 #include "io/exr_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
@@ -119,7 +120,7 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     assert_int_equal(merged.metadata.first_sample, 0);
     assert_int_equal(merged.metadata.set_count, 5);
     assert_non_null(merged.accumulators);
-    assert_memory_equal(merged.accumulators, whole.accumulators, 5 * 6 * pixels * sizeof(uint64_t));
+    assert_memory_equal(merged.accumulators, whole.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
     assert_memory_equal(merged.mean, whole.mean, pixels * 3 * sizeof(float));
     assert_memory_equal(merged.mon, whole.mon, pixels * 3 * sizeof(float));
     assert_memory_equal(merged.gmon, whole.gmon, pixels * 3 * sizeof(float));
@@ -138,7 +139,7 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     read_image("tail.exr", &tail);
     read_image("merged.exr", &merged);
     assert_int_equal(merged.metadata.first_sample, 7);
-    assert_memory_equal(merged.accumulators, tail.accumulators, 5 * 6 * pixels * sizeof(uint64_t));
+    assert_memory_equal(merged.accumulators, tail.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
     assert_memory_equal(merged.gmon, tail.gmon, pixels * 3 * sizeof(float));
     exr_image_free(&tail);
     exr_image_free(&merged);

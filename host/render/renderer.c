@@ -41,7 +41,8 @@ void render_output_free(RenderOutput *o)
 }
 
 /* The sums and counters of pixels, as planes of `pixels` values: the
- * accumulators' planes, then the rejected counts, then the ray counts. */
+ * accumulators' planes, the rejected counts (REJECTED_PLANES: non-finite,
+ * rounded), then the ray counts. */
 typedef struct {
     uint64_t *accumulators;
     uint32_t *rejected;
@@ -71,7 +72,7 @@ typedef struct {
     const RenderSettings *settings;
     int sets;      /* M as rendered */
     size_t pixels; /* of the image */
-    size_t planes; /* accumulator planes: sets * channels * 2 words */
+    size_t planes; /* accumulator planes: accumulator_planes(sets) */
     Worker workers[RENDER_MAX_DEVICES];
     int worker_count;
     HostState saved;   /* every pixel's state after saved_samples samples */
@@ -139,11 +140,16 @@ static void drop_on_cl_error(Render *r, Worker *w, const char *what)
     drop_worker(r, w, why);
 }
 
+size_t render_bytes_per_pixel(size_t sets)
+{
+    return accumulator_planes((uint32_t)sets) * sizeof(uint64_t) + REJECTED_PLANES * sizeof(uint32_t) +
+           sizeof(uint64_t);
+}
+
 /* Device memory a worker holds now, plus `extra`. */
 static size_t worker_bytes(const Render *r, const Worker *w, size_t extra)
 {
-    size_t state =
-        w->accumulators ? w->count * (r->planes * sizeof(uint64_t) + sizeof(uint32_t) + sizeof(uint64_t)) : 0;
+    size_t state = w->accumulators ? w->count * render_bytes_per_pixel((size_t)r->sets) : 0;
     return w->scene_bytes + state + extra;
 }
 
@@ -244,7 +250,7 @@ static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *h
         void *host;
         size_t element, planes;
     } parts[3] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
-                  {w->rejected, host->rejected, sizeof(uint32_t), 1},
+                  {w->rejected, host->rejected, sizeof(uint32_t), REJECTED_PLANES},
                   {w->rays, host->rays, sizeof(uint64_t), 1}};
     for (int i = 0; i < 3; ++i) {
         size_t element = parts[i].element;
@@ -308,7 +314,8 @@ static int assign_pixels(Render *r, const double *weights, int reload, char *err
             w->count = count;
             w->accumulators = clCreateBuffer(context, CL_MEM_READ_WRITE, accumulator_bytes, NULL, &err);
             if (err == CL_SUCCESS)
-                w->rejected = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint32_t), NULL, &err);
+                w->rejected =
+                    clCreateBuffer(context, CL_MEM_READ_WRITE, count * REJECTED_PLANES * sizeof(uint32_t), NULL, &err);
             if (err == CL_SUCCESS)
                 w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
             if (err != CL_SUCCESS)
@@ -552,7 +559,7 @@ static void free_state(HostState *h)
 static int allocate_state(HostState *h, size_t planes, size_t pixels)
 {
     h->accumulators = calloc(planes * pixels, sizeof(uint64_t));
-    h->rejected = calloc(pixels, sizeof(uint32_t));
+    h->rejected = calloc(REJECTED_PLANES * pixels, sizeof(uint32_t));
     h->rays = calloc(pixels, sizeof(uint64_t));
     return h->accumulators && h->rejected && h->rays ? 0 : -1;
 }
@@ -577,7 +584,7 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     /* Only the mean needs no sets: one sum per pixel. */
     r.sets = (s->outputs & ~ESTIMATOR_OUTPUT_MEAN) || s->keep_sets ? m : 1;
     r.pixels = (size_t)scene->params.width * scene->params.height;
-    r.planes = (size_t)r.sets * EST_CHANNELS * 2;
+    r.planes = accumulator_planes((uint32_t)r.sets);
     r.worker_count = device_count;
     out->width = scene->params.width;
     out->height = scene->params.height;
@@ -739,7 +746,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     for (size_t i = 0; i < r.pixels; ++i) {
         out->rays += r.saved.rays[i];
         out->rejected_total += r.saved.rejected[i];
+        out->rounded_total += r.saved.rejected[r.pixels + i];
+        out->rounded_pixels += r.saved.rejected[r.pixels + i] != 0;
     }
+    out->bytes_per_pixel = render_bytes_per_pixel((size_t)r.sets);
     r.saved.accumulators = NULL;
     r.saved.rejected = NULL;
     if (complete) {
