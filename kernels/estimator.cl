@@ -329,6 +329,7 @@ __kernel void accumulate_stream(__global const float *samples, ulong stream_leng
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }
+    accumulators_normalize(accumulators, pixel, pixel_count, EST_SETS);
     rejected[pixel] += nonfinite;
     rejected[pixel_count + pixel] += rounded;
 }

@@ -38,14 +38,17 @@
  *
  * Each set sum (one per set and channel) is a signed 128-bit integer, two
  * 64-bit words, counting units of 2^E, where E, the pixel's grid exponent, is
- * shared by every sum of the pixel. E is the smallest ulp exponent among the
- * nonzero sample values the pixel has received (a float is an integer
- * multiple of its ulp), so every sample is added exactly and the sums are
- * exact and associative: they do not depend on sample order, pass batching,
- * devices or how sample ranges are split and merged. Scaling every sample by
- * 2^k moves E by k and leaves the integers as they are, so estimates scale
- * by exactly 2^k. When a finer sample arrives, the pixel's sums shift left
- * (exact).
+ * shared by every sum of the pixel. E is at most the exponent of the lowest
+ * set bit of every nonzero sample value the pixel has received, so every
+ * sample is added exactly and the sums are exact: they do not depend on
+ * sample order, pass batching, devices or how sample ranges are split and
+ * merged. When a finer sample arrives, the pixel's sums shift left (exact).
+ * accumulators_normalize then puts a pixel in its one canonical form (E as
+ * high as the sums allow exactly), so that equal sums have equal bits
+ * whatever the order that built them: the kernels do it at the end of every
+ * pass, merging at the end of every merge. Scaling every sample by 2^k moves
+ * E by k and leaves the integers as they are, so estimates scale by exactly
+ * 2^k.
  *
  * Sums stay below 2^EST_SUM_BITS in magnitude. A pixel whose values span
  * more binary orders than that holds (about 100 minus log2 of the samples
@@ -111,6 +114,13 @@ KERNEL_FN int ulp_exponent(uint32_t bits)
 {
     int biased = (int)((bits >> 23) & 0xffu);
     return (biased != 0 ? biased : 1) - 150;
+}
+
+/* The exponent of the lowest set bit of a nonzero finite float. */
+KERNEL_FN int lowest_bit_exponent(uint32_t bits)
+{
+    uint64_t significand = (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
+    return ulp_exponent(bits) + trailing_zeros64(significand);
 }
 
 /* Bits needed for the magnitude of v: v lies in [-2^b, 2^b). */
@@ -324,9 +334,9 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
         uint32_t bits = float_bits(rgb[c]);
         if ((bits & 0x7fffffffu) == 0)
             continue;
-        int ulp = ulp_exponent(bits);
-        finest = nonzero && finest < ulp ? finest : ulp;
-        top = nonzero && top > ulp + 24 ? top : ulp + 24;
+        int lowest = lowest_bit_exponent(bits), bound = ulp_exponent(bits) + 24;
+        finest = nonzero && finest < lowest ? finest : lowest;
+        top = nonzero && top > bound ? top : bound;
         nonzero = 1;
     }
     if (!nonzero)
@@ -358,6 +368,31 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     }
     accumulators[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
     return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
+/* Puts a pixel's sums in their canonical form: its grid moved up by the
+ * trailing zero bits all its sums share (exact), or no grid when they are
+ * all 0. Equal sums then have equal bits. */
+KERNEL_FN void accumulators_normalize(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                                      uint32_t set_count)
+{
+    uint64_t grid = accumulators[grid_index(pixel)];
+    if (grid == 0)
+        return;
+    int zeros = 128; /* trailing zeros shared by every sum */
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        FixedSum v = load_sum(accumulators, sum_index(s, pixel, pixel_count), pixel_count);
+        int here = v.lo != 0 ? trailing_zeros64(v.lo) : (v.hi != 0 ? 64 + trailing_zeros64(v.hi) : 128);
+        zeros = here < zeros ? here : zeros;
+    }
+    if (zeros == 128) {
+        accumulators[grid_index(pixel)] = 0;
+        return;
+    }
+    if (zeros == 0)
+        return;
+    grid_coarsen(accumulators, pixel, pixel_count, set_count, zeros); /* exact: only zero bits go */
+    accumulators[grid_index(pixel)] = grid + (uint64_t)zeros;
 }
 
 /* Adds the sums of pixel `pixel` of `part` (same layout and set count) to
@@ -396,6 +431,7 @@ KERNEL_FN int accumulators_merge_pixel(GLOBAL uint64_t *total, GLOBAL uint64_t *
         exponent += 1;
     }
     total[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
+    accumulators_normalize(total, pixel, pixel_count, set_count);
     return inexact;
 }
 

@@ -37,7 +37,7 @@ void exact_sum_add(ExactSum *sum, float x)
     }
 }
 
-float exact_sum_to_float(const ExactSum *sum)
+long double exact_sum_to_long_double(const ExactSum *sum)
 {
     uint32_t magnitude[EXACT_SUM_WORDS];
     memcpy(magnitude, sum->words, sizeof magnitude);
@@ -55,7 +55,7 @@ float exact_sum_to_float(const ExactSum *sum)
         if ((magnitude[i / 32] >> (i % 32)) & 1)
             top = i;
     if (top < 0)
-        return 0.0f;
+        return 0.0L;
     /* The 64 bits from the top one, the lowest made sticky for every bit
      * below them: exact in a long double, which then rounds to float once
      * (the sticky bit lies far below the float's last bit). */
@@ -71,7 +71,12 @@ float exact_sum_to_float(const ExactSum *sum)
     }
     window |= (uint64_t)sticky;
     long double value = ldexpl((long double)window, low + UNIT_EXPONENT);
-    return (float)(negative ? -value : value);
+    return negative ? -value : value;
+}
+
+float exact_sum_to_float(const ExactSum *sum)
+{
+    return (float)exact_sum_to_long_double(sum);
 }
 
 long double test_set_sum(const uint64_t *accumulators, uint32_t set, uint32_t channel, size_t pixel, size_t pixel_count)

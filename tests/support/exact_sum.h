@@ -20,6 +20,10 @@ void exact_sum_add(ExactSum *sum, float x);
 /* The sum rounded to the nearest float, ties to even (inf past FLT_MAX). */
 float exact_sum_to_float(const ExactSum *sum);
 
+/* The sum as a long double: its 64 leading bits, the last one sticky for
+ * the rest (so within 2^-63 relative, and rounding to float correctly). */
+long double exact_sum_to_long_double(const ExactSum *sum);
+
 /* Set j, channel c of pixel p of an accumulation buffer (the renderer's
  * layout: kernels/estimator_core.h) as a long double. */
 long double test_set_sum(const uint64_t *accumulators, uint32_t set, uint32_t channel, size_t pixel,
