@@ -106,7 +106,6 @@ static int render(const Options *o)
             return 1;
         }
         checkpoints.scene_path = scene_path;
-        checkpoints.scene_hash = summary.hash;
         checkpoints.diagnostics = o->diagnostics;
     }
     RenderSettings settings;
@@ -171,7 +170,6 @@ static int render(const Options *o)
     if (!o->write_sets)
         image.accumulators = NULL;
     image.metadata.scene_path = scene_path;
-    image.metadata.scene_hash = summary.hash;
     int status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
                                     o->exposure, o->preview, o->quiet);
     if (!o->quiet)

@@ -11,11 +11,16 @@
 /* Checks that part b can join part a; prints why not. */
 static int compatible(const char *a_path, const ExrImage *a, const char *b_path, const ExrImage *b)
 {
-    const char *a_hash = a->metadata.scene_hash ? a->metadata.scene_hash : "";
-    const char *b_hash = b->metadata.scene_hash ? b->metadata.scene_hash : "";
-    if (strcmp(a_hash, b_hash) != 0) {
-        fprintf(stderr, "gmonrt: merge: %s and %s render different scenes (scene hashes %s and %s)\n", a_path, b_path,
-                a_hash, b_hash);
+    const char *a_integrator = a->metadata.integrator ? a->metadata.integrator : "(unknown)";
+    const char *b_integrator = b->metadata.integrator ? b->metadata.integrator : "(unknown)";
+    if (strcmp(a_integrator, b_integrator) != 0) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in integrator (%s vs %s)\n", a_path, b_path, a_integrator,
+                b_integrator);
+        return 0;
+    }
+    if (a->metadata.max_depth != b->metadata.max_depth) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,
+                a->metadata.max_depth, b->metadata.max_depth);
         return 0;
     }
     if (a->width != b->width || a->height != b->height) {
@@ -31,6 +36,17 @@ static int compatible(const char *a_path, const ExrImage *a, const char *b_path,
     if (a->metadata.seed != b->metadata.seed) {
         fprintf(stderr, "gmonrt: merge: %s has seed %llu but %s has seed %llu\n", a_path,
                 (unsigned long long)a->metadata.seed, b_path, (unsigned long long)b->metadata.seed);
+        return 0;
+    }
+    /* Last: what the checks above do not name (the scene file's content:
+     * geometry, materials, lights, camera). */
+    const char *a_hash = a->metadata.scene_hash ? a->metadata.scene_hash : "";
+    const char *b_hash = b->metadata.scene_hash ? b->metadata.scene_hash : "";
+    if (strcmp(a_hash, b_hash) != 0) {
+        fprintf(stderr,
+                "gmonrt: merge: %s and %s render different scenes: geometry, materials, lights or camera differ "
+                "(hashes %s and %s)\n",
+                a_path, b_path, a_hash, b_hash);
         return 0;
     }
     return 1;

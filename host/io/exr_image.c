@@ -443,6 +443,12 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
         EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneHash", meta->scene_hash),
                    "cannot set attribute " METADATA_PREFIX "sceneHash"))
         return IMAGE_IO_ERROR;
+    if (meta->integrator &&
+        (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "integrator", meta->integrator),
+                    "cannot set attribute " METADATA_PREFIX "integrator") ||
+         EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "maxDepth", meta->max_depth),
+                    "cannot set attribute " METADATA_PREFIX "maxDepth")))
+        return IMAGE_IO_ERROR;
     if (EXR_FAILED(io,
                    exr_attr_set_string(ctxt, part, METADATA_PREFIX "giniMode", gini_mode_names[(int)meta->gini_mode]),
                    "cannot set attribute " METADATA_PREFIX "giniMode"))
@@ -713,8 +719,17 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "nonfiniteSamples", &meta->nonfinite_samples) < 0 ||
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "roundedSamples", &meta->rounded_samples) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneFile", &meta->scene_path) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0)
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0 ||
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0)
         return IMAGE_IO_ERROR;
+    result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "maxDepth", &attribute);
+    if (result != EXR_ERR_NO_ATTR_BY_NAME) {
+        if (library_failed(io, result, "cannot read attribute " METADATA_PREFIX "maxDepth"))
+            return IMAGE_IO_ERROR;
+        if (attribute->type != EXR_ATTR_INT)
+            return fail(io, "attribute " METADATA_PREFIX "maxDepth is of type %s, expected int", attribute->type_name);
+        meta->max_depth = attribute->i;
+    }
     const char *mode = NULL;
     int found = read_string_attribute(io, ctxt, image, METADATA_PREFIX "giniMode", &mode);
     if (found < 0)

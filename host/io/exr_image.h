@@ -28,7 +28,11 @@
  *   gmon.seed         string  decimal uint64
  *   gmon.firstSample  string  index of the first sample, decimal uint64
  *   gmon.sceneFile    string
- *   gmon.sceneHash    string
+ *   gmon.sceneHash    string  hash of all that determines a sample (scene,
+ *                             camera, resolution, max depth, integrator,
+ *                             seed, M), taken from the renderer's buffers
+ *   gmon.integrator   string  path | bsdf
+ *   gmon.maxDepth     int
  *   gmon.giniMode     string  per_channel | per_pixel | sort_by_luminance
  *   gmon.nonfiniteSamples string  non-finite samples, decimal uint64
  *   gmon.roundedSamples   string  samples not added exactly, decimal uint64
@@ -62,6 +66,8 @@ typedef struct {
     uint64_t first_sample;  /* index of this render's first sample */
     const char *scene_path; /* NULL: not written */
     const char *scene_hash; /* NULL: not written */
+    const char *integrator; /* NULL: not written */
+    int max_depth;          /* written with the integrator */
     GiniMode gini_mode;
     uint64_t nonfinite_samples; /* totals over the image */
     uint64_t rounded_samples;

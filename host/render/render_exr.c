@@ -22,6 +22,9 @@ ExrImage render_output_exr(const RenderOutput *out)
     image.metadata.seed = out->seed;
     image.metadata.first_sample = out->first_sample;
     image.metadata.gini_mode = out->gini_mode;
+    image.metadata.scene_hash = out->scene_hash;
+    image.metadata.max_depth = (int)out->max_depth;
+    image.metadata.integrator = out->integrator;
     image.metadata.nonfinite_samples = out->rejected_total;
     image.metadata.rounded_samples = out->rounded_total;
     return image;

@@ -40,6 +40,8 @@ void render_output_free(RenderOutput *o)
     memset(o, 0, sizeof *o);
 }
 
+#define SCENE_BUFFERS 5 /* params, nodes, primitives, materials, emitters */
+
 /* The sums and counters of pixels, as planes of `pixels` values: the
  * accumulators' planes, the rejected counts (REJECTED_PLANES: non-finite,
  * rounded), then the ray counts. */
@@ -58,7 +60,7 @@ typedef struct {
     cl_program program;
     cl_kernel kernel;
     EstimatorProgram *estimator;
-    cl_mem scene[5]; /* params, nodes, primitives, materials, emitters */
+    cl_mem scene[SCENE_BUFFERS];
     cl_mem accumulators, rejected, rays;
     size_t first, count; /* its pixels */
     size_t scene_bytes;
@@ -67,9 +69,51 @@ typedef struct {
     uint64_t unsaved_samples; /* pixel samples since the last host copy */
 } Worker;
 
+/* The path tracer's scene buffers (params, nodes, primitives, materials,
+ * emitters), exactly as uploaded; the scene hash is taken from them. */
+typedef struct {
+    RenderParams params;
+    const void *data[SCENE_BUFFERS];
+    size_t bytes[SCENE_BUFFERS];
+} SceneUpload;
+
+static void scene_upload_init(SceneUpload *u, const RenderScene *scene, const RenderSettings *s)
+{
+    u->params = scene->params;
+    u->params.seed = s->seed;
+    const void *data[SCENE_BUFFERS] = {&u->params, scene->bvh.nodes, scene->bvh.primitives, scene->materials,
+                                       scene->emitters};
+    const size_t bytes[SCENE_BUFFERS] = {sizeof u->params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
+                                         (size_t)scene->bvh.primitive_count * sizeof(Primitive),
+                                         (size_t)scene->material_count * sizeof(Material),
+                                         (size_t)scene->emitter_count * sizeof(Emitter)};
+    memcpy(u->data, data, sizeof data);
+    memcpy(u->bytes, bytes, sizeof bytes);
+}
+
+static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
+{
+    const unsigned char *bytes = data;
+    for (size_t i = 0; i < size; ++i)
+        hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+    return hash;
+}
+
+/* What determines every sample: the uploaded buffers (scene, camera,
+ * resolution, max depth, integrator, seed) and M. */
+static void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t size)
+{
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
+        hash = fnv1a(hash, u->data[i], u->bytes[i]);
+    hash = fnv1a(hash, &sets, sizeof sets);
+    snprintf(hex, size, "%016llx", (unsigned long long)hash);
+}
+
 typedef struct {
     const RenderScene *scene;
     const RenderSettings *settings;
+    SceneUpload upload;
     int sets;      /* M as rendered */
     size_t pixels; /* of the image */
     size_t planes; /* accumulator planes: accumulator_planes(sets) */
@@ -103,7 +147,7 @@ static void release_state(Worker *w)
 static void release_worker(Worker *w)
 {
     release_state(w);
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
         if (w->scene[i])
             clReleaseMemObject(w->scene[i]);
     if (w->pass)
@@ -188,7 +232,6 @@ static cl_mem upload(ClDevice *device, const void *data, size_t bytes, cl_int *e
  * dropping the worker. */
 static int start_worker(Render *r, Worker *w, const char *options)
 {
-    const RenderScene *scene = r->scene;
     const RenderSettings *s = r->settings;
     double start = now_seconds();
     if (w->fault_pass < 0) {
@@ -218,20 +261,13 @@ static int start_worker(Render *r, Worker *w, const char *options)
     }
     w->report->build_seconds = now_seconds() - start;
 
-    RenderParams params = scene->params;
-    params.seed = s->seed;
-    const void *data[5] = {&params, scene->bvh.nodes, scene->bvh.primitives, scene->materials, scene->emitters};
-    const size_t bytes[5] = {sizeof params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
-                             (size_t)scene->bvh.primitive_count * sizeof(Primitive),
-                             (size_t)scene->material_count * sizeof(Material),
-                             (size_t)scene->emitter_count * sizeof(Emitter)};
-    for (int i = 0; i < 5; ++i) {
-        w->scene[i] = upload(w->device, data[i], bytes[i], &err);
+    for (int i = 0; i < SCENE_BUFFERS; ++i) {
+        w->scene[i] = upload(w->device, r->upload.data[i], r->upload.bytes[i], &err);
         if (err != CL_SUCCESS) {
             drop_worker(r, w, "cannot allocate the scene's buffers");
             return -1;
         }
-        w->scene_bytes += bytes[i] ? bytes[i] : sizeof(uint64_t);
+        w->scene_bytes += r->upload.bytes[i] ? r->upload.bytes[i] : sizeof(uint64_t);
         CL_CHECK(clSetKernelArg(w->kernel, (cl_uint)i, sizeof(cl_mem), &w->scene[i]), failed);
     }
     track_peak(r, w, 0);
@@ -581,10 +617,14 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     memset(&r, 0, sizeof r);
     r.scene = scene;
     r.settings = s;
+    scene_upload_init(&r.upload, scene, s);
     /* Only the mean needs no sets: one sum per pixel. */
     r.sets = (s->outputs & ~ESTIMATOR_OUTPUT_MEAN) || s->keep_sets ? m : 1;
     r.pixels = (size_t)scene->params.width * scene->params.height;
     r.planes = accumulator_planes((uint32_t)r.sets);
+    scene_upload_hash(&r.upload, r.sets, out->scene_hash, sizeof out->scene_hash);
+    out->max_depth = scene->params.max_depth;
+    out->integrator = (scene->params.flags & RENDER_NEE) ? "path" : "bsdf";
     r.worker_count = device_count;
     out->width = scene->params.width;
     out->height = scene->params.height;

@@ -69,7 +69,10 @@ struct RenderOutput {
     GiniMode gini_mode;
     uint32_t seed;
     uint64_t first_sample;
-    uint64_t sample_count;   /* samples per pixel actually rendered */
+    uint64_t sample_count; /* samples per pixel actually rendered */
+    char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
+    uint32_t max_depth;
+    const char *integrator;  /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
     uint64_t *accumulators;  /* exact set sums, accumulator_planes(set_count) planes (estimator_core.h) */
     uint32_t *rejected;      /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
     uint64_t rejected_total; /* non-finite samples (added as 0) */
