@@ -1446,20 +1446,19 @@ static int finish_camera(Parser *p)
 {
     Scene *s = p->scene;
     SceneCamera *camera = &s->camera;
-    float(*world_from_camera)[4] = p->world_from_camera;
     int affine = is_affine(p->camera_from_world);
-    memcpy(camera->world_from_camera, world_from_camera, sizeof camera->world_from_camera);
+    memcpy(camera->world_from_camera, p->world_from_camera, sizeof camera->world_from_camera);
     const float origin[3] = {0, 0, 0};
-    transform_point(world_from_camera, origin, camera->position);
+    transform_point(p->world_from_camera, origin, camera->position);
     float *axes[3] = {camera->right, camera->up, camera->forward};
     for (int a = 0; a < 3; ++a) { /* in double: squaring a 1e20 column overflows a float */
-        double v[3] = {world_from_camera[a][0], world_from_camera[a][1], world_from_camera[a][2]};
+        double v[3] = {p->world_from_camera[a][0], p->world_from_camera[a][1], p->world_from_camera[a][2]};
         normalize_d(v);
         for (int k = 0; k < 3; ++k)
             axes[a][k] = (float)v[k];
     }
     double scale;
-    if (!affine || !is_similarity(world_from_camera, &scale)) {
+    if (!affine || !is_similarity(p->world_from_camera, &scale)) {
         if (scene_warn(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
                        "Camera: the camera transform is not a rotation with a uniform scale; its axes are "
                        "normalized"))
