@@ -57,7 +57,7 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     if (scene_load(path, &options, &scene, error, error_size))
         return -1;
     for (size_t i = 0; i < scene.warning_count && !quiet; ++i)
-        fprintf(stderr, "warning: %s\n", scene.warnings[i]);
+        fprintf(stderr, "%s\n", scene.warnings[i]); /* "file:line: warning: ..." */
 
     if (scene.film_filename)
         snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
