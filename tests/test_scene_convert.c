@@ -57,7 +57,6 @@ static int convert(const char *path, RenderScene *scene)
     if (scene_convert_load(path, 0, 16, 16, 1, scene, &summary, error, sizeof error))
         return -1;
     assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
-    assert_true(strlen(summary.hash) == 16);
     return 0;
 }
 
