@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "render/renderer.h"
 
+#include "render/memory_check.h"
+
 #include "cl/kernel_sources.h"
 #include "estimator/estimator_cl.h"
 #include "estimator_core.h"
@@ -584,6 +586,58 @@ static int dump_kernel(const RenderSettings *s, const char *options, int sets, u
     return ok ? 0 : -1;
 }
 
+static double gib(uint64_t bytes)
+{
+    return (double)bytes / (1024.0 * 1024.0 * 1024.0);
+}
+
+/* Refuses, with both figures, a render whose memory does not fit: on the
+ * host two copies of the per-pixel state (the saved one and the one being
+ * gathered, so that a device failing mid-copy loses nothing), the images,
+ * and what a CPU device allocates (its memory is the host's); on each
+ * device its first share of the state, its images and the scene. */
+static int check_memory(const Render *r, int outputs, ClDevice *devices, int device_count, char *error,
+                        size_t error_size)
+{
+    int images = 0;
+    for (int bit = ESTIMATOR_OUTPUT_MEAN; bit <= ESTIMATOR_OUTPUT_GMON; bit <<= 1)
+        images += (outputs & bit) != 0;
+    if (outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS)
+        images += 2;
+    const uint64_t state = render_bytes_per_pixel((size_t)r->sets), image = EST_CHANNELS * sizeof(float) * images;
+    uint64_t scene = 0;
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
+        scene += r->upload.bytes[i];
+    uint64_t host = (2 * state + image) * r->pixels + scene;
+    const uint64_t share = (r->pixels + (size_t)device_count - 1) / (size_t)device_count;
+    for (int i = 0; i < device_count; ++i) {
+        uint64_t device = (state + image) * share + scene;
+        if (devices[i].info.type & CL_DEVICE_TYPE_CPU)
+            host += device;
+        if (device > devices[i].info.global_memory) {
+            snprintf(error, error_size,
+                     "the render needs %.2f GiB on device '%s' (%llu B of set sums and counters and %llu B of images "
+                     "a pixel, M = %d, for %llu pixels), which has %.2f GiB: lower --resolution or --sets, or add "
+                     "devices",
+                     gib(device), devices[i].info.name, (unsigned long long)state, (unsigned long long)image, r->sets,
+                     (unsigned long long)share, gib(devices[i].info.global_memory));
+            return -1;
+        }
+    }
+    char source[128];
+    uint64_t available = memory_host_available(source, sizeof source);
+    if (host > available) {
+        snprintf(error, error_size,
+                 "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, twice "
+                 "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels), but %.2f "
+                 "GiB is available (%s): lower --resolution or --sets, or ask for the mean alone (--estimators mean)",
+                 gib(host), (unsigned long long)state, r->sets, (unsigned long long)image, r->scene->params.width,
+                 r->scene->params.height, gib(available), source);
+        return -1;
+    }
+    return 0;
+}
+
 static void free_state(HostState *h)
 {
     free(h->accumulators);
@@ -636,6 +690,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene, s->outputs);
     RenderStatus status = RENDER_FAILED;
 
+    if (check_memory(&r, s->outputs, devices, device_count, error, error_size))
+        goto done;
     if (allocate_state(&r.saved, r.planes, r.pixels) || allocate_state(&r.scratch, r.planes, r.pixels) ||
         allocate_images(out, s->outputs, r.pixels))
         goto out_of_memory;
