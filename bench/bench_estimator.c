@@ -190,7 +190,20 @@ static float set_sum_value(uint64_t pixel, uint32_t set, uint32_t channel)
 static size_t input_bytes_per_pixel(int sets, int from_accumulators)
 {
     size_t values = (size_t)sets * EST_CHANNELS;
-    return from_accumulators ? values * 2 * sizeof(uint64_t) : values * sizeof(float);
+    return from_accumulators ? accumulator_planes((uint32_t)sets) * sizeof(uint64_t) : values * sizeof(float);
+}
+
+/* Accumulators of the bench's set sums: on the grid 2^-56 (every value is
+ * a multiple of it). */
+#define BENCH_GRID_EXPONENT (-56)
+
+static void store_fixed(uint64_t *words, uint32_t set, uint32_t channel, size_t pixel, size_t count, float v)
+{
+    int inexact = 0;
+    FixedSum f = fixed_from_float(v, BENCH_GRID_EXPONENT, &inexact);
+    words[grid_index(pixel)] = (uint64_t)(BENCH_GRID_EXPONENT + EST_GRID_BIAS);
+    words[accumulator_index(set, channel, 0, pixel, count)] = f.lo;
+    words[accumulator_index(set, channel, 1, pixel, count)] = f.hi;
 }
 
 /* Fills a host tile (pixels first .. first + count - 1 of the image) in the
@@ -202,10 +215,7 @@ static void fill_tile(void *host, int sets, int from_accumulators, uint64_t firs
             for (size_t p = 0; p < count; ++p) {
                 float v = set_sum_value(first + p, j, c);
                 if (from_accumulators) {
-                    uint64_t *words = host;
-                    FixedSum s = fixed_from_float(v);
-                    words[accumulator_index(j, c, 0, p, count)] = s.lo;
-                    words[accumulator_index(j, c, 1, p, count)] = s.hi;
+                    store_fixed(host, j, c, p, count, v);
                 } else {
                     float *sums = host;
                     sums[set_sum_index(j, c, p, count)] = v;
@@ -373,7 +383,7 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
     size_t samples = last->count < CHECK_PIXELS ? last->count : CHECK_PIXELS;
     size_t image_floats = last->count * EST_CHANNELS;
     float *device_images = malloc(OUTPUT_IMAGES * image_floats * sizeof(float));
-    uint64_t *accumulators = malloc((size_t)sets * EST_CHANNELS * 2 * samples * sizeof(uint64_t));
+    uint64_t *accumulators = malloc(accumulator_planes((uint32_t)sets) * samples * sizeof(uint64_t));
     float *sums = malloc((size_t)sets * EST_CHANNELS * samples * sizeof(float));
     float *host_images = malloc(OUTPUT_IMAGES * samples * EST_CHANNELS * sizeof(float));
     if (!device_images || !accumulators || !sums || !host_images) {
@@ -390,10 +400,8 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
         for (uint32_t j = 0; j < (uint32_t)sets; ++j)
             for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
                 float v = set_sum_value(last->first + p, j, c);
-                FixedSum f = fixed_from_float(v);
                 sums[set_sum_index(j, c, s, samples)] = v;
-                accumulators[accumulator_index(j, c, 0, s, samples)] = f.lo;
-                accumulators[accumulator_index(j, c, 1, s, samples)] = f.hi;
+                store_fixed(accumulators, j, c, s, samples, v);
             }
     }
     EstimatorImages images = {host_images,
@@ -405,8 +413,8 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
     char message[256] = "";
     EstimatorStatus st =
         o->from_accumulators
-            ? estimator_from_accumulators(&settings, accumulators, (size_t)sets * EST_CHANNELS * 2 * samples, samples,
-                                          sample_count, &images, message, sizeof message)
+            ? estimator_from_accumulators(&settings, accumulators, accumulator_planes((uint32_t)sets) * samples,
+                                          samples, sample_count, &images, message, sizeof message)
             : estimator_from_sums(&settings, sums, (size_t)sets * EST_CHANNELS * samples, samples, sample_count,
                                   &images, message, sizeof message);
     if (st != ESTIMATOR_OK) {

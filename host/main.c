@@ -36,10 +36,11 @@ static void print_summary(const Options *o, const RenderOutput *out)
     double samples = (double)out->sample_count * out->width * out->height;
     double seconds = out->seconds > 0.0 ? out->seconds : 1e-9;
     printf("%ux%u, %llu spp, M = %d, gini %s, %.2f s, %.3g samples/s, %.3g rays/s, %llu non-finite samples, "
-           "%d device%s\n",
+           "%llu rounded samples, %zu bytes per pixel, %d device%s\n",
            out->width, out->height, (unsigned long long)out->sample_count, out->set_count,
            gini_mode_name(o->estimator.gini_mode), out->seconds, samples / seconds, (double)out->rays / seconds,
-           (unsigned long long)out->rejected_total, out->device_count, out->device_count == 1 ? "" : "s");
+           (unsigned long long)out->rejected_total, (unsigned long long)out->rounded_total, out->bytes_per_pixel,
+           out->device_count, out->device_count == 1 ? "" : "s");
     uint64_t total = 0;
     for (int i = 0; i < out->device_count; ++i)
         total += out->devices[i].samples;
@@ -112,7 +113,6 @@ static int render(const Options *o)
             goto done;
         }
         checkpoints.scene_path = scene_path;
-        checkpoints.scene_hash = summary.hash;
         checkpoints.diagnostics = o->diagnostics;
     }
     RenderSettings settings;
@@ -148,6 +148,11 @@ static int render(const Options *o)
     if (rendered == RENDER_INCOMPLETE)
         fprintf(stderr, "gmonrt: %s writing the %llu samples per pixel saved before\n", error,
                 (unsigned long long)out.sample_count);
+    if (out.rounded_total > 0)
+        fprintf(stderr,
+                "gmonrt: warning: %llu samples in %llu pixels were rounded, not added exactly: those pixels' values "
+                "span more binary orders than a set sum holds (see the README, \"Exact sums\")\n",
+                (unsigned long long)out.rounded_total, (unsigned long long)out.rounded_pixels);
     if (interrupt_signal && !o->quiet)
         fprintf(stderr, "gmonrt: interrupted: writing the %llu samples per pixel done\n",
                 (unsigned long long)out.sample_count);
@@ -157,12 +162,13 @@ static int render(const Options *o)
         fprintf(stderr, "gmonrt: no sample was rendered: %s not written\n", exr_name);
     } else {
         ExrImage image = render_output_exr(&out);
-        if (!o->diagnostics)
+        if (!o->diagnostics) {
             image.nonfinite = NULL;
+            image.rounded = NULL;
+        }
         if (!o->write_sets)
             image.accumulators = NULL;
         image.metadata.scene_path = scene_path;
-        image.metadata.scene_hash = summary.hash;
         status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
                                     o->exposure, o->preview);
     }

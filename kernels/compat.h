@@ -26,6 +26,8 @@ typedef uchar uint8_t;
 #define abs_float(x) fabs(x)
 /* OpenCL defines clz(0) as the bit width; callers never pass 0 anyway. */
 #define leading_zeros64(x) ((int)clz(x))
+/* OpenCL 1.2 has no ctz: the bits below the lowest one, counted. x != 0. */
+#define trailing_zeros64(x) ((int)popcount(((x) & (0 - (x))) - 1))
 
 #else /* host C11 */
 
@@ -51,8 +53,10 @@ KERNEL_FN float float_from_bits(uint32_t bits)
 }
 
 #define abs_float(x) fabsf(x)
-/* __builtin_clzll(0) is undefined; callers never pass 0. */
+/* __builtin_clzll(0) and __builtin_ctzll(0) are undefined; callers never
+ * pass 0. */
 #define leading_zeros64(x) __builtin_clzll(x)
+#define trailing_zeros64(x) __builtin_ctzll(x)
 
 #endif
 

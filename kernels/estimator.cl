@@ -186,6 +186,15 @@ EST_INLINE void load_channel(__global const void *input, int from_accumulators, 
     }
 }
 
+/* The grid exponents of a work item's pixels (lanes past count repeat the
+ * last pixel). */
+EST_INLINE est_int load_grid_exponents(__global const void *accumulators, ulong first, int count)
+{
+    __global const ulong *grid = (__global const ulong *)accumulators + grid_index(first);
+    est_uint word = EST_UINT_FROM_ULONG(count == LANES ? LOAD_LANES(grid) : load_ulong_lanes(grid, count));
+    return EST_SELECT(word == 0u, EST_INTS(0), EST_INT_FROM_UINT(word) - EST_GRID_BIAS);
+}
+
 /* Prefetches (EST_PREFETCH) channel c of the input of the work item at
  * pixel `first`: every cache line of each of its vectors (an accumulator
  * vector of 16 lanes is 128 bytes; any vector may straddle lines). */
@@ -231,6 +240,8 @@ static __attribute__((noinline)) void estimate_in_general(__global const void *i
         load_channel(input, from_accumulators, pixel_count, first, count, c, sums[c]);
     LaneEstimates e;
     estimate_lanes(sums, sample_count, EST_SETS, m, EST_GINI_MODE, from_accumulators, &e);
+    if (from_accumulators)
+        estimates_to_grid(&e, load_grid_exponents(input, first, count));
     store_estimates(&e, first, count, mean, mon, gmon, gini, trim);
 }
 
@@ -265,6 +276,8 @@ EST_INLINE void estimate_common(__global const void *input, int from_accumulator
     }
     estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_GINI_MODE, from_accumulators, &e);
 #endif
+    if (from_accumulators)
+        estimates_to_grid(&e, load_grid_exponents(input, first, LANES));
     store_estimates(&e, first, LANES, mean, mon, gmon, gini, trim);
 }
 
@@ -299,7 +312,8 @@ __kernel void estimate_from_accumulators(__global const ulong *accumulators, ulo
 
 /* Drives the shared accumulation code from a sample stream (tests): work
  * item p adds samples[p][i] (RGB) as sample index first_sample + i of pixel
- * p, and counts the rejected ones. One pixel per work item whatever
+ * p, and counts the rejected ones: rejected holds two planes, the non-finite
+ * samples and the rounded ones (estimator_core.h). One pixel per work item whatever
  * EST_VECTOR_WIDTH is. */
 __kernel void accumulate_stream(__global const float *samples, ulong stream_length, ulong first_sample,
                                 __global ulong *accumulators, ulong pixel_count, __global uint *rejected)
@@ -307,11 +321,15 @@ __kernel void accumulate_stream(__global const float *samples, ulong stream_leng
     ulong pixel = get_global_id(0);
     if (pixel >= pixel_count)
         return;
-    uint rejected_here = 0;
+    uint nonfinite = 0, rounded = 0;
     for (ulong i = 0; i < stream_length; ++i) {
         __global const float *rgb = samples + (pixel * stream_length + i) * EST_CHANNELS;
         uint set = set_of_sample(first_sample + i, EST_SETS);
-        rejected_here += accumulate_sample(accumulators, pixel, pixel_count, set, rgb[0], rgb[1], rgb[2]);
+        int added = accumulate_sample(accumulators, pixel, pixel_count, EST_SETS, set, rgb[0], rgb[1], rgb[2]);
+        nonfinite += added == EST_ADD_NONFINITE;
+        rounded += added == EST_ADD_ROUNDED;
     }
-    rejected[pixel] += rejected_here;
+    accumulators_normalize(accumulators, pixel, pixel_count, EST_SETS);
+    rejected[pixel] += nonfinite;
+    rejected[pixel_count + pixel] += rounded;
 }

@@ -34,57 +34,101 @@
 #define EST_SORT_BY_LUMINANCE 2 /* order and trim whole RGB sets by luminance */
 
 /* ------------------------------------------------------------------------
- * Set accumulation: exact fixed point.
+ * Set accumulation: exact sums on a per-pixel grid.
  *
- * Each set sum (one per set and channel) is a signed 128-bit integer counting
- * units of 2^-56, held as two 64-bit words. A float sample is converted to
- * that grid (rounded to the nearest unit, ties away from zero) and added with
- * integer arithmetic, so sums are exact and associative: the result does not
- * depend on sample order, pass batching, devices or how sample ranges are
- * split and merged. Range: units of 1.4e-17, set sums below 2^71 (2.4e21).
- * Samples above EST_SAMPLE_LIMIT in magnitude (2^38, about 2.7e11; even 2^32
- * such samples cannot overflow a set) are treated like non-finite ones.
+ * Each set sum (one per set and channel) is a signed 128-bit integer, two
+ * 64-bit words, counting units of 2^E, where E, the pixel's grid exponent, is
+ * shared by every sum of the pixel. E is at most the exponent of the lowest
+ * set bit of every nonzero sample value the pixel has received, so every
+ * sample is added exactly and the sums are exact: they do not depend on
+ * sample order, pass batching, devices or how sample ranges are split and
+ * merged. When a finer sample arrives, the pixel's sums shift left (exact).
+ * accumulators_normalize then puts a pixel in its one canonical form (E as
+ * high as the sums allow exactly), so that equal sums have equal bits
+ * whatever the order that built them: the kernels do it at the end of every
+ * pass, merging at the end of every merge. Scaling every sample by 2^k moves
+ * E by k and leaves the integers as they are, so estimates scale by exactly
+ * 2^k.
+ *
+ * Sums stay below 2^EST_SUM_BITS in magnitude. A pixel whose values span
+ * more binary orders than that holds (about 100 minus log2 of the samples
+ * per set, from its finest to its largest value) cannot be summed exactly:
+ * its grid then stops moving down, or moves up so that the largest value
+ * fits, and samples are rounded onto it (to nearest, ties away from zero).
+ * accumulate_sample reports each sample it could not add exactly
+ * (EST_ADD_ROUNDED) so that renders count and report them; a non-finite
+ * sample is not added and reported as EST_ADD_NONFINITE.
+ *
+ * Buffer layout, planes of pixel_count words: the grid plane (0 while the
+ * pixel has no nonzero sample, else E + EST_GRID_BIAS), then
+ * [set][channel][word], so that neighbouring work items touch neighbouring
+ * words.
  * ---------------------------------------------------------------------- */
 
-#define EST_FIXED_FRAC_BITS 56
-#define EST_SAMPLE_LIMIT_EXPONENT 38 /* |sample| < 2^38 is accepted */
+#define EST_SUM_BITS 126
+#define EST_GRID_BIAS 1024
+#define EST_ADD_EXACT 0
+#define EST_ADD_NONFINITE 1
+#define EST_ADD_ROUNDED 2
 
 typedef struct {
     uint64_t lo;
     uint64_t hi; /* two's complement high word */
 } FixedSum;
 
-/* A float as a 128-bit fixed-point value. |x| must be below 2^71. */
-KERNEL_FN FixedSum fixed_from_float(float x)
+/* 64-bit words per pixel in an accumulation buffer. */
+KERNEL_FN uint32_t accumulator_planes(uint32_t set_count)
 {
-    uint32_t bits = float_bits(x);
-    uint32_t biased_exponent = (bits >> 23) & 0xffu;
-    uint64_t mantissa = bits & 0x7fffffu;
-    if (biased_exponent != 0)
-        mantissa |= 0x800000u;
-    else
-        biased_exponent = 1; /* denormal */
-    /* x = mantissa * 2^(biased_exponent - 150); in units of 2^-56: */
-    int shift = (int)biased_exponent - 150 + EST_FIXED_FRAC_BITS;
-    FixedSum v;
-    v.hi = 0;
-    if (shift < 0) {
-        int drop = -shift;
-        v.lo = drop > 25 ? 0 : (mantissa + ((uint64_t)1 << (drop - 1))) >> drop;
-    } else if (shift == 0) {
-        v.lo = mantissa;
-    } else if (shift < 64) {
-        v.lo = mantissa << shift;
-        v.hi = mantissa >> (64 - shift);
-    } else {
-        v.lo = 0;
-        v.hi = mantissa << (shift - 64);
-    }
-    if (bits >> 31) {
-        v.lo = ~v.lo + 1;
-        v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
-    }
-    return v;
+    return 1 + set_count * EST_CHANNELS * 2;
+}
+
+/* Index of a pixel's grid word. */
+KERNEL_FN uint64_t grid_index(uint64_t pixel)
+{
+    return pixel;
+}
+
+/* Index of the low word of sum s = set * EST_CHANNELS + channel (the high
+ * word is one plane further). */
+KERNEL_FN uint64_t sum_index(uint32_t s, uint64_t pixel, uint64_t pixel_count)
+{
+    return ((uint64_t)s * 2 + 1) * pixel_count + pixel;
+}
+
+/* Index of one 64-bit word of a set sum. */
+KERNEL_FN uint64_t accumulator_index(uint32_t set, uint32_t channel, uint32_t word, uint64_t pixel,
+                                     uint64_t pixel_count)
+{
+    return sum_index(set * EST_CHANNELS + channel, pixel, pixel_count) + word * pixel_count;
+}
+
+/* The grid exponent E of a grid word (0 for a pixel without samples, whose
+ * sums are all 0). */
+KERNEL_FN int grid_exponent(uint64_t grid)
+{
+    return grid == 0 ? 0 : (int)grid - EST_GRID_BIAS;
+}
+
+/* The exponent of the last bit of a finite float's significand. */
+KERNEL_FN int ulp_exponent(uint32_t bits)
+{
+    int biased = (int)((bits >> 23) & 0xffu);
+    return (biased != 0 ? biased : 1) - 150;
+}
+
+/* The exponent of the lowest set bit of a nonzero finite float. */
+KERNEL_FN int lowest_bit_exponent(uint32_t bits)
+{
+    uint64_t significand = (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
+    return ulp_exponent(bits) + trailing_zeros64(significand);
+}
+
+/* Bits needed for the magnitude of v: v lies in [-2^b, 2^b). */
+KERNEL_FN int fixed_bits(FixedSum v)
+{
+    uint64_t sign = (uint64_t)((int64_t)v.hi >> 63);
+    uint64_t hi = v.hi ^ sign, lo = v.lo ^ sign;
+    return hi != 0 ? 128 - leading_zeros64(hi) : (lo != 0 ? 64 - leading_zeros64(lo) : 0);
 }
 
 KERNEL_FN FixedSum fixed_add(FixedSum a, FixedSum b)
@@ -95,14 +139,88 @@ KERNEL_FN FixedSum fixed_add(FixedSum a, FixedSum b)
     return r;
 }
 
-/* The fixed-point value (lo, hi) of each lane as the nearest float (ties to
- * even). Integer-to-float conversion is correctly rounded in C and OpenCL
- * alike, so every device rounds the same way: a magnitude below 2^64 is
- * converted whole; a larger one as the 64 bits from its leading one (or the
- * bit below it), with a sticky bit for the rest (far below the float's last
- * bit, so it rounds exactly as the whole would). The power of two that
- * scales the result back carries the sign; the product is exact (results
- * lie in [2^-56, 2^72)). Branch-free, for vectors. */
+/* v * 2^d, d in 0..127 (the caller checks that it fits). */
+KERNEL_FN FixedSum fixed_shift_left(FixedSum v, int d)
+{
+    FixedSum r;
+    if (d == 0) {
+        r = v;
+    } else if (d < 64) {
+        r.hi = (v.hi << d) | (v.lo >> (64 - d));
+        r.lo = v.lo << d;
+    } else {
+        r.hi = v.lo << (d - 64);
+        r.lo = 0;
+    }
+    return r;
+}
+
+/* v / 2^d rounded to nearest, ties toward +infinity, d >= 1; *inexact is set
+ * if bits were lost. |v| < 2^127 - 2^126, so adding the half cannot wrap. */
+KERNEL_FN FixedSum fixed_shift_right_rounded(FixedSum v, int d, int *inexact)
+{
+    FixedSum r;
+    if (d >= 127) {
+        *inexact |= v.lo != 0 || v.hi != 0;
+        r.lo = 0;
+        r.hi = 0;
+        return r;
+    }
+    FixedSum one, minus_one;
+    one.lo = 1;
+    one.hi = 0;
+    minus_one.lo = ~(uint64_t)0;
+    minus_one.hi = ~(uint64_t)0;
+    FixedSum rounding = fixed_shift_left(one, d - 1); /* half a unit of the result */
+    FixedSum lost_mask = fixed_add(fixed_shift_left(rounding, 1), minus_one);
+    *inexact |= (v.lo & lost_mask.lo) != 0 || (v.hi & lost_mask.hi) != 0;
+    v = fixed_add(v, rounding);
+    if (d < 64) {
+        r.lo = (v.lo >> d) | (v.hi << (64 - d));
+        r.hi = (uint64_t)((int64_t)v.hi >> d);
+    } else {
+        r.lo = (uint64_t)((int64_t)v.hi >> (d - 64));
+        r.hi = (uint64_t)((int64_t)v.hi >> 63);
+    }
+    return r;
+}
+
+/* A finite float on the grid 2^grid_exponent, rounded to nearest (ties away
+ * from zero; *inexact is set if bits were lost). The caller keeps
+ * |x| < 2^(grid_exponent + EST_SUM_BITS). */
+KERNEL_FN FixedSum fixed_from_float(float x, int grid_exponent, int *inexact)
+{
+    uint32_t bits = float_bits(x);
+    uint64_t mantissa = bits & 0x7fffffu;
+    if ((bits & 0x7f800000u) != 0)
+        mantissa |= 0x800000u;
+    int shift = ulp_exponent(bits) - grid_exponent;
+    FixedSum v;
+    if (shift >= 0) {
+        v.lo = mantissa;
+        v.hi = 0;
+        v = fixed_shift_left(v, shift);
+    } else {
+        int drop = -shift;
+        v.hi = 0;
+        v.lo = drop > 25 ? 0 : (mantissa + ((uint64_t)1 << (drop - 1))) >> drop;
+        *inexact |= drop > 25 ? mantissa != 0 : (mantissa & (((uint64_t)1 << drop) - 1)) != 0;
+    }
+    if (bits >> 31) {
+        v.lo = ~v.lo + 1;
+        v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
+    }
+    return v;
+}
+
+/* The fixed-point value (lo, hi) of each lane, as an integer count of grid
+ * units, as the nearest float (ties to even). Integer-to-float conversion is
+ * correctly rounded in C and OpenCL alike, so every device rounds the same
+ * way: a magnitude below 2^64 is converted whole; a larger one as the 64
+ * bits from its leading one (or the bit below it), with a sticky bit for the
+ * rest (far below the float's last bit, so it rounds exactly as the whole
+ * would). The power of two that scales the result back carries the sign;
+ * the product is exact (results lie below 2^128). Branch-free, for vectors. */
 EST_INLINE est_float fixed_to_float_lanes(est_ulong lo, est_ulong hi)
 {
     est_uint sign = EST_UINT_FROM_ULONG(hi >> 32) & 0x80000000u;
@@ -124,24 +242,24 @@ EST_INLINE est_float fixed_to_float_lanes(est_ulong lo, est_ulong hi)
     est_ulong window = (hi << shift) | ((lo >> 1) >> (63u - shift));
     est_ulong sticky = EST_SELECT((lo << shift) != 0u, EST_ULONGS(1u), EST_ULONGS(0u));
     est_ulong word = EST_SELECT(hi == 0u, lo, window | sticky);
-    est_int exponent = EST_SELECT(hi_float == 0.0f, EST_INTS(-EST_FIXED_FRAC_BITS), 8 - z);
+    est_int exponent = EST_SELECT(hi_float == 0.0f, EST_INTS(0), 64 - z);
     return EST_FLOAT_FROM_ULONG(word) * EST_FLOAT_FROM_BITS(sign | (EST_UINT_FROM_INT(exponent + 127) << 23));
 }
 
 #if EST_VECTOR_WIDTH == 1
-/* The fixed-point value as the nearest float (ties to even). */
+/* The fixed-point value in grid units as the nearest float (ties to even). */
 KERNEL_FN float fixed_to_float(FixedSum v)
 {
     return fixed_to_float_lanes(v.lo, v.hi);
 }
 #endif
 
-/* A sample is usable if every channel is finite and below the limit. */
-KERNEL_FN int sample_is_usable(float r, float g, float b)
+/* A sample is usable if every channel is finite. */
+KERNEL_FN int sample_is_finite(float r, float g, float b)
 {
-    const uint32_t limit_bits = (uint32_t)(127 + EST_SAMPLE_LIMIT_EXPONENT) << 23;
-    return (float_bits(r) & 0x7fffffffu) < limit_bits && (float_bits(g) & 0x7fffffffu) < limit_bits &&
-           (float_bits(b) & 0x7fffffffu) < limit_bits;
+    const uint32_t infinity_bits = 0x7f800000u;
+    return (float_bits(r) & 0x7fffffffu) < infinity_bits && (float_bits(g) & 0x7fffffffu) < infinity_bits &&
+           (float_bits(b) & 0x7fffffffu) < infinity_bits;
 }
 
 /* Sample index s goes to set s mod M (round robin). */
@@ -150,39 +268,171 @@ KERNEL_FN uint32_t set_of_sample(uint64_t sample_index, uint32_t set_count)
     return (uint32_t)(sample_index % set_count);
 }
 
-/* Index of one 64-bit word in an accumulation buffer laid out as planes
- * [set][channel][word][pixel], so neighbouring work items touch neighbouring
- * words. */
-KERNEL_FN uint64_t accumulator_index(uint32_t set, uint32_t channel, uint32_t word, uint64_t pixel,
-                                     uint64_t pixel_count)
+KERNEL_FN FixedSum load_sum(GLOBAL const uint64_t *accumulators, uint64_t lo_index, uint64_t pixel_count)
 {
-    return ((uint64_t)(set * EST_CHANNELS + channel) * 2 + word) * pixel_count + pixel;
+    FixedSum s;
+    s.lo = accumulators[lo_index];
+    s.hi = accumulators[lo_index + pixel_count];
+    return s;
 }
 
-/* Adds one RGB sample to `set` of `pixel`. A non-finite or out-of-range
- * sample is added as 0 (it still counts as a sample) and reported by
- * returning 1, so the caller can count it. */
-KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set,
-                                float r, float g, float b)
+KERNEL_FN void store_sum(GLOBAL uint64_t *accumulators, uint64_t lo_index, uint64_t pixel_count, FixedSum s)
 {
-    int rejected = !sample_is_usable(r, g, b);
-    if (rejected)
-        return 1;
+    accumulators[lo_index] = s.lo;
+    accumulators[lo_index + pixel_count] = s.hi;
+}
+
+/* Moves a pixel's grid down by up to d bits (shifting its sums left, exact)
+ * as far as its largest sum allows; returns the bits moved. */
+KERNEL_FN int grid_refine(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                          int d)
+{
+    int widest = 0;
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        int bits = fixed_bits(load_sum(accumulators, sum_index(s, pixel, pixel_count), pixel_count));
+        widest = bits > widest ? bits : widest;
+    }
+    int room = EST_SUM_BITS - widest;
+    d = d < room ? d : room;
+    if (d > 0)
+        for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+            uint64_t i = sum_index(s, pixel, pixel_count);
+            store_sum(accumulators, i, pixel_count, fixed_shift_left(load_sum(accumulators, i, pixel_count), d));
+        }
+    return d > 0 ? d : 0;
+}
+
+/* Moves a pixel's grid up by d >= 1 bits (shifting its sums right,
+ * rounded); returns 1 if that lost bits. */
+KERNEL_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                           int d)
+{
+    int inexact = 0;
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        uint64_t i = sum_index(s, pixel, pixel_count);
+        store_sum(accumulators, i, pixel_count,
+                  fixed_shift_right_rounded(load_sum(accumulators, i, pixel_count), d, &inexact));
+    }
+    return inexact;
+}
+
+/* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
+ * EST_ADD_EXACT, EST_ADD_ROUNDED (added, but not exactly: see above) or
+ * EST_ADD_NONFINITE (not added; it still counts as a sample, as 0). */
+KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                                uint32_t set, float r, float g, float b)
+{
+    if (!sample_is_finite(r, g, b))
+        return EST_ADD_NONFINITE;
     float rgb[EST_CHANNELS];
     rgb[0] = r;
     rgb[1] = g;
     rgb[2] = b;
+    /* The sample's finest bit and the bound of its magnitude: |x| < 2^top. */
+    int finest = 0, top = 0, nonzero = 0;
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
-        uint64_t lo_index = accumulator_index(set, c, 0, pixel, pixel_count);
-        uint64_t hi_index = accumulator_index(set, c, 1, pixel, pixel_count);
-        FixedSum sum;
-        sum.lo = accumulators[lo_index];
-        sum.hi = accumulators[hi_index];
-        sum = fixed_add(sum, fixed_from_float(rgb[c]));
-        accumulators[lo_index] = sum.lo;
-        accumulators[hi_index] = sum.hi;
+        uint32_t bits = float_bits(rgb[c]);
+        if ((bits & 0x7fffffffu) == 0)
+            continue;
+        int lowest = lowest_bit_exponent(bits), bound = ulp_exponent(bits) + 24;
+        finest = nonzero && finest < lowest ? finest : lowest;
+        top = nonzero && top > bound ? top : bound;
+        nonzero = 1;
     }
-    return 0;
+    if (!nonzero)
+        return EST_ADD_EXACT;
+    uint64_t grid = accumulators[grid_index(pixel)];
+    int exponent = grid == 0 ? finest : grid_exponent(grid);
+    if (finest < exponent)
+        exponent -= grid_refine(accumulators, pixel, pixel_count, set_count, exponent - finest);
+    /* Keep the sample below 2^(EST_SUM_BITS - 1) units, so that it and a
+     * sum below 2^EST_SUM_BITS cannot wrap 128 bits. */
+    int inexact = 0;
+    if (top - exponent > EST_SUM_BITS - 1) {
+        int d = top - exponent - (EST_SUM_BITS - 1);
+        inexact |= grid_coarsen(accumulators, pixel, pixel_count, set_count, d);
+        exponent += d;
+    }
+    int too_wide = 0;
+    for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
+        if ((float_bits(rgb[c]) & 0x7fffffffu) == 0)
+            continue;
+        uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
+        FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), fixed_from_float(rgb[c], exponent, &inexact));
+        store_sum(accumulators, i, pixel_count, sum);
+        too_wide |= fixed_bits(sum) > EST_SUM_BITS;
+    }
+    if (too_wide) {
+        inexact |= grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
+        exponent += 1;
+    }
+    accumulators[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
+    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
+/* Puts a pixel's sums in their canonical form: its grid moved up by the
+ * trailing zero bits all its sums share (exact), or no grid when they are
+ * all 0. Equal sums then have equal bits. */
+KERNEL_FN void accumulators_normalize(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                                      uint32_t set_count)
+{
+    uint64_t grid = accumulators[grid_index(pixel)];
+    if (grid == 0)
+        return;
+    int zeros = 128; /* trailing zeros shared by every sum */
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        FixedSum v = load_sum(accumulators, sum_index(s, pixel, pixel_count), pixel_count);
+        int here = v.lo != 0 ? trailing_zeros64(v.lo) : (v.hi != 0 ? 64 + trailing_zeros64(v.hi) : 128);
+        zeros = here < zeros ? here : zeros;
+    }
+    if (zeros == 128) {
+        accumulators[grid_index(pixel)] = 0;
+        return;
+    }
+    if (zeros == 0)
+        return;
+    grid_coarsen(accumulators, pixel, pixel_count, set_count, zeros); /* exact: only zero bits go */
+    accumulators[grid_index(pixel)] = grid + (uint64_t)zeros;
+}
+
+/* Adds the sums of pixel `pixel` of `part` (same layout and set count) to
+ * those of `total`, both modified: the grids are brought to the finer one
+ * where the sums allow (exact), else to the coarser (rounded). Returns 1 if
+ * the result is not exact. For merging renders of sample ranges. */
+KERNEL_FN int accumulators_merge_pixel(GLOBAL uint64_t *total, GLOBAL uint64_t *part, uint64_t pixel,
+                                       uint64_t pixel_count, uint32_t set_count)
+{
+    uint64_t part_grid = part[grid_index(pixel)], total_grid = total[grid_index(pixel)];
+    if (part_grid == 0)
+        return 0;
+    int exponent = grid_exponent(part_grid);
+    int inexact = 0;
+    if (total_grid != 0) {
+        int a = grid_exponent(total_grid), b = exponent;
+        if (a > b)
+            a -= grid_refine(total, pixel, pixel_count, set_count, a - b);
+        else if (b > a)
+            b -= grid_refine(part, pixel, pixel_count, set_count, b - a);
+        if (a > b)
+            inexact |= grid_coarsen(part, pixel, pixel_count, set_count, a - b);
+        else if (b > a)
+            inexact |= grid_coarsen(total, pixel, pixel_count, set_count, b - a);
+        exponent = a > b ? a : b;
+    }
+    int too_wide = 0;
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        uint64_t i = sum_index(s, pixel, pixel_count);
+        FixedSum sum = fixed_add(load_sum(total, i, pixel_count), load_sum(part, i, pixel_count));
+        store_sum(total, i, pixel_count, sum);
+        too_wide |= fixed_bits(sum) > EST_SUM_BITS;
+    }
+    if (too_wide) {
+        inexact |= grid_coarsen(total, pixel, pixel_count, set_count, 1);
+        exponent += 1;
+    }
+    total[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
+    accumulators_normalize(total, pixel, pixel_count, set_count);
+    return inexact;
 }
 
 /* Index of one float in a set-sum buffer laid out as [set][channel][pixel]. */
@@ -255,6 +505,26 @@ EST_INLINE est_float power_of_two(est_int k)
 {
     return EST_FLOAT_FROM_BITS(
         EST_SELECT(k > -127, EST_UINT_FROM_INT(k + 127) << 23, EST_UINT_FROM_INT(EST_INTS(0x00400000))));
+}
+
+/* x * 2^e for the grid exponents (e in -252..253), in two exact steps
+ * (only the last can round, when the result is denormal). */
+EST_INLINE est_float scale_by_grid(est_float x, est_int e)
+{
+    est_int first = EST_SELECT(e < -126, EST_INTS(-126), EST_SELECT(e > 127, EST_INTS(127), e));
+    est_int second = e - first;
+    return x * power_of_two(first) * power_of_two(second);
+}
+
+/* Estimates computed on sums in grid units, scaled to the pixel's values. */
+EST_INLINE void estimates_to_grid(LaneEstimates *out, est_int grid_exponent)
+{
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        out->mean[c] = scale_by_grid(out->mean[c], grid_exponent);
+        out->mon[c] = scale_by_grid(out->mon[c], grid_exponent);
+        out->gmon[c] = scale_by_grid(out->gmon[c], grid_exponent);
+    }
 }
 
 /* The scale of a sum: it multiplies the values it adds by 2^-s, where

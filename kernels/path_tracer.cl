@@ -269,14 +269,19 @@ __kernel void render_samples(__global const RenderParams *params, __global const
     ulong pixel = first_pixel + get_global_id(0);
     ulong local_pixel = pixel - buffer_first_pixel;
     uint x = (uint)(pixel % params->width), y = (uint)(pixel / params->width);
-    uint rejected_here = 0, rays = 0;
+    uint nonfinite = 0, rounded = 0, rays = 0;
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
         uint64_t key = rng_sample_key(params->seed, pixel, sample_index);
         Vec3 L = trace_path(&scene, x, y, key, &rays);
-        rejected_here += (uint)accumulate_sample(accumulators, local_pixel, buffer_pixel_count,
-                                                 set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
+                                      set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+        nonfinite += added == EST_ADD_NONFINITE;
+        rounded += added == EST_ADD_ROUNDED;
     }
-    rejected[local_pixel] += rejected_here;
+    accumulators_normalize(accumulators, local_pixel, buffer_pixel_count, EST_SETS);
+    /* Two planes: non-finite samples, then rounded ones (estimator_core.h). */
+    rejected[local_pixel] += nonfinite;
+    rejected[buffer_pixel_count + local_pixel] += rounded;
     ray_counts[local_pixel] += rays;
 }

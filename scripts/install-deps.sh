@@ -3,7 +3,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config clang-format
+  build-essential cmake pkg-config clang clang-format
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
   libopenexr-dev libcglm-dev libcmocka-dev
   python3 python3-venv

@@ -157,12 +157,58 @@ static void test_identical_primitives_stay_shallow(void **state)
     bvh_destroy(&bvh);
 }
 
+/* Centroids near the float limit: their span overflows a float to inf, and
+ * binning them in float converted NaN to int (undefined behaviour, which
+ * the clang_ubsan test sees). Nearest hits still match brute force. */
+static void test_coordinates_near_the_float_limit(void **state)
+{
+    (void)state;
+    enum { COUNT = 40 };
+    const float width = 1e33f; /* wide enough to be more than a float step at 3e38 */
+    Primitive p[COUNT];
+    for (int i = 0; i < COUNT; ++i) {
+        float x = (float)(i - COUNT / 2) * 1.7e37f; /* -3.4e38 to 3.2e38 */
+        p[i] = (Primitive){{x, 0, 5}, PRIM_TRIANGLE, {width, 0, 0}, i, {0, 1, 0}, -1};
+    }
+    Bvh bvh;
+    char error[256];
+    assert_int_equal(bvh_build(p, COUNT, &bvh, error, sizeof error), 0);
+    for (int i = 0; i < COUNT; ++i) {
+        Ray ray = {{p[i].a[0] + 0.25f * width, 0.25f, 0}, {0, 0, 1}};
+        Hit hit;
+        assert_true(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 0.0f, INFINITY, 0, &hit));
+        assert_int_equal(bvh.primitives[hit.primitive].material, i);
+        assert_true(hit.t == 5.0f);
+    }
+    bvh_destroy(&bvh);
+}
+
+/* A primitive with an infinite or NaN bound is an error, not a tree. */
+static void test_non_finite_primitive_is_an_error(void **state)
+{
+    (void)state;
+    Primitive p[3];
+    for (int i = 0; i < 3; ++i)
+        p[i] = (Primitive){{(float)i, 0, 0}, PRIM_TRIANGLE, {1, 0, 0}, 0, {0, 1, 0}, -1};
+    const float bad[2] = {INFINITY, NAN};
+    for (int b = 0; b < 2; ++b) {
+        p[1].c[2] = bad[b];
+        Bvh bvh;
+        char error[256] = "";
+        assert_int_equal(bvh_build(p, 3, &bvh, error, sizeof error), -1);
+        assert_non_null(strstr(error, "primitive 1 has non-finite bounds"));
+        assert_null(bvh.nodes);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_matches_brute_force),
         cmocka_unit_test(test_empty_scene),
         cmocka_unit_test(test_identical_primitives_stay_shallow),
+        cmocka_unit_test(test_coordinates_near_the_float_limit),
+        cmocka_unit_test(test_non_finite_primitive_is_an_error),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

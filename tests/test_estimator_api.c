@@ -16,7 +16,7 @@
 #define M 4
 #define PIXELS 5
 #define SUMS (M * 3 * PIXELS)
-#define WORDS (2 * SUMS)
+#define WORDS (2 * SUMS + PIXELS) /* the grid plane and two words a sum */
 #define OUTPUTS (3 * PIXELS)
 
 /* Buffers of exactly the valid sizes for M sets and PIXELS pixels. */
@@ -34,11 +34,14 @@ static void fixture_init(Fixture *f)
     memset(f, 0, sizeof *f);
     for (size_t i = 0; i < SUMS; ++i)
         f->sums[i] = (float)(i % 7) * 0.5f;
-    /* Every set sum 1.0: low word 2^56 (units of 2^-56), high word 0, in
-     * planes [set][channel][word][pixel]. */
-    for (size_t plane = 0; plane < (size_t)M * 3; ++plane)
-        for (size_t p = 0; p < PIXELS; ++p)
-            f->accumulators[(plane * 2) * PIXELS + p] = (uint64_t)1 << 56;
+    /* Every set sum 1.0: low word 2^56 in units of 2^-56 (grid word
+     * 1024 - 56), high word 0, in planes [set][channel][word][pixel] after
+     * the grid plane. */
+    for (size_t p = 0; p < PIXELS; ++p) {
+        f->accumulators[p] = 1024 - 56;
+        for (size_t plane = 0; plane < (size_t)M * 3; ++plane)
+            f->accumulators[(1 + plane * 2) * PIXELS + p] = (uint64_t)1 << 56;
+    }
     f->settings.set_count = M;
     f->settings.gini_mode = GINI_PER_CHANNEL;
     EstimatorImages images = {f->mean, f->mon, f->gmon, f->gini, f->trim, OUTPUTS};

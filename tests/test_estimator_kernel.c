@@ -124,7 +124,7 @@ static float *make_stream(size_t pixel_count, size_t length, uint64_t seed)
         else if (pick == 2)
             x = -INFINITY;
         else if (pick == 3)
-            x = 1e30f; /* above the accumulation limit: rejected */
+            x = 1e30f; /* with the denormals below, more than a set sum spans: rounded */
         else if (pick == 4)
             x = 1e-40f * (float)u;
         else if (pick < 10)
@@ -169,17 +169,22 @@ static void test_streams_with_nan_and_inf(void **state)
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
         const int m = set_counts[mi];
         float *samples = make_stream(pixel_count, length, (uint64_t)m);
-        size_t words = (size_t)m * 3 * 2 * pixel_count;
+        size_t words = accumulator_planes((uint32_t)m) * pixel_count;
 
-        /* Host: the shared accumulation code, one sample at a time. */
+        /* Host: the shared accumulation code, one sample at a time; two
+         * counter planes, non-finite and rounded samples. */
         uint64_t *host_acc = calloc(words, sizeof(uint64_t));
-        uint32_t *host_rejected = calloc(pixel_count, sizeof(uint32_t));
+        uint32_t *host_rejected = calloc(2 * pixel_count, sizeof(uint32_t));
         for (size_t p = 0; p < pixel_count; ++p)
             for (size_t i = 0; i < length; ++i) {
                 const float *rgb = samples + (p * length + i) * 3;
-                host_rejected[p] += (uint32_t)accumulate_sample(host_acc, p, pixel_count, set_of_sample(i, (uint32_t)m),
-                                                                rgb[0], rgb[1], rgb[2]);
+                int added = accumulate_sample(host_acc, p, pixel_count, (uint32_t)m, set_of_sample(i, (uint32_t)m),
+                                              rgb[0], rgb[1], rgb[2]);
+                host_rejected[p] += added == EST_ADD_NONFINITE;
+                host_rejected[pixel_count + p] += added == EST_ADD_ROUNDED;
             }
+        for (size_t p = 0; p < pixel_count; ++p) /* as the kernel does at the end of a pass */
+            accumulators_normalize(host_acc, p, pixel_count, (uint32_t)m);
 
         /* Device: the same stream in two passes of unequal length. */
         char options[64];
@@ -194,26 +199,28 @@ static void test_streams_with_nan_and_inf(void **state)
                                     words * sizeof(uint64_t), zero, &err);
         assert_int_equal(err, CL_SUCCESS);
         cl_mem rejected = clCreateBuffer(test_device.context, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
-                                         pixel_count * sizeof(uint32_t), zero, &err);
+                                         2 * pixel_count * sizeof(uint32_t), zero, &err);
         assert_int_equal(err, CL_SUCCESS);
         /* Two passes of unequal length, as a progressive render batches. */
         device_accumulate(kernel, acc, rejected, samples, pixel_count, length, 0, 113);
         device_accumulate(kernel, acc, rejected, samples, pixel_count, length, 113, length - 113);
 
         uint64_t *device_acc = malloc(words * sizeof(uint64_t));
-        uint32_t *device_rejected = malloc(pixel_count * sizeof(uint32_t));
+        uint32_t *device_rejected = malloc(2 * pixel_count * sizeof(uint32_t));
         assert_int_equal(clEnqueueReadBuffer(test_device.queue, acc, CL_TRUE, 0, words * sizeof(uint64_t), device_acc,
                                              0, NULL, NULL),
                          CL_SUCCESS);
-        assert_int_equal(clEnqueueReadBuffer(test_device.queue, rejected, CL_TRUE, 0, pixel_count * sizeof(uint32_t),
-                                             device_rejected, 0, NULL, NULL),
+        assert_int_equal(clEnqueueReadBuffer(test_device.queue, rejected, CL_TRUE, 0,
+                                             2 * pixel_count * sizeof(uint32_t), device_rejected, 0, NULL, NULL),
                          CL_SUCCESS);
         assert_memory_equal(device_acc, host_acc, words * sizeof(uint64_t));
-        assert_memory_equal(device_rejected, host_rejected, pixel_count * sizeof(uint32_t));
-        uint32_t total_rejected = 0;
-        for (size_t p = 0; p < pixel_count; ++p)
-            total_rejected += host_rejected[p];
-        assert_true(total_rejected > 0);
+        assert_memory_equal(device_rejected, host_rejected, 2 * pixel_count * sizeof(uint32_t));
+        uint32_t nonfinite = 0, rounded = 0;
+        for (size_t p = 0; p < pixel_count; ++p) {
+            nonfinite += host_rejected[p];
+            rounded += host_rejected[pixel_count + p];
+        }
+        assert_true(nonfinite > 0 && rounded > 0);
 
         /* And the estimates of those sums, from the accumulators. */
         for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {

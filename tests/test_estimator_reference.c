@@ -517,7 +517,7 @@ static float dyadic_sample(TestRng *rng, int lowest, int highest)
     return (r & 1) ? -ldexpf(k, e - 24) : ldexpf(k, e - 24);
 }
 
-/* Accumulates random dyadic samples (and some unusable ones, which must be
+/* Accumulates random dyadic samples (and some non-finite ones, which must be
  * rejected and add nothing) with the shared code; the float set sums must
  * be the correctly rounded exact sums, and estimating from accumulators must
  * equal estimating from those sums. */
@@ -525,12 +525,12 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
                                uint64_t seed)
 {
     const size_t values = (size_t)set_count * 3 * pixel_count;
-    const size_t words = 2 * values;
+    const size_t words = accumulator_planes((uint32_t)set_count) * pixel_count;
     uint64_t *accumulators = calloc(words, sizeof(uint64_t));
     long double *exact = calloc(values, sizeof(long double));
     float *sums = malloc(values * sizeof(float));
     assert_true(accumulators && exact && sums);
-    static const float unusable[] = {NAN, INFINITY, -INFINITY, 0x1p38f, -0x1p38f, FLT_MAX};
+    static const float unusable[] = {NAN, INFINITY, -INFINITY};
     TestRng rng = test_rng(seed);
     for (size_t p = 0; p < pixel_count; ++p)
         for (uint64_t s = 0; s < sample_count; ++s) {
@@ -540,12 +540,15 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
                 rgb[ch] = dyadic_sample(&rng, lowest, highest);
             if (test_rng_next(&rng) % 32 == 0) {
                 /* One bad channel rejects the whole sample. */
-                rgb[test_rng_next(&rng) % 3] = unusable[test_rng_next(&rng) % 6];
-                assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1], rgb[2]),
-                                 1);
+                rgb[test_rng_next(&rng) % 3] = unusable[test_rng_next(&rng) % 3];
+                assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set_count, (uint32_t)set,
+                                                   rgb[0], rgb[1], rgb[2]),
+                                 EST_ADD_NONFINITE);
                 continue;
             }
-            assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set, rgb[0], rgb[1], rgb[2]), 0);
+            assert_int_equal(accumulate_sample(accumulators, p, pixel_count, (uint32_t)set_count, (uint32_t)set, rgb[0],
+                                               rgb[1], rgb[2]),
+                             EST_ADD_EXACT);
             for (int ch = 0; ch < 3; ++ch)
                 exact[plane_index(set, ch, p, pixel_count)] += rgb[ch];
         }
@@ -585,11 +588,13 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
 static void test_accumulated_sums_are_correctly_rounded(void **state)
 {
     (void)state;
-    check_accumulation(7, 5, 1000, -16, 8, 11);  /* ordinary magnitudes */
-    check_accumulation(21, 3, 2000, 20, 38, 12); /* up to the 2^38 limit */
-    check_accumulation(3, 4, 600, -32, -20, 13); /* down to the 2^-56 grid */
-    check_accumulation(1, 2, 300, -10, 10, 14);  /* M = 1 */
-    check_accumulation(64, 2, 3000, -5, 5, 15);  /* M = 64 */
+    check_accumulation(7, 5, 1000, -16, 8, 11);    /* ordinary magnitudes */
+    check_accumulation(21, 3, 2000, 20, 60, 12);   /* far above the old 2^38 limit */
+    check_accumulation(21, 3, 2000, 100, 110, 16); /* near FLT_MAX (sums stay finite) */
+    check_accumulation(3, 4, 600, -140, -110, 13); /* far below the old 2^-56 grid, into denormals */
+    check_accumulation(5, 3, 1000, -20, 30, 17);   /* 50 binary orders in one pixel */
+    check_accumulation(1, 2, 300, -10, 10, 14);    /* M = 1 */
+    check_accumulation(64, 2, 3000, -5, 5, 15);    /* M = 64 */
 }
 
 /* Exact sums that fall on or near a rounding tie of the float result. */
@@ -611,13 +616,15 @@ static void test_accumulated_sums_round_ties_to_even(void **state)
     };
     const size_t count = sizeof cases / sizeof cases[0];
     /* One pixel per case, M = 1, the case's samples in channel 0. */
-    uint64_t *accumulators = calloc(6 * count, sizeof(uint64_t));
+    const size_t words = accumulator_planes(1) * count;
+    uint64_t *accumulators = calloc(words, sizeof(uint64_t));
     float *sums = malloc(3 * count * sizeof(float));
     assert_true(accumulators && sums);
     for (size_t p = 0; p < count; ++p)
         for (int s = 0; s < 3; ++s)
-            assert_int_equal(accumulate_sample(accumulators, p, count, 0, cases[p].samples[s], 0.0f, 0.0f), 0);
-    assert_int_equal(estimator_sums_from_accumulators(1, accumulators, 6 * count, count, sums, 3 * count, NULL, 0),
+            assert_int_equal(accumulate_sample(accumulators, p, count, 1, 0, cases[p].samples[s], 0.0f, 0.0f),
+                             EST_ADD_EXACT);
+    assert_int_equal(estimator_sums_from_accumulators(1, accumulators, words, count, sums, 3 * count, NULL, 0),
                      ESTIMATOR_OK);
     for (size_t p = 0; p < count; ++p) {
         if (!same_bits(sums[p], cases[p].expected))
@@ -628,8 +635,9 @@ static void test_accumulated_sums_round_ties_to_even(void **state)
     free(sums);
 }
 
-/* The fixed-point value as a long double: exact, since it comes from one
- * float (24 significant bits). */
+/* The fixed-point value on the grid 2^-56 as a long double: exact, since
+ * it comes from one float (24 significant bits). */
+#define GRID (-56)
 static long double fixed_value(FixedSum v)
 {
     int negative = (int)(v.hi >> 63);
@@ -638,7 +646,7 @@ static long double fixed_value(FixedSum v)
         v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
     }
     long double units = ldexpl((long double)v.hi, 64) + (long double)v.lo;
-    return ldexpl(negative ? -units : units, -EST_FIXED_FRAC_BITS);
+    return ldexpl(negative ? -units : units, GRID);
 }
 
 /* A random float with |x| in [2^lowest, 2^(highest + 1)), either sign. */
@@ -662,13 +670,16 @@ static void test_fixed_point_round_trip_is_exact_on_the_grid(void **state)
         float x = random_float(&rng, -30, 37);
         if (i < 4) /* the ends of the range */
             x = (float[]){0x1p-30f, -0x1p-30f, 0x1.fffffep37f, -0x1.fffffep37f}[i];
-        FixedSum v = fixed_from_float(x);
-        float back = fixed_to_float(v);
-        if ((!same_bits(back, x) || fixed_value(v) != (long double)x) && failures++ < DETAILED_FAILURES)
+        int inexact = 0;
+        FixedSum v = fixed_from_float(x, GRID, &inexact);
+        float back = ldexpf(fixed_to_float(v), GRID);
+        if ((!same_bits(back, x) || fixed_value(v) != (long double)x || inexact) && failures++ < DETAILED_FAILURES)
             print_error("x = %a: fixed %La, back %a\n", (double)x, fixed_value(v), (double)back);
     }
     assert_int_equal(failures, 0);
-    assert_true(same_bits(fixed_to_float(fixed_from_float(0.0f)), 0.0f));
+    int inexact = 0;
+    assert_true(same_bits(fixed_to_float(fixed_from_float(0.0f, GRID, &inexact)), 0.0f));
+    assert_false(inexact);
 }
 
 /* Below the grid a value rounds to the nearest multiple of 2^-56, ties away
@@ -691,7 +702,9 @@ static void test_fixed_point_rounds_values_below_the_grid(void **state)
         {-FLT_MIN, 0.0f},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
-        float got = fixed_to_float(fixed_from_float(cases[i].x));
+        int inexact = 0;
+        float got = ldexpf(fixed_to_float(fixed_from_float(cases[i].x, GRID, &inexact)), GRID);
+        assert_true(inexact); /* every case loses bits */
         if (got != cases[i].expected)
             print_error("x = %a: got %a, expected %a\n", (double)cases[i].x, (double)got, (double)cases[i].expected);
         assert_true(got == cases[i].expected);
@@ -702,9 +715,12 @@ static void test_fixed_point_rounds_values_below_the_grid(void **state)
     int failures = 0;
     for (int i = 0; i < 1000000; ++i) {
         float x = random_float(&rng, -149, -30);
-        long double want = ldexpl(roundl(ldexpl((long double)x, EST_FIXED_FRAC_BITS)), -EST_FIXED_FRAC_BITS);
-        FixedSum v = fixed_from_float(x);
-        if ((fixed_value(v) != want || fixed_to_float(v) != (float)want) && failures++ < DETAILED_FAILURES)
+        long double want = ldexpl(roundl(ldexpl((long double)x, -GRID)), GRID);
+        int inexact = 0;
+        FixedSum v = fixed_from_float(x, GRID, &inexact);
+        if ((fixed_value(v) != want || ldexpf(fixed_to_float(v), GRID) != (float)want ||
+             inexact != (want != (long double)x)) &&
+            failures++ < DETAILED_FAILURES)
             print_error("x = %a: fixed %La, expected %La\n", (double)x, fixed_value(v), want);
     }
     assert_int_equal(failures, 0);

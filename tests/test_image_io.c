@@ -84,6 +84,7 @@ typedef struct {
     float *rgb[4];
     int32_t *trim;
     uint32_t *nonfinite;
+    uint32_t *rounded;
     uint64_t *accumulators;
 } TestImage;
 
@@ -111,7 +112,9 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
     }
     t.trim = malloc(pixels * 3 * sizeof(int32_t));
     t.nonfinite = malloc(pixels * sizeof(uint32_t));
-    size_t words = (size_t)set_count * 3 * 2 * pixels;
+    t.rounded = malloc(pixels * sizeof(uint32_t));
+    assert_non_null(t.rounded);
+    size_t words = (1 + (size_t)set_count * 3 * 2) * pixels;
     t.accumulators = malloc(words * sizeof(uint64_t));
     assert_non_null(t.trim);
     assert_non_null(t.nonfinite);
@@ -119,12 +122,23 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
     for (size_t i = 0; i < pixels * 3; ++i)
         t.trim[i] = (int32_t)(splitmix64(&state) % 33);
     t.trim[0] = -1; /* any int32 survives, not only valid trims */
-    for (size_t i = 0; i < pixels; ++i)
+    for (size_t i = 0; i < pixels; ++i) {
         t.nonfinite[i] = (uint32_t)splitmix64(&state);
-    for (size_t i = 0; i < words; ++i)
-        t.accumulators[i] = splitmix64(&state);
-    t.accumulators[0] = 0xffffffffffffffffu;      /* -1 unit in the low word... */
-    t.accumulators[pixels] = 0xffffffffffffffffu; /* ...and high word: -2^-56 */
+        t.rounded[i] = (uint32_t)splitmix64(&state);
+    }
+    /* Any valid sums: grid words 0 or in range (the grid plane first),
+     * sums below 2^126 in magnitude (the high word's top two bits equal). */
+    for (size_t i = 0; i < words; ++i) {
+        uint64_t r = splitmix64(&state);
+        size_t plane = i / pixels;
+        if (plane == 0)
+            r = r % 5 == 0 ? 0 : EXR_GRID_WORD_MIN + r % (EXR_GRID_WORD_MAX - EXR_GRID_WORD_MIN + 1);
+        else if ((plane - 1) % 2 == 1)
+            r = (r & ~((uint64_t)1 << 62)) | ((r >> 1) & ((uint64_t)1 << 62));
+        t.accumulators[i] = r;
+    }
+    t.accumulators[pixels] = 0xffffffffffffffffu;     /* -1 unit in the low word... */
+    t.accumulators[2 * pixels] = 0xffffffffffffffffu; /* ...and high word: -1 */
 
     t.image.width = width;
     t.image.height = height;
@@ -134,11 +148,14 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
     t.image.gini = t.rgb[3];
     t.image.trim = t.trim;
     t.image.nonfinite = t.nonfinite;
+    t.image.rounded = t.rounded;
     t.image.accumulators = t.accumulators;
     ExrMetadata *meta = &t.image.metadata;
     meta->software = "gmon 0.1 (test)";
     meta->set_count = set_count;
     meta->sample_count = 0xfedcba9876543211u; /* above 2^53: a double would round it */
+    meta->nonfinite_samples = 0x123456789abcdef0u;
+    meta->rounded_samples = 0xfedcba987654321u;
     meta->seed = 18446744073709551615u;
     meta->first_sample = 9007199254740993u; /* 2^53 + 1 */
     meta->scene_path = "scenes/cornell box/scene.pbrt";
@@ -155,6 +172,7 @@ static void free_test_image(TestImage *t)
         free(t->rgb[layer]);
     free(t->trim);
     free(t->nonfinite);
+    free(t->rounded);
     free(t->accumulators);
 }
 
@@ -195,17 +213,20 @@ static void assert_images_equal(const ExrImage *expected, const ExrImage *actual
     assert_same_bytes(expected->gini, actual->gini, pixels * 3 * sizeof(float));
     assert_same_bytes(expected->trim, actual->trim, pixels * 3 * sizeof(int32_t));
     assert_same_bytes(expected->nonfinite, actual->nonfinite, pixels * sizeof(uint32_t));
+    assert_same_bytes(expected->rounded, actual->rounded, pixels * sizeof(uint32_t));
     const ExrMetadata *e = &expected->metadata, *a = &actual->metadata;
     assert_int_equal(a->set_count, e->set_count);
     if (expected->accumulators)
         assert_same_bytes(expected->accumulators, actual->accumulators,
-                          (size_t)e->set_count * 3 * 2 * pixels * sizeof(uint64_t));
+                          (1 + (size_t)e->set_count * 3 * 2) * pixels * sizeof(uint64_t));
     else
         assert_null(actual->accumulators);
     assert_same_string(e->software, a->software);
     assert_true(a->sample_count == e->sample_count);
     assert_true(a->seed == e->seed);
     assert_true(a->first_sample == e->first_sample);
+    assert_true(a->nonfinite_samples == e->nonfinite_samples);
+    assert_true(a->rounded_samples == e->rounded_samples);
     assert_same_string(e->scene_path, a->scene_path);
     assert_same_string(e->scene_hash, a->scene_hash);
     assert_int_equal(a->gini_mode, e->gini_mode);
@@ -312,6 +333,40 @@ static void test_exr_mean_only(void **state)
     remove(path);
 }
 
+/* Set sums a renderer cannot leave (a forged or corrupt file) are refused
+ * on reading, so that merging them cannot wrap 128 bits: a sum of 2^126 or
+ * more in magnitude, or a grid word out of range. */
+static void test_exr_refuses_out_of_range_set_sums(void **state)
+{
+    (void)state;
+    const char *path = "test_image_io_forged.exr";
+    const struct {
+        size_t word; /* in a 2x2 image with M = 1: the grid plane, then R lo, R hi, ... */
+        uint64_t value;
+        const char *message;
+    } cases[] = {
+        {2 * 4 + 1, (uint64_t)1 << 62, "out of range (2^126 or more)"}, /* R hi of pixel 1: +2^126 */
+        {2 * 4 + 1, (uint64_t)1 << 63, "out of range (2^126 or more)"}, /* -2^127 */
+        {2, 5, "not a grid word"},                                      /* E = 5 - 1024 */
+        {3, EXR_GRID_WORD_MAX + 1, "not a grid word"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        TestImage t = make_full_image(2, 2, 1, 40 + i);
+        memset(t.accumulators, 0, 7 * 4 * sizeof(uint64_t));
+        t.accumulators[cases[i].word] = cases[i].value;
+        char error[512] = "";
+        if (exr_image_write(path, &t.image, error, sizeof error) != IMAGE_IO_OK)
+            fail_msg("write failed: %s", error);
+        ExrImage read;
+        assert_int_equal(exr_image_read(path, &read, error, sizeof error), IMAGE_IO_ERROR);
+        if (!strstr(error, cases[i].message))
+            fail_msg("case %zu: '%s' does not say '%s'", i, error, cases[i].message);
+        exr_image_free(&read);
+        free_test_image(&t);
+    }
+    remove(path);
+}
+
 /* The file as OpenEXR itself reads it: one scanline part, ZIP, the channel
  * names, types and order, attribute types. */
 static void test_exr_layout_seen_by_openexr(void **state)
@@ -343,11 +398,12 @@ static void test_exr_layout_seen_by_openexr(void **state)
 
     const exr_attr_chlist_t *channels = NULL;
     assert_int_equal(exr_get_channels(ctxt, 0, &channels), EXR_ERR_SUCCESS);
-    /* 4 float layers + trim (3 each) + nonfinite + 2 sets x 3 x 4 words */
-    assert_int_equal(channels->num_channels, 5 * 3 + 1 + 2 * 3 * 4);
+    /* 4 float layers + trim (3 each) + nonfinite + rounded + sets.grid +
+     * 2 sets x 3 x 4 words */
+    assert_int_equal(channels->num_channels, 5 * 3 + 3 + 2 * 3 * 4);
     const char *expected[][2] = {
-        {"gini.B", "f"},    {"gmon.R", "f"},      {"mean.G", "f"},      {"mon.B", "f"},
-        {"nonfinite", "u"}, {"sets.0.R.w0", "u"}, {"sets.1.B.w3", "u"}, {"trim.G", "u"},
+        {"gini.B", "f"},  {"gmon.R", "f"},      {"mean.G", "f"},      {"mon.B", "f"},     {"nonfinite", "u"},
+        {"rounded", "u"}, {"sets.0.R.w0", "u"}, {"sets.1.B.w3", "u"}, {"sets.grid", "u"}, {"trim.G", "u"},
     };
     for (size_t e = 0; e < sizeof expected / sizeof expected[0]; ++e) {
         int found = 0;
@@ -930,6 +986,7 @@ int main(void)
         cmocka_unit_test(test_exr_chunk_that_zip_does_not_shrink),
         cmocka_unit_test(test_exr_mean_only),
         cmocka_unit_test(test_exr_layout_seen_by_openexr),
+        cmocka_unit_test(test_exr_refuses_out_of_range_set_sums),
         cmocka_unit_test(test_exr_foreign_file),
         cmocka_unit_test(test_exr_missing_and_damaged_files),
         cmocka_unit_test(test_exr_write_errors),

@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/merge.h"
 #include "cli/options.h"
+#include "estimator_core.h"
 #include "io/exr_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
@@ -50,7 +51,8 @@ static int teardown(void **state)
 
 /* Renders samples [first, first + count) with M sets and seed to NAME in the
  * test directory. */
-static void render_part(const char *name, uint64_t first, uint64_t count, int sets, uint32_t seed)
+static void render_part_of(const RenderScene *scene, const char *name, uint64_t first, uint64_t count, int sets,
+                           uint32_t seed)
 {
     RenderSettings s;
     render_settings_default(&s);
@@ -62,15 +64,36 @@ static void render_part(const char *name, uint64_t first, uint64_t count, int se
     s.seed = seed;
     RenderOutput out;
     char error[1024], path[1024];
-    if (renderer_run(&test_device, 1, &scene, &s, &out, error, sizeof error) != RENDER_OK)
+    if (renderer_run(&test_device, 1, scene, &s, &out, error, sizeof error) != RENDER_OK)
         fail_msg("%s", error);
     ExrImage image = render_output_exr(&out);
     image.metadata.scene_path = "cornell-glass.pbrt";
-    image.metadata.scene_hash = summary.hash;
     snprintf(path, sizeof path, "%s/%s", directory, name);
     if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK)
         fail_msg("%s", error);
     render_output_free(&out);
+}
+
+static void render_part(const char *name, uint64_t first, uint64_t count, int sets, uint32_t seed)
+{
+    render_part_of(&scene, name, first, count, sets, seed);
+}
+
+/* Writes a copy of part `name` as `copy` with other metadata. */
+static void forge_part(const char *name, const char *copy, uint64_t first, uint64_t count, const char *hash)
+{
+    char path[1024], error[1024];
+    ExrImage image;
+    snprintf(path, sizeof path, "%s/%s", directory, name);
+    assert_int_equal(exr_image_read(path, &image, error, sizeof error), IMAGE_IO_OK);
+    ExrImage forged = image;
+    forged.metadata.first_sample = first;
+    forged.metadata.sample_count = count;
+    if (hash)
+        forged.metadata.scene_hash = hash;
+    snprintf(path, sizeof path, "%s/%s", directory, copy);
+    assert_int_equal(exr_image_write(path, &forged, error, sizeof error), IMAGE_IO_OK);
+    exr_image_free(&image);
 }
 
 /* Runs `gmonrt merge --diagnostics --outfile <dir>/merged.exr <parts...>`;
@@ -90,6 +113,30 @@ static int merge(const char *const *parts, int count)
     char error[512];
     assert_int_equal(options_parse(argc, argv, &options, error, sizeof error), 0);
     return merge_command(&options);
+}
+
+/* merge(), with what it printed on stderr in `message`; fails the test
+ * unless it exits 1 and the message contains `expected`. */
+static void merge_refused(const char *const *parts, int count, const char *expected)
+{
+    char path[1024], message[2048] = "";
+    snprintf(path, sizeof path, "%s/stderr.txt", directory);
+    fflush(stderr);
+    int saved = dup(2);
+    FILE *capture = fopen(path, "w");
+    assert_true(saved >= 0 && capture);
+    dup2(fileno(capture), 2);
+    int status = merge(parts, count);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    fclose(capture);
+    capture = fopen(path, "r");
+    size_t length = fread(message, 1, sizeof message - 1, capture);
+    message[length] = '\0';
+    fclose(capture);
+    if (status != 1 || !strstr(message, expected))
+        fail_msg("merge exited %d with \"%s\"; expected exit 1 and \"%s\"", status, message, expected);
 }
 
 static void read_image(const char *name, ExrImage *image)
@@ -119,7 +166,7 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     assert_int_equal(merged.metadata.first_sample, 0);
     assert_int_equal(merged.metadata.set_count, 5);
     assert_non_null(merged.accumulators);
-    assert_memory_equal(merged.accumulators, whole.accumulators, 5 * 6 * pixels * sizeof(uint64_t));
+    assert_memory_equal(merged.accumulators, whole.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
     assert_memory_equal(merged.mean, whole.mean, pixels * 3 * sizeof(float));
     assert_memory_equal(merged.mon, whole.mon, pixels * 3 * sizeof(float));
     assert_memory_equal(merged.gmon, whole.gmon, pixels * 3 * sizeof(float));
@@ -138,7 +185,7 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     read_image("tail.exr", &tail);
     read_image("merged.exr", &merged);
     assert_int_equal(merged.metadata.first_sample, 7);
-    assert_memory_equal(merged.accumulators, tail.accumulators, 5 * 6 * pixels * sizeof(uint64_t));
+    assert_memory_equal(merged.accumulators, tail.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
     assert_memory_equal(merged.gmon, tail.gmon, pixels * 3 * sizeof(float));
     exr_image_free(&tail);
     exr_image_free(&merged);
@@ -149,51 +196,51 @@ static void test_mismatches_are_refused(void **state)
     (void)state;
     REQUIRE_TEST_DEVICE();
     render_part("m5.exr", 0, 4, 5, 3);
-    render_part("m7.exr", 4, 4, 7, 3);
+    render_part("m7.exr", 4, 4, 5 + 2, 3);
     render_part("seed9.exr", 4, 4, 5, 9);
     render_part("overlap.exr", 2, 4, 5, 3);
     render_part("gap.exr", 6, 4, 5, 3);
     const char *m[] = {"m5.exr", "m7.exr"}, *seed[] = {"m5.exr", "seed9.exr"}, *overlap[] = {"m5.exr", "overlap.exr"},
                *gap[] = {"m5.exr", "gap.exr"};
-    assert_int_equal(merge(m, 2), 1);
-    assert_int_equal(merge(seed, 2), 1);
-    assert_int_equal(merge(overlap, 2), 1);
-    assert_int_equal(merge(gap, 2), 1);
+    merge_refused(m, 2, "has M = 5 sets but");
+    merge_refused(seed, 2, "has seed 3 but");
+    merge_refused(overlap, 2, "the ranges overlap");
+    merge_refused(gap, 2, "samples between them are missing");
 
-    /* Another scene (hash) and another resolution. */
-    ExrImage image;
-    read_image("m5.exr", &image);
-    ExrImage other = image;
-    other.metadata.scene_hash = "0123456789abcdef";
-    other.metadata.first_sample = 4;
-    char path[1024], error[1024];
-    snprintf(path, sizeof path, "%s/other-scene.exr", directory);
-    assert_int_equal(exr_image_write(path, &other, error, sizeof error), IMAGE_IO_OK);
-    const char *scene_mismatch[] = {"m5.exr", "other-scene.exr"};
-    assert_int_equal(merge(scene_mismatch, 2), 1);
-    exr_image_free(&image);
+    /* Options applied after the scene is read are named. */
+    RenderScene shallow = scene;
+    shallow.params.max_depth = 1;
+    render_part_of(&shallow, "depth1.exr", 4, 4, 5, 3);
+    shallow.params.max_depth = scene.params.max_depth;
+    shallow.params.flags = 0; /* --integrator bsdf */
+    render_part_of(&shallow, "bsdf.exr", 4, 4, 5, 3);
+    const char *depth[] = {"m5.exr", "depth1.exr"}, *bsdf[] = {"m5.exr", "bsdf.exr"};
+    char expected[64];
+    snprintf(expected, sizeof expected, "differ in maxdepth (%u vs 1)", scene.params.max_depth);
+    merge_refused(depth, 2, expected);
+    merge_refused(bsdf, 2, "differ in integrator (path vs bsdf)");
+
+    /* Another scene (hash), ranges and counts that wrap 64 bits. */
+    forge_part("m5.exr", "other-scene.exr", 4, 4, "0123456789abcdef");
+    forge_part("m5.exr", "wraps.exr", UINT64_MAX - 1, 4, NULL);
+    forge_part("m5.exr", "half.exr", 0, (uint64_t)1 << 63, NULL);
+    forge_part("m5.exr", "other-half.exr", (uint64_t)1 << 63, ((uint64_t)1 << 63) - 1, NULL);
+    forge_part("m5.exr", "one-more.exr", UINT64_MAX, 0, NULL);
+    const char *scene_mismatch[] = {"m5.exr", "other-scene.exr"}, *wraps[] = {"wraps.exr"},
+               *too_many[] = {"half.exr", "other-half.exr", "one-more.exr", "m5.exr"};
+    merge_refused(scene_mismatch, 2, "render different scenes");
+    merge_refused(wraps, 1, "passes 2^64");
+    merge_refused(too_many, 4, "add up to 2^64 or more");
 
     RenderScene small;
     SceneSummary small_summary;
+    char path[1024], error[1024];
     snprintf(path, sizeof path, "%s/scenes/cornell-glass.pbrt", GMON_SOURCE_DIR);
     assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &small, &small_summary, error, sizeof error), 0);
     assert_int_equal(render_scene_finalize(&small, error, sizeof error), 0);
-    RenderSettings s;
-    render_settings_default(&s);
-    s.estimator.set_count = 5;
-    s.keep_sets = 1;
-    s.first_sample = 4;
-    s.sample_count = 4;
-    s.seed = 3;
-    RenderOutput out;
-    assert_int_equal(renderer_run(&test_device, 1, &small, &s, &out, error, sizeof error), RENDER_OK);
-    ExrImage resized = render_output_exr(&out);
-    resized.metadata.scene_hash = summary.hash;
-    snprintf(path, sizeof path, "%s/8x8.exr", directory);
-    assert_int_equal(exr_image_write(path, &resized, error, sizeof error), IMAGE_IO_OK);
+    render_part_of(&small, "8x8.exr", 4, 4, 5, 3);
     const char *size_mismatch[] = {"m5.exr", "8x8.exr"};
-    assert_int_equal(merge(size_mismatch, 2), 1);
-    render_output_free(&out);
+    merge_refused(size_mismatch, 2, "is 20x16 but");
     render_scene_destroy(&small);
 }
 

@@ -15,6 +15,7 @@
 #include "feature_mask.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
+#include "exact_sum.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -108,8 +109,9 @@ static void assert_same_render(const RenderOutput *a, const RenderOutput *b)
     const size_t pixels = (size_t)a->width * a->height;
     assert_int_equal(a->sample_count, b->sample_count);
     assert_int_equal(a->set_count, b->set_count);
-    assert_memory_equal(a->accumulators, b->accumulators, (size_t)a->set_count * 6 * pixels * sizeof(uint64_t));
-    assert_memory_equal(a->rejected, b->rejected, pixels * sizeof(uint32_t));
+    assert_memory_equal(a->accumulators, b->accumulators,
+                        accumulator_planes((uint32_t)a->set_count) * pixels * sizeof(uint64_t));
+    assert_memory_equal(a->rejected, b->rejected, REJECTED_PLANES * pixels * sizeof(uint32_t));
     assert_int_equal(a->rays, b->rays);
     const float *images_a[4] = {a->mean, a->mon, a->gmon, a->gini};
     const float *images_b[4] = {b->mean, b->mon, b->gmon, b->gini};
@@ -308,9 +310,7 @@ static void test_sample_range_not_starting_at_set_zero(void **state)
         for (uint32_t c = 0; c < 3; ++c) {
             long double sum = 0.0L;
             for (uint32_t j = 0; j < 5; ++j) {
-                FixedSum f = {out.accumulators[accumulator_index(j, c, 0, p, pixels)],
-                              out.accumulators[accumulator_index(j, c, 1, p, pixels)]};
-                sum += (long double)fixed_to_float(f);
+                sum += test_set_sum(out.accumulators, j, c, p, pixels);
             }
             double mean = (double)(sum / 13.0L);
             double d = fabs(mean - out.mean[p * 3 + c]) / fmax(fabs(mean), 1e-3);

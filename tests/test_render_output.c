@@ -16,6 +16,7 @@
 #include "render/render_exr.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
+#include "exact_sum.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -114,7 +115,7 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
     int32_t *trim = malloc(values * 4);
     EstimatorImages images = {mean, mon, gmon, gini, trim, values};
     EstimatorSettings host = {back.metadata.set_count, GINI_PER_CHANNEL, 0};
-    assert_int_equal(estimator_from_accumulators(&host, back.accumulators, (size_t)5 * 3 * 2 * pixels, pixels,
+    assert_int_equal(estimator_from_accumulators(&host, back.accumulators, accumulator_planes(5) * pixels, pixels,
                                                  back.metadata.sample_count, &images, error, sizeof error),
                      ESTIMATOR_OK);
     assert_memory_equal(mean, back.mean, values * 4);
@@ -153,7 +154,8 @@ static void test_image_independent_of_pass_batching_and_ranges(void **state)
     render(&scene, &settings, &one_per_pass);
     settings.seconds_per_pass = 1e9; /* one sample, then everything left */
     render(&scene, &settings, &big_passes);
-    size_t words = (size_t)settings.estimator.set_count * 3 * 2 * one_per_pass.width * one_per_pass.height;
+    size_t words =
+        accumulator_planes((uint32_t)settings.estimator.set_count) * one_per_pass.width * one_per_pass.height;
     assert_memory_equal(one_per_pass.accumulators, big_passes.accumulators, words * 8);
     assert_memory_equal(one_per_pass.gmon, big_passes.gmon, (size_t)one_per_pass.width * one_per_pass.height * 12);
 
@@ -164,17 +166,11 @@ static void test_image_independent_of_pass_batching_and_ranges(void **state)
     settings.sample_count = 14;
     render(&scene, &settings, &second_half);
     const size_t pixels = (size_t)one_per_pass.width * one_per_pass.height;
-    for (size_t i = 0; i < words; ++i) {
-        /* Planes [set][channel][word][pixel]: a low-word plane is followed
-         * by its high-word plane. */
-        if ((i / pixels) % 2)
-            continue;
-        FixedSum a = {first_half.accumulators[i], first_half.accumulators[i + pixels]};
-        FixedSum b = {second_half.accumulators[i], second_half.accumulators[i + pixels]};
-        FixedSum sum = fixed_add(a, b);
-        assert_int_equal(sum.lo, one_per_pass.accumulators[i]);
-        assert_int_equal(sum.hi, one_per_pass.accumulators[i + pixels]);
-    }
+    for (size_t p = 0; p < pixels; ++p)
+        assert_int_equal(accumulators_merge_pixel(first_half.accumulators, second_half.accumulators, p, pixels,
+                                                  (uint32_t)settings.estimator.set_count),
+                         0);
+    assert_memory_equal(first_half.accumulators, one_per_pass.accumulators, words * 8);
     render_output_free(&one_per_pass);
     render_output_free(&big_passes);
     render_output_free(&first_half);
@@ -193,10 +189,9 @@ static void image_mean(const RenderOutput *out, int channel, double *mean, doubl
     for (size_t p = 0; p < pixels; ++p) {
         double set_means[EST_MAX_SETS], average = 0.0, spread = 0.0;
         for (int j = 0; j < m; ++j) {
-            FixedSum s = {out->accumulators[accumulator_index((uint32_t)j, (uint32_t)channel, 0, p, pixels)],
-                          out->accumulators[accumulator_index((uint32_t)j, (uint32_t)channel, 1, p, pixels)]};
             uint64_t n_j = (out->sample_count - (uint64_t)j + (uint64_t)m - 1) / (uint64_t)m;
-            set_means[j] = fixed_to_float(s) / (double)n_j;
+            set_means[j] =
+                (double)test_set_sum(out->accumulators, (uint32_t)j, (uint32_t)channel, p, pixels) / (double)n_j;
             average += set_means[j] / m;
         }
         for (int j = 0; j < m; ++j)
@@ -240,6 +235,95 @@ static void test_nee_and_bsdf_sampling_agree(void **state)
         render_output_free(&outputs[0]);
         render_output_free(&outputs[1]);
     }
+}
+
+/* cornell-glass.pbrt with its light scaled by 2^k, written beside the
+ * build and loaded. */
+static void load_scaled_cornell_glass(int k, unsigned size, RenderScene *scene)
+{
+    char source[1024], path[1024], error[1024];
+    snprintf(source, sizeof source, "%s/scenes/cornell-glass.pbrt", GMON_SOURCE_DIR);
+    snprintf(path, sizeof path, "%s/test_render_output_scaled.pbrt", GMON_BINARY_DIR);
+    FILE *in = fopen(source, "r"), *out = fopen(path, "w");
+    assert_true(in && out);
+    char line[1024];
+    int scaled = 0;
+    while (fgets(line, sizeof line, in)) {
+        char *include = strstr(line, "\"include/"); /* Include and Import */
+        char *scale = strstr(line, "\"float scale\" [ 25 ]");
+        if (include)
+            fprintf(out, "%.*s\"%s/scenes/%s", (int)(include - line), line, GMON_SOURCE_DIR, include + 1);
+        else if (scale) /* %.17g round-trips the double 25 * 2^k, a float */
+            fprintf(out, "%.*s\"float scale\" [ %.17g ]%s", (int)(scale - line), line, ldexp(25.0, k),
+                    scale + strlen("\"float scale\" [ 25 ]"));
+        else
+            fputs(line, out);
+        scaled += scale != NULL;
+    }
+    fclose(in);
+    assert_int_equal(fclose(out), 0);
+    assert_int_equal(scaled, 1);
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, size, size, 1, scene, &summary, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+    remove(path);
+}
+
+/* Scaling every emitter by 2^k scales every sample by 2^k, so the exact
+ * sums keep their integers and move their grid by k, and every estimate
+ * scales by exactly 2^k: bright scenes (a light 2^30 times cornell-glass's,
+ * whose fireflies reached 2^38 and were dropped before) and dim ones alike. */
+static void test_emitter_scale_by_power_of_two_scales_every_estimate(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 40;
+    settings.estimator.set_count = 5;
+    settings.outputs |= ESTIMATOR_OUTPUT_DIAGNOSTICS;
+    RenderScene scene;
+    RenderOutput base;
+    load_scaled_cornell_glass(0, 24, &scene);
+    render(&scene, &settings, &base);
+    render_scene_destroy(&scene);
+    const size_t pixels = (size_t)base.width * base.height, values = pixels * 3;
+    assert_int_equal(base.rejected_total + base.rounded_total, 0);
+    float brightest = 0.0f;
+    for (size_t i = 0; i < values; ++i)
+        brightest = base.mean[i] > brightest ? base.mean[i] : brightest;
+    const int ks[] = {-100, -61, 1, 30, 64, 100};
+    for (size_t i = 0; i < sizeof ks / sizeof ks[0]; ++i) {
+        const int k = ks[i];
+        RenderOutput out;
+        load_scaled_cornell_glass(k, 24, &scene);
+        render(&scene, &settings, &out);
+        render_scene_destroy(&scene);
+        int mismatches = 0;
+        const float *estimates[3][2] = {{base.mean, out.mean}, {base.mon, out.mon}, {base.gmon, out.gmon}};
+        for (int e = 0; e < 3; ++e)
+            for (size_t v = 0; v < values; ++v) {
+                float want = ldexpf(estimates[e][0][v], k);
+                mismatches += memcmp(&want, &estimates[e][1][v], sizeof want) != 0;
+            }
+        assert_memory_equal(base.gini, out.gini, values * sizeof(float));
+        assert_memory_equal(base.trim, out.trim, values * sizeof(int32_t));
+        /* The sums' integers are the same; only the grids move, by k. */
+        for (size_t p = 0; p < pixels; ++p)
+            if (base.accumulators[grid_index(p)] != 0)
+                assert_int_equal(out.accumulators[grid_index(p)], base.accumulators[grid_index(p)] + (uint64_t)k);
+        assert_memory_equal(base.accumulators + pixels, out.accumulators + pixels,
+                            (accumulator_planes(5) - 1) * pixels * sizeof(uint64_t));
+        printf("  light x 2^%d: brightest mean %g, %d of %zu estimates differ from 2^%d x the unscaled ones, %llu "
+               "non-finite, %llu rounded\n",
+               k, (double)ldexpf(brightest, k), mismatches, 3 * values, k, (unsigned long long)out.rejected_total,
+               (unsigned long long)out.rounded_total);
+        assert_int_equal(mismatches, 0);
+        assert_int_equal(out.rejected_total + out.rounded_total, 0);
+        render_output_free(&out);
+    }
+    render_output_free(&base);
 }
 
 static void write_text(const char *path, const char *text)
@@ -334,7 +418,7 @@ static void test_estimate_refuses_sums_without_samples(void **state)
     assert_non_null(mkdtemp(directory));
     snprintf(in, sizeof in, "%s/no-samples.exr", directory);
     snprintf(out, sizeof out, "%s/estimate.exr", directory);
-    uint64_t sums[3 * 2 * 4] = {0}; /* M = 1, 2x2 pixels */
+    uint64_t sums[(1 + 3 * 2) * 4] = {0}; /* M = 1 (the grid plane, then the sums), 2x2 pixels */
     float mean[3 * 4] = {0};
     ExrImage image;
     memset(&image, 0, sizeof image);
@@ -359,6 +443,7 @@ int main(void)
         cmocka_unit_test(test_furnace_scene_matches_analytic_value),
         cmocka_unit_test(test_exr_estimates_equal_host_reference_on_its_sums),
         cmocka_unit_test(test_image_independent_of_pass_batching_and_ranges),
+        cmocka_unit_test(test_emitter_scale_by_power_of_two_scales_every_estimate),
         cmocka_unit_test(test_nee_and_bsdf_sampling_agree),
         cmocka_unit_test(test_failed_write_leaves_the_old_file),
         cmocka_unit_test(test_output_path_checked_before_render),

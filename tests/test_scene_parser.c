@@ -261,6 +261,36 @@ static void test_camera_transforms(void **state)
     scene_destroy(&s);
 }
 
+/* Camera transforms whose float arithmetic overflows or underflows: an
+ * error at the directive, or (computed in double) the right camera, never
+ * a camera of NaNs and a black image. */
+static void test_camera_precision(void **state)
+{
+    (void)state;
+    Scene s;
+    /* A tiny Scale underflows a float inverse; in double it is exact. */
+    load_ok("Scale 1e-30 1e-30 1e-30\nLookAt 0 1 5  0 1 0  0 1 0\nCamera \"perspective\"\n" WORLD, &s);
+    assert_vec3(s.camera.position, 0, 1, 5);
+    assert_vec3(s.camera.forward, 0, 0, -1);
+    assert_vec3(s.camera.right, -1, 0, 0);
+    scene_destroy(&s);
+    /* A look-at point 1e20 away: its squared distance overflows a float. */
+    load_ok("LookAt 0 0 0  1e20 0 0  0 1 0\nCamera \"perspective\"\n" WORLD, &s);
+    assert_vec3(s.camera.forward, 1, 0, 0);
+    assert_vec3(s.camera.up, 0, 1, 0);
+    scene_destroy(&s);
+
+    load_fails("Scale 1e-40 1e-40 1e-40\nCamera \"perspective\"\n" WORLD, 2, "inverse overflows single precision");
+    load_fails("Transform [ 1 0 0 0  0 1 0 0  0 0 1 0  0 0 0 0 ]\nCamera \"perspective\"\n" WORLD, 2, "singular");
+    load_fails("LookAt 3e38 1 5  -3e38 1 0  0 1 0\nCamera \"perspective\"\n" WORLD, 2,
+               "the camera is at (3e+38, 1, 5), beyond 1e+18 from the origin");
+    load_fails("Scale 1e30 1e30 1e30\nScale 1e30 1 1\n" WORLD, 2, "Scale: the transform overflows single precision");
+    load_fails("Translate 3e38 0 0\nTranslate 3e38 0 0\n" WORLD, 2, "Translate: the transform overflows");
+    load_fails("Scale 1e20 1e20 1e20\nConcatTransform [ 1e20 0 0 0  0 1 0 0  0 0 1 0  0 0 0 1 ]\n" WORLD, 2,
+               "ConcatTransform: the transform overflows");
+    load_fails(WORLD "Scale 1e30 1e30 1e30\nRotate 45 0 0 1\nScale 1e10 1 1\n", 4, "Scale: the transform overflows");
+}
+
 static void test_lens_radius(void **state)
 {
     (void)state;
@@ -509,6 +539,9 @@ static void test_area_lights_and_orientation(void **state)
     load_fails(WORLD "AreaLightSource \"diffuse\" \"rgb L\" [ 1 -1 1 ]\n", 2, "negative");
     load_fails(WORLD "AreaLightSource \"diffuse\" \"float power\" 10\n", 2, "float power");
     load_fails(WORLD "AreaLightSource \"projector\"\n", 2, "projector");
+    /* L * scale must fit a float (an infinite radiance renders black). */
+    load_fails(WORLD "\nAreaLightSource \"diffuse\" \"rgb L\" [ 3e38 1 1 ] \"float scale\" 10\n", 3,
+               "AreaLightSource: the radiance L * scale, 3e+39, overflows single precision");
 }
 
 static void test_infinite_light(void **state)
@@ -525,6 +558,12 @@ static void test_infinite_light(void **state)
     load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n", 2, "filename");
     load_fails(WORLD "LightSource \"infinite\" \"spectrum L\" [ 300 1 800 1 ]\n", 2, "spectrum L");
     load_fails(WORLD "LightSource \"point\"\n", 2, "LightSource \"point\" is not supported");
+    load_fails(WORLD "LightSource \"infinite\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\n", 2,
+               "overflows single precision");
+    /* Several add up: the sum must fit too. */
+    load_fails(WORLD
+               "LightSource \"infinite\" \"rgb L\" [ 3e38 1 1 ]\nLightSource \"infinite\" \"rgb L\" [ 3e38 1 1 ]\n",
+               3, "overflows single precision");
 }
 
 /* --------------------------------------------------------------- shapes */
@@ -555,6 +594,9 @@ static void test_spheres(void **state)
     load_fails(WORLD "Scale 1 2 1\nShape \"sphere\"\n", 3, "non-uniform");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" 0\n", 2, "radius");
     load_fails(WORLD "Shape \"sphere\" \"float zmax\" 0.5\n", 2, "unsupported parameter \"float zmax\"");
+    /* The renderer squares distances in single precision. */
+    load_fails(WORLD "Shape \"sphere\" \"float radius\" 1e20\n", 2, "reaches beyond 1e+18 from the origin");
+    load_fails(WORLD "Translate 0 -2e18 0\nShape \"sphere\"\n", 3, "centre (0, -2e+18, 0)");
     assert_int_equal(load_text("ellipsoid.pbrt", WORLD "Scale 1 2 1\nShape \"sphere\"\n", &s, 1), 0);
     assert_true(has_warning(&s, "non-uniform"));
     assert_near(s.spheres[0].radius, cbrt(2.0), 1e-6);
@@ -612,6 +654,53 @@ static void test_bad_mesh_data(void **state)
                "multiple of 3");
 }
 
+/* World-space geometry beyond what single-precision intersection handles. */
+static void test_geometry_range(void **state)
+{
+    (void)state;
+    load_fails(WORLD "Translate 2e18 0 0\n" TRIANGLE, 3, "vertex 0 is at (2e+18, 0, 0) in world space, beyond 1e+18");
+    load_fails(WORLD "Scale 1e10 1e10 1e10\n" TRIANGLE, 3,
+               "triangle 0 is too large for single precision: its edges from its first vertex are 1.41421e+10 and "
+               "1.41421e+10 long, a product over 1e+19");
+    /* A large triangle within the limit loads. */
+    Scene s;
+    load_ok(WORLD "Scale 2e9 2e9 2e9\n" TRIANGLE, &s);
+    assert_int_equal(s.triangle_count, 1);
+    scene_destroy(&s);
+}
+
+/* Geometry far from the origin for its size: a warning with the reason. */
+static void test_precision_warnings(void **state)
+{
+    (void)state;
+    Scene s;
+    /* At 1e10 floats are 1024 apart: a unit triangle rounds to a point. */
+    assert_int_equal(load_text("far.pbrt", WORLD "Translate 1e10 1e10 1e10\n" TRIANGLE, &s, 0), 0);
+    assert_int_equal(s.triangle_count, 0);
+    assert_int_equal(s.warning_count, 1);
+    assert_non_null(strstr(s.warnings[0], "skipped 1 degenerate (zero-area) triangle of 1; 1 of them lost their "
+                                          "area to single-precision rounding in world space (at coordinates up to "
+                                          "1e+10 floats are 1024 apart)"));
+    scene_destroy(&s);
+    /* A scene of size 1e6 at 1e10: kept, but ray offsets of 1e5 are 10%
+     * of its size. */
+    assert_int_equal(load_text("offset.pbrt", WORLD "Translate 1e10 1e10 1e10\nScale 1e6 1e6 1e6\n" TRIANGLE, &s, 0),
+                     0);
+    assert_int_equal(s.triangle_count, 1);
+    assert_int_equal(s.warning_count, 1);
+    char location[600];
+    snprintf(location, sizeof location,
+             "%s: warning: the geometry lies up to 1.0001e+10 from the origin but spans only 1.00",
+             temp_path("offset.pbrt"));
+    if (strncmp(s.warnings[0], location, strlen(location)) != 0)
+        fail_msg("warning \"%s\" does not start with \"%s\"", s.warnings[0], location);
+    assert_non_null(strstr(s.warnings[0], "offset by 1e-5 of their distance from the origin (up to 100010,"));
+    scene_destroy(&s);
+    /* 1e3 times its size from the origin is still fine (offsets of 1%). */
+    load_ok(WORLD "Translate 500 0 0\n" TRIANGLE, &s);
+    scene_destroy(&s);
+}
+
 static void test_degenerate_triangles_are_skipped(void **state)
 {
     (void)state;
@@ -631,6 +720,8 @@ static void test_degenerate_triangles_are_skipped(void **state)
     assert_true(strncmp(s.warnings[0], location, strlen(location)) == 0);
     assert_non_null(strstr(s.warnings[0], "skipped 2 degenerate (zero-area) triangles of 4"));
     assert_non_null(strstr(s.warnings[1], "skipped 1 degenerate (zero-area) triangle of 1"));
+    /* A singular transform, not rounding, flattens the last one. */
+    assert_null(strstr(s.warnings[2], "rounding"));
     assert_vec3(vertex(&s, 1, 0), 0, 1, 0); /* the kept "2 1 0" */
     scene_destroy(&s);
 }
@@ -877,7 +968,9 @@ static void test_ply_errors(void **state)
     unsigned char data[1024];
     size_t size = binary_ply(data, 0, 0, "uchar", "int", NAN);
     write_bytes("nan.ply", data, size);
-    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"nan.ply\"\n", 2, "vertex 4 has a non-finite position");
+    /* Errors in the data name the PLY file and the element's index. */
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"nan.ply\"\n", 2,
+               "nan.ply\": vertex 4 has a non-finite position");
     load_fails(WORLD "\nShape \"plymesh\" \"string filename\" \"missing.ply\"\n", 3, "missing.ply");
 
     static const struct {
@@ -899,8 +992,8 @@ static void test_ply_errors(void **state)
          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n5 0 1 2 0 1\n",
          "only triangles and quads"},
         {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-         "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1 7\n",
-         "out of range"},
+         "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n3 0 1 2\n3 0 1 3\n",
+         "bad.ply\": face 1: vertex index 3 is out of range (3 vertices)"},
         {"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
          "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 x 0 1 0\n3 0 1 2\n",
          "malformed number"},
@@ -941,6 +1034,34 @@ static void test_include_and_import(void **state)
     assert_int_equal(s.materials[s.shapes[1].material].type, SCENE_MATERIAL_DIELECTRIC);
     scene_destroy(&s);
     load_fails(WORLD "\nInclude \"inc/none.pbrt\"\n", 3, "none.pbrt");
+}
+
+/* Only regular files are read, up to a size limit: /dev/zero would be read
+ * forever and opening a FIFO would wait for a writer. */
+static void test_only_regular_files_are_read(void **state)
+{
+    (void)state;
+    load_fails(WORLD "Include \"/dev/zero\"\n", 2, "cannot read \"/dev/zero\": not a regular file");
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"/dev/zero\"\n", 2,
+               "\"/dev/zero\": cannot read: not a regular file");
+    const char *fifo = temp_path("fifo.pbrt");
+    assert_int_equal(mkfifo(fifo, 0600), 0);
+    remember(fifo);
+    load_fails(WORLD "\nInclude \"fifo.pbrt\"\n", 3, "fifo.pbrt\": not a regular file");
+    Scene s;
+    assert_int_equal(scene_load(fifo, NULL, &s, error, sizeof error), -1);
+    char expected[600];
+    snprintf(expected, sizeof expected, "%s: cannot read: not a regular file", fifo);
+    assert_true(strncmp(error, expected, strlen(expected)) == 0);
+
+    /* Sparse files just over the limits: 1 GiB of scene text, 4 GiB of PLY. */
+    const char *text = write_text("huge.pbrt", "");
+    assert_int_equal(truncate(text, ((off_t)1 << 30) + 1), 0);
+    load_fails(WORLD "Include \"huge.pbrt\"\n", 2, "huge.pbrt\": 1073741825 bytes, over the 1 GiB limit");
+    const char *ply = write_text("huge.ply", "");
+    assert_int_equal(truncate(ply, ((off_t)4 << 30) + 1), 0);
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"huge.ply\"\n", 2,
+               "huge.ply\": cannot read: 4294967297 bytes, over the 4 GiB limit");
 }
 
 /* An error inside an included file names that file and its line. */
@@ -1021,6 +1142,7 @@ int main(void)
         cmocka_unit_test(test_look_at_basis),
         cmocka_unit_test(test_fov_spans_shorter_axis),
         cmocka_unit_test(test_camera_transforms),
+        cmocka_unit_test(test_camera_precision),
         cmocka_unit_test(test_lens_radius),
         cmocka_unit_test(test_film_sampler_integrator_filter),
         cmocka_unit_test(test_translate_then_scale),
@@ -1034,6 +1156,8 @@ int main(void)
         cmocka_unit_test(test_spheres),
         cmocka_unit_test(test_trianglemesh_normals_and_uv),
         cmocka_unit_test(test_bad_mesh_data),
+        cmocka_unit_test(test_geometry_range),
+        cmocka_unit_test(test_precision_warnings),
         cmocka_unit_test(test_degenerate_triangles_are_skipped),
         cmocka_unit_test(test_parameter_syntax),
         cmocka_unit_test(test_wrong_parameters),
@@ -1044,6 +1168,7 @@ int main(void)
         cmocka_unit_test(test_ply_errors),
         cmocka_unit_test(test_include_and_import),
         cmocka_unit_test(test_error_in_included_file),
+        cmocka_unit_test(test_only_regular_files_are_read),
         cmocka_unit_test(test_every_truncation_fails_cleanly),
         cmocka_unit_test(test_repository_scenes),
     };

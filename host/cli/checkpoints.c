@@ -84,7 +84,6 @@ int checkpoints_write(void *user, const RenderOutput *out)
         image.trim = NULL;
     }
     image.metadata.scene_path = c->scene_path;
-    image.metadata.scene_hash = c->scene_hash;
     const ExrKeyValue extras[] = {{"seconds", seconds}};
     image.metadata.extras = extras;
     image.metadata.extra_count = 1;

@@ -11,11 +11,16 @@
 /* Checks that part b can join part a; prints why not. */
 static int compatible(const char *a_path, const ExrImage *a, const char *b_path, const ExrImage *b)
 {
-    const char *a_hash = a->metadata.scene_hash ? a->metadata.scene_hash : "";
-    const char *b_hash = b->metadata.scene_hash ? b->metadata.scene_hash : "";
-    if (strcmp(a_hash, b_hash) != 0) {
-        fprintf(stderr, "gmonrt: merge: %s and %s render different scenes (scene hashes %s and %s)\n", a_path, b_path,
-                a_hash, b_hash);
+    const char *a_integrator = a->metadata.integrator ? a->metadata.integrator : "(unknown)";
+    const char *b_integrator = b->metadata.integrator ? b->metadata.integrator : "(unknown)";
+    if (strcmp(a_integrator, b_integrator) != 0) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in integrator (%s vs %s)\n", a_path, b_path, a_integrator,
+                b_integrator);
+        return 0;
+    }
+    if (a->metadata.max_depth != b->metadata.max_depth) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,
+                a->metadata.max_depth, b->metadata.max_depth);
         return 0;
     }
     if (a->width != b->width || a->height != b->height) {
@@ -33,108 +38,169 @@ static int compatible(const char *a_path, const ExrImage *a, const char *b_path,
                 (unsigned long long)a->metadata.seed, b_path, (unsigned long long)b->metadata.seed);
         return 0;
     }
+    /* Last: what the checks above do not name (the scene file's content:
+     * geometry, materials, lights, camera). */
+    const char *a_hash = a->metadata.scene_hash ? a->metadata.scene_hash : "";
+    const char *b_hash = b->metadata.scene_hash ? b->metadata.scene_hash : "";
+    if (strcmp(a_hash, b_hash) != 0) {
+        fprintf(stderr,
+                "gmonrt: merge: %s and %s render different scenes: geometry, materials, lights or camera differ "
+                "(hashes %s and %s)\n",
+                a_path, b_path, a_hash, b_hash);
+        return 0;
+    }
     return 1;
 }
 
+/* A part's sample range, kept after its pixels are freed. */
 typedef struct {
     const char *path;
-    ExrImage image;
-} Part;
+    uint64_t first, count;
+} Range;
 
 static int by_first_sample(const void *x, const void *y)
 {
-    uint64_t a = ((const Part *)x)->image.metadata.first_sample, b = ((const Part *)y)->image.metadata.first_sample;
+    uint64_t a = ((const Range *)x)->first, b = ((const Range *)y)->first;
     return (a > b) - (a < b);
 }
 
+/* a + b into *sum; 0 if it wraps 64 bits. */
+static int add_checked(uint64_t a, uint64_t b, uint64_t *sum)
+{
+    *sum = a + b;
+    return *sum >= a;
+}
+
+/* The ranges, in order, must tile one range: a gap would leave sets with
+ * unknown counts, an overlap would count samples twice. */
+static int check_ranges(Range *ranges, int count)
+{
+    qsort(ranges, (size_t)count, sizeof *ranges, by_first_sample);
+    for (int i = 1; i < count; ++i) {
+        const Range *a = &ranges[i - 1], *b = &ranges[i];
+        uint64_t a_end = a->first + a->count;
+        if (b->first != a_end) {
+            fprintf(stderr, "gmonrt: merge: %s covers samples [%llu, %llu) and %s [%llu, %llu): %s\n", a->path,
+                    (unsigned long long)a->first, (unsigned long long)a_end, b->path, (unsigned long long)b->first,
+                    (unsigned long long)(b->first + b->count),
+                    b->first < a_end ? "the ranges overlap" : "samples between them are missing");
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Reads one part; 0 after printing why it cannot be merged. */
+static int read_part(const char *path, ExrImage *image, Range *range)
+{
+    char error[1024];
+    if (exr_image_read(path, image, error, sizeof error) != IMAGE_IO_OK) {
+        fprintf(stderr, "gmonrt: merge: %s\n", error);
+        return 0;
+    }
+    if (!image->accumulators) {
+        fprintf(stderr, "gmonrt: merge: %s has no per-set sums (render the parts with --write-sets)\n", path);
+        return 0;
+    }
+    range->path = path;
+    range->first = image->metadata.first_sample;
+    range->count = image->metadata.sample_count;
+    uint64_t end;
+    if (!add_checked(range->first, range->count, &end)) {
+        fprintf(stderr, "gmonrt: merge: %s: its sample range [%llu, +%llu) passes 2^64\n", path,
+                (unsigned long long)range->first, (unsigned long long)range->count);
+        return 0;
+    }
+    return 1;
+}
+
+/* Parts are read one at a time and added to the first part's sums, so
+ * memory does not grow with their number. Exact sums are associative, so
+ * the order does not matter; the ranges are checked once all are known. */
 int merge_command(const Options *o)
 {
     const int count = o->merge_count;
-    Part *parts = calloc((size_t)count, sizeof *parts);
-    uint64_t *sums = NULL;
-    uint32_t *nonfinite = NULL;
+    Range *ranges = calloc((size_t)count, sizeof *ranges);
+    ExrImage total, part;
+    memset(&total, 0, sizeof total);
+    memset(&part, 0, sizeof part);
+    uint32_t *nonfinite = NULL, *rounded = NULL;
     int status = 1;
-    if (!parts)
+    if (!ranges)
         goto out_of_memory;
-    for (int i = 0; i < count; ++i) {
-        char error[1024];
-        parts[i].path = o->merge_inputs[i];
-        if (exr_image_read(parts[i].path, &parts[i].image, error, sizeof error) != IMAGE_IO_OK) {
-            fprintf(stderr, "gmonrt: merge: %s\n", error);
-            goto done;
-        }
-        if (!parts[i].image.accumulators) {
-            fprintf(stderr, "gmonrt: merge: %s has no per-set sums (render the parts with --write-sets)\n",
-                    parts[i].path);
-            goto done;
-        }
-        if (i > 0 && !compatible(parts[0].path, &parts[0].image, parts[i].path, &parts[i].image))
-            goto done;
-    }
-    /* The ranges, in order, must tile one range: a gap would leave sets
-     * with unknown counts, an overlap would count samples twice. */
-    qsort(parts, (size_t)count, sizeof *parts, by_first_sample);
-    for (int i = 1; i < count; ++i) {
-        const ExrMetadata *a = &parts[i - 1].image.metadata, *b = &parts[i].image.metadata;
-        uint64_t a_end = a->first_sample + a->sample_count;
-        if (b->first_sample != a_end) {
-            fprintf(stderr, "gmonrt: merge: %s covers samples [%llu, %llu) and %s [%llu, %llu): %s\n",
-                    parts[i - 1].path, (unsigned long long)a->first_sample, (unsigned long long)a_end, parts[i].path,
-                    (unsigned long long)b->first_sample, (unsigned long long)(b->first_sample + b->sample_count),
-                    b->first_sample < a_end ? "the ranges overlap" : "samples between them are missing");
-            goto done;
-        }
-    }
-
-    const ExrImage *first = &parts[0].image;
-    const int m = first->metadata.set_count;
-    const size_t pixels = (size_t)first->width * (size_t)first->height;
-    const size_t words = (size_t)m * EST_CHANNELS * 2 * pixels;
-    sums = calloc(words, sizeof *sums);
+    if (!read_part(o->merge_inputs[0], &total, &ranges[0]))
+        goto done;
+    const uint32_t m = (uint32_t)total.metadata.set_count;
+    const size_t pixels = (size_t)total.width * (size_t)total.height;
+    /* The first part's arrays are its reader's: writable copies of the
+     * counters, and its sums are written in place. */
     nonfinite = calloc(pixels, sizeof *nonfinite);
-    if (!sums || !nonfinite)
+    rounded = calloc(pixels, sizeof *rounded);
+    if (!nonfinite || !rounded)
         goto out_of_memory;
-    uint64_t samples = 0;
+    uint64_t *sums = (uint64_t *)total.accumulators;
+    uint64_t samples = 0, nonfinite_total = 0, rounded_total = 0, inexact_pixels = 0;
     for (int i = 0; i < count; ++i) {
-        const ExrImage *part = &parts[i].image;
-        for (int j = 0; j < m; ++j)
-            for (uint32_t c = 0; c < EST_CHANNELS; ++c)
-                for (size_t p = 0; p < pixels; ++p) {
-                    size_t lo = accumulator_index((uint32_t)j, c, 0, p, pixels);
-                    size_t hi = accumulator_index((uint32_t)j, c, 1, p, pixels);
-                    FixedSum total = {sums[lo], sums[hi]}, add = {part->accumulators[lo], part->accumulators[hi]};
-                    total = fixed_add(total, add);
-                    sums[lo] = total.lo;
-                    sums[hi] = total.hi;
-                }
-        for (size_t p = 0; p < pixels && part->nonfinite; ++p)
-            nonfinite[p] += part->nonfinite[p];
-        samples += part->metadata.sample_count;
+        const ExrImage *image = &total;
+        if (i > 0) {
+            exr_image_free(&part);
+            if (!read_part(o->merge_inputs[i], &part, &ranges[i]) ||
+                !compatible(ranges[0].path, &total, ranges[i].path, &part))
+                goto done;
+            image = &part;
+            for (size_t p = 0; p < pixels; ++p) {
+                int inexact = accumulators_merge_pixel(sums, (uint64_t *)part.accumulators, p, pixels, m);
+                rounded[p] += (uint32_t)inexact;
+                inexact_pixels += (uint64_t)inexact;
+            }
+        }
+        for (size_t p = 0; p < pixels; ++p) {
+            nonfinite[p] += image->nonfinite ? image->nonfinite[p] : 0;
+            rounded[p] += image->rounded ? image->rounded[p] : 0;
+        }
+        if (!add_checked(samples, image->metadata.sample_count, &samples) ||
+            !add_checked(nonfinite_total, image->metadata.nonfinite_samples, &nonfinite_total) ||
+            !add_checked(rounded_total, image->metadata.rounded_samples, &rounded_total)) {
+            fprintf(stderr, "gmonrt: merge: the parts' sample counts add up to 2^64 or more\n");
+            goto done;
+        }
+    }
+    exr_image_free(&part);
+    if (!check_ranges(ranges, count))
+        goto done;
+    if (inexact_pixels > 0) {
+        rounded_total += inexact_pixels;
+        fprintf(stderr,
+                "gmonrt: merge: warning: %llu pixel sums could not be added exactly (their values span more binary "
+                "orders than a set sum holds); counted as rounded samples\n",
+                (unsigned long long)inexact_pixels);
     }
 
-    ExrImage merged = *first;
+    ExrImage merged = total;
     merged.storage = NULL;
     merged.nonfinite = o->diagnostics ? nonfinite : NULL;
-    merged.accumulators = sums;
+    merged.rounded = o->diagnostics ? rounded : NULL;
+    merged.metadata.first_sample = ranges[0].first;
     merged.metadata.sample_count = samples;
+    merged.metadata.nonfinite_samples = nonfinite_total;
+    merged.metadata.rounded_samples = rounded_total;
     merged.metadata.software = "gmonrt merge";
     merged.metadata.extras = NULL;
     merged.metadata.extra_count = 0;
     /* The sums stay in the file: a merged render can be merged again. */
     status = write_estimates(o, &merged, 1, "merged.exr");
     if (status == 0 && !o->quiet)
-        printf("merged %d parts: samples [%llu, %llu), M = %d, %dx%d\n", count,
-               (unsigned long long)first->metadata.first_sample,
-               (unsigned long long)(first->metadata.first_sample + samples), m, first->width, first->height);
+        printf("merged %d parts: samples [%llu, %llu), M = %d, %dx%d\n", count, (unsigned long long)ranges[0].first,
+               (unsigned long long)(ranges[0].first + samples), (int)m, total.width, total.height);
     goto done;
 
 out_of_memory:
     fprintf(stderr, "gmonrt: merge: out of memory\n");
 done:
-    for (int i = 0; parts && i < count; ++i)
-        exr_image_free(&parts[i].image);
-    free(parts);
-    free(sums);
+    exr_image_free(&part);
+    exr_image_free(&total);
+    free(ranges);
     free(nonfinite);
+    free(rounded);
     return status;
 }

@@ -2,6 +2,7 @@
 #include "cli/output_files.h"
 
 #include "cli/interrupt.h"
+#include "estimator_core.h"
 #include "io/png_image.h"
 
 #include <errno.h>
@@ -131,9 +132,9 @@ int write_estimates(const Options *o, const ExrImage *sums, int keep_sets, const
     EstimatorImages images = {mean, mon, gmon, gini, trim, values};
     if (!mean || !mon || !gmon || !gini || !trim) {
         fprintf(stderr, "gmonrt: out of memory\n");
-    } else if (estimator_from_accumulators(&settings, sums->accumulators, (size_t)settings.set_count * 3 * 2 * pixels,
-                                           pixels, sums->metadata.sample_count, &images, error,
-                                           sizeof error) != ESTIMATOR_OK) {
+    } else if (estimator_from_accumulators(&settings, sums->accumulators,
+                                           accumulator_planes((uint32_t)settings.set_count) * pixels, pixels,
+                                           sums->metadata.sample_count, &images, error, sizeof error) != ESTIMATOR_OK) {
         fprintf(stderr, "gmonrt: %s\n", error);
     } else {
         ExrImage out = *sums;

@@ -16,7 +16,8 @@ static EstimatorStatus invalid(char *message, size_t message_size, const char *f
     return ESTIMATOR_INVALID_ARGUMENT;
 }
 
-static EstimatorStatus check_common(const EstimatorSettings *settings, size_t input_length, size_t words_per_value,
+/* accumulators: the input is accumulators (else float set sums). */
+static EstimatorStatus check_common(const EstimatorSettings *settings, size_t input_length, int accumulators,
                                     size_t pixel_count, const EstimatorImages *images, char *message,
                                     size_t message_size)
 {
@@ -28,7 +29,8 @@ static EstimatorStatus check_common(const EstimatorSettings *settings, size_t in
     if (settings->gini_mode != GINI_PER_CHANNEL && settings->gini_mode != GINI_PER_PIXEL &&
         settings->gini_mode != SORT_BY_LUMINANCE)
         return invalid(message, message_size, "unknown Gini mode %d", (int)settings->gini_mode);
-    size_t needed = (size_t)settings->set_count * EST_CHANNELS * words_per_value;
+    size_t needed =
+        accumulators ? accumulator_planes((uint32_t)settings->set_count) : (size_t)settings->set_count * EST_CHANNELS;
     if (pixel_count > SIZE_MAX / needed)
         return invalid(message, message_size, "pixel count %zu is too large", pixel_count);
     if (input_length < needed * pixel_count)
@@ -67,7 +69,7 @@ EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const flo
 {
     if (!set_sums)
         return invalid(message, message_size, "set sums are NULL");
-    EstimatorStatus status = check_common(settings, set_sums_length, 1, pixel_count, images, message, message_size);
+    EstimatorStatus status = check_common(settings, set_sums_length, 0, pixel_count, images, message, message_size);
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
@@ -83,10 +85,11 @@ EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const flo
     return ESTIMATOR_OK;
 }
 
-/* The sums of one pixel, sums[c][j] from set (j + first_set) mod m (so that
- * j counts sets in the order the samples filled them). */
-static void sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t first_set, size_t pixel,
-                          size_t pixel_count, float sums[EST_CHANNELS][EST_CAPACITY])
+/* The sums of one pixel in grid units, sums[c][j] from set (j + first_set)
+ * mod m (so that j counts sets in the order the samples filled them); returns
+ * the pixel's grid exponent. */
+static int sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t first_set, size_t pixel, size_t pixel_count,
+                         float sums[EST_CHANNELS][EST_CAPACITY])
 {
     for (uint32_t j = 0; j < m; ++j)
         for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
@@ -96,6 +99,7 @@ static void sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t fir
             s.hi = accumulators[accumulator_index(set, c, 1, pixel, pixel_count)];
             sums[c][j] = fixed_to_float(s);
         }
+    return grid_exponent(accumulators[grid_index(pixel)]);
 }
 
 EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
@@ -104,15 +108,16 @@ EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, c
 {
     if (!accumulators)
         return invalid(message, message_size, "accumulators are NULL");
-    EstimatorStatus status = check_common(settings, accumulators_length, 2, pixel_count, images, message, message_size);
+    EstimatorStatus status = check_common(settings, accumulators_length, 1, pixel_count, images, message, message_size);
     if (status != ESTIMATOR_OK)
         return status;
     const uint32_t m = (uint32_t)settings->set_count;
     const uint32_t first_set = (uint32_t)(settings->first_sample % m);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
-        sums_of_pixel(accumulators, m, first_set, p, pixel_count, sums);
+        int exponent = sums_of_pixel(accumulators, m, first_set, p, pixel_count, sums);
         PixelEstimates e = estimate_pixel(sums, sample_count, (int)m, (int)settings->gini_mode);
+        estimates_to_grid(&e, exponent);
         store(&e, p, images);
     }
     return ESTIMATOR_OK;
@@ -126,17 +131,17 @@ EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *
         return invalid(message, message_size, "accumulators or set sums are NULL");
     if (set_count < 1 || set_count > EST_MAX_SETS)
         return invalid(message, message_size, "set count M = %d is out of range 1..%d", set_count, EST_MAX_SETS);
-    size_t values = (size_t)set_count * EST_CHANNELS;
-    if (pixel_count > SIZE_MAX / (2 * values))
+    size_t values = (size_t)set_count * EST_CHANNELS, planes = accumulator_planes((uint32_t)set_count);
+    if (pixel_count > SIZE_MAX / planes)
         return invalid(message, message_size, "pixel count %zu is too large", pixel_count);
-    if (accumulators_length < 2 * values * pixel_count || set_sums_length < values * pixel_count)
+    if (accumulators_length < planes * pixel_count || set_sums_length < values * pixel_count)
         return invalid(message, message_size, "buffers too short for M = %d and %zu pixels", set_count, pixel_count);
     for (size_t p = 0; p < pixel_count; ++p) {
         float sums[EST_CHANNELS][EST_CAPACITY];
-        sums_of_pixel(accumulators, (uint32_t)set_count, 0, p, pixel_count, sums);
+        int exponent = sums_of_pixel(accumulators, (uint32_t)set_count, 0, p, pixel_count, sums);
         for (uint32_t j = 0; j < (uint32_t)set_count; ++j)
             for (uint32_t c = 0; c < EST_CHANNELS; ++c)
-                set_sums[set_sum_index(j, c, p, pixel_count)] = sums[c][j];
+                set_sums[set_sum_index(j, c, p, pixel_count)] = scale_by_grid(sums[c][j], exponent);
     }
     return ESTIMATOR_OK;
 }

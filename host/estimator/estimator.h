@@ -3,7 +3,8 @@
  * Both run the one implementation in kernels/estimator_core.h.
  *
  * Set sums are planes [set][channel][pixel] of floats; accumulators are the
- * renderer's exact sums, planes [set][channel][word][pixel] of uint64. Every
+ * renderer's exact sums, accumulator_planes(M) planes of uint64 (the grid
+ * plane, then [set][channel][word][pixel]: kernels/estimator_core.h). Every
  * pixel has sample_count samples, sample s in set s mod M. */
 #ifndef HOST_ESTIMATOR_ESTIMATOR_H
 #define HOST_ESTIMATOR_ESTIMATOR_H
@@ -59,13 +60,14 @@ EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const flo
                                     size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
                                     size_t message_size);
 
-/* The same from exact accumulators (length >= M * 3 * 2 * pixel_count). */
+/* The same from exact accumulators (length >= accumulator_planes(M) *
+ * pixel_count). */
 EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
                                             size_t accumulators_length, size_t pixel_count, uint64_t sample_count,
                                             EstimatorImages *images, char *message, size_t message_size);
 
 /* Converts accumulators to float set sums (nearest float, as the kernels
- * do). */
+ * do; a sum above FLT_MAX becomes infinite). */
 EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *accumulators,
                                                  size_t accumulators_length, size_t pixel_count, float *set_sums,
                                                  size_t set_sums_length, char *message, size_t message_size);

@@ -142,7 +142,9 @@ int estimator_program_run(EstimatorProgram *p, const void *input, int from_accum
     cl_context ctx = p->device->context;
     cl_command_queue queue = p->device->queue;
     size_t values = (size_t)p->settings.set_count * EST_CHANNELS * pixel_count;
-    size_t input_bytes = from_accumulators ? values * 2 * sizeof(uint64_t) : values * sizeof(float);
+    size_t input_bytes = from_accumulators
+                             ? accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t)
+                             : values * sizeof(float);
     size_t image_bytes = pixel_count * EST_CHANNELS * sizeof(float);
     void *hosts[5] = {images->mean, images->mon, images->gmon, images->gini, images->trim};
     const int bits[5] = {ESTIMATOR_OUTPUT_MEAN, ESTIMATOR_OUTPUT_MON, ESTIMATOR_OUTPUT_GMON,

@@ -12,7 +12,11 @@
 #define RGB_CHANNELS 3
 #define SUM_WORDS 4         /* 32-bit channels per 128-bit set sum */
 #define ACCUMULATOR_WORDS 2 /* 64-bit words per set sum in memory */
-#define NAME_CAPACITY 32    /* EXR short names: at most 31 bytes */
+#define GRID_SET (-1)       /* the set of the grid channel, sets.grid */
+/* The grid word of files written before sets.grid existed: their sums
+ * count units of 2^-56 (kernels/estimator_core.h, EST_GRID_BIAS). */
+#define LEGACY_GRID_WORD (1024u - 56u)
+#define NAME_CAPACITY 32 /* EXR short names: at most 31 bytes */
 #define METADATA_PREFIX "gmon."
 
 /* ------------------------------------------------------------------------
@@ -26,19 +30,21 @@ typedef enum {
     LAYER_GINI,
     LAYER_TRIM,
     LAYER_NONFINITE,
+    LAYER_ROUNDED,
     LAYER_SETS,
     LAYER_COUNT
 } Layer;
 
-static const char *const layer_names[LAYER_COUNT] = {"mean", "mon", "gmon", "gini", "trim", "nonfinite", "sets"};
+static const char *const layer_names[LAYER_COUNT] = {"mean", "mon",       "gmon",    "gini",
+                                                     "trim", "nonfinite", "rounded", "sets"};
 static const char channel_letters[RGB_CHANNELS] = {'R', 'G', 'B'};
 
 /* One EXR channel and where its values live in an ExrImage. */
 typedef struct {
     char name[NAME_CAPACITY];
     Layer layer;
-    int set;     /* LAYER_SETS only */
-    int channel; /* R, G, B = 0, 1, 2; 0 for nonfinite */
+    int set;     /* LAYER_SETS only; GRID_SET for the grid words */
+    int channel; /* R, G, B = 0, 1, 2; 0 for the counters and the grid */
     int word;    /* LAYER_SETS only: 32-bit word, 0 the lowest */
 } ChannelSpec;
 
@@ -47,9 +53,14 @@ static int layer_is_float(Layer layer)
     return layer == LAYER_MEAN || layer == LAYER_MON || layer == LAYER_GMON || layer == LAYER_GINI;
 }
 
+static int layer_is_counter(Layer layer)
+{
+    return layer == LAYER_NONFINITE || layer == LAYER_ROUNDED;
+}
+
 static int layer_is_rgb(Layer layer)
 {
-    return layer != LAYER_NONFINITE && layer != LAYER_SETS;
+    return !layer_is_counter(layer) && layer != LAYER_SETS;
 }
 
 static exr_pixel_type_t layer_pixel_type(Layer layer)
@@ -71,10 +82,17 @@ static ChannelSpec set_channel(int set, int channel, int word)
     return spec;
 }
 
-static ChannelSpec nonfinite_channel(void)
+static ChannelSpec grid_channel(void)
 {
-    ChannelSpec spec = {{0}, LAYER_NONFINITE, 0, 0, 0};
-    snprintf(spec.name, sizeof spec.name, "%s", layer_names[LAYER_NONFINITE]);
+    ChannelSpec spec = {{0}, LAYER_SETS, GRID_SET, 0, 0};
+    snprintf(spec.name, sizeof spec.name, "%s.grid", layer_names[LAYER_SETS]);
+    return spec;
+}
+
+static ChannelSpec counter_channel(Layer layer)
+{
+    ChannelSpec spec = {{0}, layer, 0, 0, 0};
+    snprintf(spec.name, sizeof spec.name, "%s", layer_names[layer]);
     return spec;
 }
 
@@ -91,7 +109,12 @@ static int channel_from_name(const char *name, ChannelSpec *spec)
                 return 1;
         }
     }
-    *spec = nonfinite_channel();
+    for (int layer = 0; layer < LAYER_COUNT; ++layer) {
+        *spec = counter_channel((Layer)layer);
+        if (layer_is_counter((Layer)layer) && strcmp(name, spec->name) == 0)
+            return 1;
+    }
+    *spec = grid_channel();
     if (strcmp(name, spec->name) == 0)
         return 1;
     int set, word, length = 0;
@@ -243,6 +266,8 @@ static int image_has_layer(const ExrImage *image, Layer layer)
         return image->trim != NULL;
     case LAYER_NONFINITE:
         return image->nonfinite != NULL;
+    case LAYER_ROUNDED:
+        return image->rounded != NULL;
     case LAYER_SETS:
         return image->accumulators != NULL;
     default:
@@ -281,7 +306,7 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
     if (image->accumulators && meta->set_count == 0)
         return fail(io, "accumulators given without a set count M");
     size_t pixels = (size_t)image->width * (size_t)image->height;
-    size_t bytes_per_pixel = (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS * sizeof(uint64_t);
+    size_t bytes_per_pixel = (1 + (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t);
     if (pixels > SIZE_MAX / bytes_per_pixel)
         return fail(io, "image size %dx%d is too large", image->width, image->height);
     if (!gini_mode_is_valid(meta->gini_mode))
@@ -307,7 +332,8 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
 static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
 {
     int sets = image->accumulators ? image->metadata.set_count : 0;
-    ChannelSpec *specs = malloc(sizeof *specs * (size_t)(LAYER_COUNT * RGB_CHANNELS + sets * RGB_CHANNELS * SUM_WORDS));
+    ChannelSpec *specs =
+        malloc(sizeof *specs * (size_t)(LAYER_COUNT * RGB_CHANNELS + 1 + sets * RGB_CHANNELS * SUM_WORDS));
     if (!specs)
         return NULL;
     int n = 0;
@@ -316,7 +342,11 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
             for (int c = 0; c < RGB_CHANNELS; ++c)
                 specs[n++] = rgb_channel((Layer)layer, c);
     if (image->nonfinite)
-        specs[n++] = nonfinite_channel();
+        specs[n++] = counter_channel(LAYER_NONFINITE);
+    if (image->rounded)
+        specs[n++] = counter_channel(LAYER_ROUNDED);
+    if (sets)
+        specs[n++] = grid_channel();
     for (int j = 0; j < sets; ++j)
         for (int c = 0; c < RGB_CHANNELS; ++c)
             for (int w = 0; w < SUM_WORDS; ++w)
@@ -325,9 +355,13 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
     return specs;
 }
 
+/* The layout of kernels/estimator_core.h: the grid plane, then
+ * [set][channel][word] planes. */
 static size_t accumulator_word(int set, int channel, int word, size_t pixel, size_t pixel_count)
 {
-    return ((size_t)(set * RGB_CHANNELS + channel) * ACCUMULATOR_WORDS + (size_t)word) * pixel_count + pixel;
+    if (set == GRID_SET)
+        return pixel;
+    return ((size_t)(set * RGB_CHANNELS + channel) * ACCUMULATOR_WORDS + (size_t)word + 1) * pixel_count + pixel;
 }
 
 /* Copies rows [first_row, first_row + rows) of one channel into `out`. */
@@ -346,6 +380,9 @@ static void gather_channel(const ExrImage *image, const ChannelSpec *spec, int f
             break;
         case LAYER_NONFINITE:
             out[i] = image->nonfinite[p];
+            break;
+        case LAYER_ROUNDED:
+            out[i] = image->rounded[p];
             break;
         case LAYER_SETS: {
             uint64_t word64 =
@@ -390,6 +427,14 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
     if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "firstSample", number),
                    "cannot set attribute " METADATA_PREFIX "firstSample"))
         return IMAGE_IO_ERROR;
+    snprintf(number, sizeof number, "%" PRIu64, meta->nonfinite_samples);
+    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "nonfiniteSamples", number),
+                   "cannot set attribute " METADATA_PREFIX "nonfiniteSamples"))
+        return IMAGE_IO_ERROR;
+    snprintf(number, sizeof number, "%" PRIu64, meta->rounded_samples);
+    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "roundedSamples", number),
+                   "cannot set attribute " METADATA_PREFIX "roundedSamples"))
+        return IMAGE_IO_ERROR;
     if (meta->scene_path &&
         EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneFile", meta->scene_path),
                    "cannot set attribute " METADATA_PREFIX "sceneFile"))
@@ -397,6 +442,12 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
     if (meta->scene_hash &&
         EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneHash", meta->scene_hash),
                    "cannot set attribute " METADATA_PREFIX "sceneHash"))
+        return IMAGE_IO_ERROR;
+    if (meta->integrator &&
+        (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "integrator", meta->integrator),
+                    "cannot set attribute " METADATA_PREFIX "integrator") ||
+         EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "maxDepth", meta->max_depth),
+                    "cannot set attribute " METADATA_PREFIX "maxDepth")))
         return IMAGE_IO_ERROR;
     if (EXR_FAILED(io,
                    exr_attr_set_string(ctxt, part, METADATA_PREFIX "giniMode", gini_mode_names[(int)meta->gini_mode]),
@@ -665,9 +716,20 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "samples", &meta->sample_count) < 0 ||
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "seed", &meta->seed) < 0 ||
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "firstSample", &meta->first_sample) < 0 ||
+        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "nonfiniteSamples", &meta->nonfinite_samples) < 0 ||
+        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "roundedSamples", &meta->rounded_samples) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneFile", &meta->scene_path) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0)
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0 ||
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0)
         return IMAGE_IO_ERROR;
+    result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "maxDepth", &attribute);
+    if (result != EXR_ERR_NO_ATTR_BY_NAME) {
+        if (library_failed(io, result, "cannot read attribute " METADATA_PREFIX "maxDepth"))
+            return IMAGE_IO_ERROR;
+        if (attribute->type != EXR_ATTR_INT)
+            return fail(io, "attribute " METADATA_PREFIX "maxDepth is of type %s, expected int", attribute->type_name);
+        meta->max_depth = attribute->i;
+    }
     const char *mode = NULL;
     int found = read_string_attribute(io, ctxt, image, METADATA_PREFIX "giniMode", &mode);
     if (found < 0)
@@ -714,6 +776,7 @@ typedef struct {
     float *rgb[LAYER_COUNT]; /* float layers */
     int32_t *trim;
     uint32_t *nonfinite;
+    uint32_t *rounded;
     uint64_t *accumulators;
 } ReadTarget;
 
@@ -731,6 +794,9 @@ static void scatter_channel(const ReadTarget *target, const ChannelSpec *spec, s
             break;
         case LAYER_NONFINITE:
             target->nonfinite[p] = values[i];
+            break;
+        case LAYER_ROUNDED:
+            target->rounded[p] = values[i];
             break;
         case LAYER_SETS: {
             uint64_t *word =
@@ -899,13 +965,14 @@ static ImageIoStatus read_pixels(IoContext *io, exr_const_context_t ctxt, const 
 /* Checks the file's channels and maps each to a spec (layer LAYER_COUNT:
  * not ours). Sets found_layers and the number of sets found. */
 static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, ChannelSpec *specs,
-                                  int found_layers[LAYER_COUNT], int *set_count, int *wanted)
+                                  int found_layers[LAYER_COUNT], int *set_count, int *grid_found, int *wanted)
 {
     int rgb_found[LAYER_COUNT][RGB_CHANNELS] = {{0}};
     unsigned char words_found[EXR_IMAGE_MAX_SETS][RGB_CHANNELS][SUM_WORDS];
     memset(words_found, 0, sizeof words_found);
     int highest_set = -1;
     *wanted = 0;
+    *grid_found = 0;
     for (int i = 0; i < list->num_channels; ++i) {
         const exr_attr_chlist_entry_t *entry = &list->entries[i];
         const char *name = entry->name.str ? entry->name.str : "";
@@ -924,7 +991,9 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
                         layer_is_float(spec.layer) ? "FLOAT or HALF" : "UINT");
         specs[i] = spec;
         ++*wanted;
-        if (spec.layer == LAYER_SETS) {
+        if (spec.layer == LAYER_SETS && spec.set == GRID_SET) {
+            *grid_found = 1;
+        } else if (spec.layer == LAYER_SETS) {
             words_found[spec.set][spec.channel][spec.word] = 1;
             highest_set = spec.set > highest_set ? spec.set : highest_set;
         } else {
@@ -941,6 +1010,7 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
         found_layers[layer] = n == RGB_CHANNELS;
     }
     found_layers[LAYER_NONFINITE] = rgb_found[LAYER_NONFINITE][0];
+    found_layers[LAYER_ROUNDED] = rgb_found[LAYER_ROUNDED][0];
     *set_count = highest_set + 1;
     for (int j = 0; j < *set_count; ++j)
         for (int c = 0; c < RGB_CHANNELS; ++c)
@@ -948,6 +1018,30 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
                 if (!words_found[j][c][w])
                     return fail(io, "set sums are incomplete: channel %s is missing", set_channel(j, c, w).name);
     found_layers[LAYER_SETS] = *set_count > 0;
+    if (*grid_found && *set_count == 0)
+        return fail(io, "channel %s is present without set sums", grid_channel().name);
+    return IMAGE_IO_OK;
+}
+
+/* Set sums as the renderer leaves them, or the file is corrupt (or forged):
+ * grid words 0 or EXR_GRID_WORD_MIN..MAX, sums below 2^126 in magnitude
+ * (their top two bits equal), so that adding two cannot wrap. */
+static ImageIoStatus check_set_sums(IoContext *io, const ExrImage *image, int set_count)
+{
+    size_t pixels = (size_t)image->width * (size_t)image->height;
+    for (size_t p = 0; p < pixels; ++p) {
+        uint64_t grid = image->accumulators[accumulator_word(GRID_SET, 0, 0, p, pixels)];
+        if (grid != 0 && (grid < EXR_GRID_WORD_MIN || grid > EXR_GRID_WORD_MAX))
+            return fail(io, "channel %s of pixel (%zu, %zu) holds %llu, not a grid word", grid_channel().name,
+                        p % (size_t)image->width, p / (size_t)image->width, (unsigned long long)grid);
+        for (int j = 0; j < set_count; ++j)
+            for (int c = 0; c < RGB_CHANNELS; ++c) {
+                uint64_t top = image->accumulators[accumulator_word(j, c, 1, p, pixels)] >> 62;
+                if (top == 1 || top == 2)
+                    return fail(io, "set %d, channel %c of pixel (%zu, %zu) is out of range (2^126 or more)", j,
+                                channel_letters[c], p % (size_t)image->width, p / (size_t)image->width);
+            }
+    }
     return IMAGE_IO_OK;
 }
 
@@ -1011,8 +1105,8 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     if (!specs)
         return fail(io, "out of memory");
     int found[LAYER_COUNT];
-    int set_count = 0, wanted = 0;
-    ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &wanted);
+    int set_count = 0, grid_found = 0, wanted = 0;
+    ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &grid_found, &wanted);
     if (status == IMAGE_IO_OK && found[LAYER_SETS])
         status = check_sums_compression(io, ctxt);
     if (status == IMAGE_IO_OK && found[LAYER_SETS]) {
@@ -1024,7 +1118,7 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     }
 
     size_t pixels = (size_t)image->width * (size_t)image->height;
-    size_t most = (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS * sizeof(uint64_t);
+    size_t most = (1 + (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t);
     if (status == IMAGE_IO_OK && pixels > SIZE_MAX / most)
         status = fail(io, "image size %dx%d is too large", image->width, image->height);
 
@@ -1033,9 +1127,9 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     for (int layer = 0; layer < LAYER_COUNT && status == IMAGE_IO_OK; ++layer) {
         if (!found[layer])
             continue;
-        size_t bytes = layer == LAYER_NONFINITE ? pixels * sizeof(uint32_t)
+        size_t bytes = layer_is_counter((Layer)layer) ? pixels * sizeof(uint32_t)
                        : layer == LAYER_SETS
-                           ? pixels * (size_t)set_count * RGB_CHANNELS * ACCUMULATOR_WORDS * sizeof(uint64_t)
+                           ? pixels * (1 + (size_t)set_count * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t)
                            : pixels * RGB_CHANNELS * sizeof(float);
         void *data = storage_alloc(image, bytes);
         if (!data) {
@@ -1051,9 +1145,16 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
             target.nonfinite = data;
             image->nonfinite = data;
             break;
+        case LAYER_ROUNDED:
+            target.rounded = data;
+            image->rounded = data;
+            break;
         case LAYER_SETS:
             target.accumulators = data;
             image->accumulators = data;
+            /* A file from before the grid channel: units of 2^-56. */
+            for (size_t p = 0; p < pixels && !grid_found; ++p)
+                target.accumulators[p] = LEGACY_GRID_WORD;
             break;
         default:
             target.rgb[layer] = data;
@@ -1067,6 +1168,8 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
 
     if (status == IMAGE_IO_OK && wanted > 0)
         status = read_pixels(io, ctxt, &window, specs, list->num_channels, wanted, &target);
+    if (status == IMAGE_IO_OK && image->accumulators)
+        status = check_set_sums(io, image, set_count);
     free(specs);
     return status;
 }

@@ -1,6 +1,7 @@
 #include "render/bvh.h"
 
 #include <float.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -100,6 +101,18 @@ static Box primitive_box(const Primitive *p)
     return b;
 }
 
+/* Whether a primitive's numbers and its box are finite (the box alone
+ * misses a NaN, which every comparison growing it ignores). */
+static int primitive_is_finite(const Primitive *p, const Box *box)
+{
+    int sphere = (p->kind & PRIM_KIND_MASK) == PRIM_SPHERE;
+    for (int i = 0; i < 3; ++i)
+        if (!isfinite(p->a[i]) || !isfinite(box->lower[i]) || !isfinite(box->upper[i]) ||
+            (!sphere && (!isfinite(p->b[i]) || !isfinite(p->c[i]))))
+            return 0;
+    return !sphere || isfinite(p->b[0]);
+}
+
 /* Appends an element to a growing array; returns its index or -1. */
 static int grow(void **array, int *count, int *capacity, size_t size)
 {
@@ -125,6 +138,15 @@ static int new_block(Builder *b)
     if (index >= 0)
         memset(&b->blocks[index], 0, sizeof *b->blocks);
     return index;
+}
+
+/* The bin of a centroid coordinate c in [lo, lo + span], in double: in
+ * float, c - lo and span overflow to inf for coordinates beyond about
+ * 1.7e38 and inf / inf is NaN, whose conversion to int is undefined. */
+static int bin_of(float c, float lo, double span)
+{
+    double k = ((double)c - lo) / span * BIN_COUNT;
+    return k >= BIN_COUNT ? BIN_COUNT - 1 : (k > 0.0 ? (int)k : 0);
 }
 
 /* qsort comparators by centroid along one axis, ties by index so the build
@@ -171,16 +193,16 @@ static int choose_split(BuildItem *items, int count, const Box *bounds, int dept
         float best_cost = FLT_MAX;
         int best_axis = -1, best_bin = -1;
         for (int a = 0; a < 3; ++a) {
-            float lo = centroids.lower[a], span = centroids.upper[a] - lo;
-            if (span <= 0.0f)
+            float lo = centroids.lower[a];
+            double span = (double)centroids.upper[a] - lo;
+            if (span <= 0.0)
                 continue;
             Box bin_box[BIN_COUNT];
             int bin_count[BIN_COUNT] = {0};
             for (int k = 0; k < BIN_COUNT; ++k)
                 bin_box[k] = box_empty();
             for (int i = 0; i < count; ++i) {
-                int k = (int)((items[i].centroid[a] - lo) / span * BIN_COUNT);
-                k = k < 0 ? 0 : (k >= BIN_COUNT ? BIN_COUNT - 1 : k);
+                int k = bin_of(items[i].centroid[a], lo, span);
                 bin_count[k]++;
                 box_grow(&bin_box[k], &items[i].box);
             }
@@ -213,12 +235,11 @@ static int choose_split(BuildItem *items, int count, const Box *bounds, int dept
         float parent_area = box_area(bounds);
         float split_cost = parent_area > 0.0f ? 0.5f + best_cost / parent_area : FLT_MAX;
         if (best_axis >= 0 && (split_cost < leaf_cost(count) || count > MAX_LEAF_SIZE)) {
-            float lo = centroids.lower[best_axis], span = centroids.upper[best_axis] - lo;
+            float lo = centroids.lower[best_axis];
+            double span = (double)centroids.upper[best_axis] - lo;
             int left = 0;
             for (int i = 0; i < count; ++i) {
-                int k = (int)((items[i].centroid[best_axis] - lo) / span * BIN_COUNT);
-                k = k < 0 ? 0 : (k >= BIN_COUNT ? BIN_COUNT - 1 : k);
-                if (k <= best_bin) {
+                if (bin_of(items[i].centroid[best_axis], lo, span) <= best_bin) {
                     BuildItem t = items[i];
                     items[i] = items[left];
                     items[left++] = t;
@@ -349,10 +370,15 @@ int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, siz
     if (!b.items || !bvh->primitives)
         goto out_of_memory;
     for (int i = 0; i < count; ++i) {
-        b.items[i].box = primitive_box(&primitives[i]);
+        Box *box = &b.items[i].box;
+        *box = primitive_box(&primitives[i]);
         b.items[i].index = i;
+        if (!primitive_is_finite(&primitives[i], box)) {
+            snprintf(error, error_size, "primitive %d has non-finite bounds (NaN, or beyond the float range)", i);
+            goto failed;
+        }
         for (int k = 0; k < 3; ++k)
-            b.items[i].centroid[k] = 0.5f * (b.items[i].box.lower[k] + b.items[i].box.upper[k]);
+            b.items[i].centroid[k] = 0.5f * box->lower[k] + 0.5f * box->upper[k]; /* the sum may overflow */
     }
     if (count > 0 && build_node(&b, 0, count, 0) < 0)
         goto out_of_memory;

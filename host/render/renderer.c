@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "render/renderer.h"
 
+#include "render/memory_check.h"
+
 #include "cl/kernel_sources.h"
 #include "estimator/estimator_cl.h"
 #include "estimator_core.h"
@@ -40,8 +42,11 @@ void render_output_free(RenderOutput *o)
     memset(o, 0, sizeof *o);
 }
 
+#define SCENE_BUFFERS 5 /* params, nodes, primitives, materials, emitters */
+
 /* The sums and counters of pixels, as planes of `pixels` values: the
- * accumulators' planes, then the rejected counts, then the ray counts. */
+ * accumulators' planes, the rejected counts (REJECTED_PLANES: non-finite,
+ * rounded), then the ray counts. */
 typedef struct {
     uint64_t *accumulators;
     uint32_t *rejected;
@@ -57,7 +62,7 @@ typedef struct {
     cl_program program;
     cl_kernel kernel;
     EstimatorProgram *estimator;
-    cl_mem scene[5]; /* params, nodes, primitives, materials, emitters */
+    cl_mem scene[SCENE_BUFFERS];
     cl_mem accumulators, rejected, rays;
     size_t first, count; /* its pixels */
     size_t scene_bytes;
@@ -66,12 +71,54 @@ typedef struct {
     uint64_t unsaved_samples; /* pixel samples since the last host copy */
 } Worker;
 
+/* The path tracer's scene buffers (params, nodes, primitives, materials,
+ * emitters), exactly as uploaded; the scene hash is taken from them. */
+typedef struct {
+    RenderParams params;
+    const void *data[SCENE_BUFFERS];
+    size_t bytes[SCENE_BUFFERS];
+} SceneUpload;
+
+static void scene_upload_init(SceneUpload *u, const RenderScene *scene, const RenderSettings *s)
+{
+    u->params = scene->params;
+    u->params.seed = s->seed;
+    const void *data[SCENE_BUFFERS] = {&u->params, scene->bvh.nodes, scene->bvh.primitives, scene->materials,
+                                       scene->emitters};
+    const size_t bytes[SCENE_BUFFERS] = {sizeof u->params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
+                                         (size_t)scene->bvh.primitive_count * sizeof(Primitive),
+                                         (size_t)scene->material_count * sizeof(Material),
+                                         (size_t)scene->emitter_count * sizeof(Emitter)};
+    memcpy(u->data, data, sizeof data);
+    memcpy(u->bytes, bytes, sizeof bytes);
+}
+
+static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
+{
+    const unsigned char *bytes = data;
+    for (size_t i = 0; i < size; ++i)
+        hash = (hash ^ bytes[i]) * 0x100000001b3ull;
+    return hash;
+}
+
+/* What determines every sample: the uploaded buffers (scene, camera,
+ * resolution, max depth, integrator, seed) and M. */
+static void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t size)
+{
+    uint64_t hash = 0xcbf29ce484222325ull;
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
+        hash = fnv1a(hash, u->data[i], u->bytes[i]);
+    hash = fnv1a(hash, &sets, sizeof sets);
+    snprintf(hex, size, "%016llx", (unsigned long long)hash);
+}
+
 typedef struct {
     const RenderScene *scene;
     const RenderSettings *settings;
+    SceneUpload upload;
     int sets;      /* M as rendered */
     size_t pixels; /* of the image */
-    size_t planes; /* accumulator planes: sets * channels * 2 words */
+    size_t planes; /* accumulator planes: accumulator_planes(sets) */
     Worker workers[RENDER_MAX_DEVICES];
     int worker_count;
     HostState saved;   /* every pixel's state after saved_samples samples */
@@ -102,7 +149,7 @@ static void release_state(Worker *w)
 static void release_worker(Worker *w)
 {
     release_state(w);
-    for (int i = 0; i < 5; ++i)
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
         if (w->scene[i])
             clReleaseMemObject(w->scene[i]);
     if (w->pass)
@@ -139,11 +186,16 @@ static void drop_on_cl_error(Render *r, Worker *w, const char *what)
     drop_worker(r, w, why);
 }
 
+size_t render_bytes_per_pixel(size_t sets)
+{
+    return accumulator_planes((uint32_t)sets) * sizeof(uint64_t) + REJECTED_PLANES * sizeof(uint32_t) +
+           sizeof(uint64_t);
+}
+
 /* Device memory a worker holds now, plus `extra`. */
 static size_t worker_bytes(const Render *r, const Worker *w, size_t extra)
 {
-    size_t state =
-        w->accumulators ? w->count * (r->planes * sizeof(uint64_t) + sizeof(uint32_t) + sizeof(uint64_t)) : 0;
+    size_t state = w->accumulators ? w->count * render_bytes_per_pixel((size_t)r->sets) : 0;
     return w->scene_bytes + state + extra;
 }
 
@@ -182,7 +234,6 @@ static cl_mem upload(ClDevice *device, const void *data, size_t bytes, cl_int *e
  * dropping the worker. */
 static int start_worker(Render *r, Worker *w, const char *options)
 {
-    const RenderScene *scene = r->scene;
     const RenderSettings *s = r->settings;
     double start = now_seconds();
     if (w->fault_pass < 0) {
@@ -212,20 +263,13 @@ static int start_worker(Render *r, Worker *w, const char *options)
     }
     w->report->build_seconds = now_seconds() - start;
 
-    RenderParams params = scene->params;
-    params.seed = s->seed;
-    const void *data[5] = {&params, scene->bvh.nodes, scene->bvh.primitives, scene->materials, scene->emitters};
-    const size_t bytes[5] = {sizeof params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
-                             (size_t)scene->bvh.primitive_count * sizeof(Primitive),
-                             (size_t)scene->material_count * sizeof(Material),
-                             (size_t)scene->emitter_count * sizeof(Emitter)};
-    for (int i = 0; i < 5; ++i) {
-        w->scene[i] = upload(w->device, data[i], bytes[i], &err);
+    for (int i = 0; i < SCENE_BUFFERS; ++i) {
+        w->scene[i] = upload(w->device, r->upload.data[i], r->upload.bytes[i], &err);
         if (err != CL_SUCCESS) {
             drop_worker(r, w, "cannot allocate the scene's buffers");
             return -1;
         }
-        w->scene_bytes += bytes[i] ? bytes[i] : sizeof(uint64_t);
+        w->scene_bytes += r->upload.bytes[i] ? r->upload.bytes[i] : sizeof(uint64_t);
         CL_CHECK(clSetKernelArg(w->kernel, (cl_uint)i, sizeof(cl_mem), &w->scene[i]), failed);
     }
     track_peak(r, w, 0);
@@ -244,7 +288,7 @@ static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *h
         void *host;
         size_t element, planes;
     } parts[3] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
-                  {w->rejected, host->rejected, sizeof(uint32_t), 1},
+                  {w->rejected, host->rejected, sizeof(uint32_t), REJECTED_PLANES},
                   {w->rays, host->rays, sizeof(uint64_t), 1}};
     for (int i = 0; i < 3; ++i) {
         size_t element = parts[i].element;
@@ -308,7 +352,8 @@ static int assign_pixels(Render *r, const double *weights, int reload, char *err
             w->count = count;
             w->accumulators = clCreateBuffer(context, CL_MEM_READ_WRITE, accumulator_bytes, NULL, &err);
             if (err == CL_SUCCESS)
-                w->rejected = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint32_t), NULL, &err);
+                w->rejected =
+                    clCreateBuffer(context, CL_MEM_READ_WRITE, count * REJECTED_PLANES * sizeof(uint32_t), NULL, &err);
             if (err == CL_SUCCESS)
                 w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
             if (err != CL_SUCCESS)
@@ -541,6 +586,58 @@ static int dump_kernel(const RenderSettings *s, const char *options, int sets, u
     return ok ? 0 : -1;
 }
 
+static double gib(uint64_t bytes)
+{
+    return (double)bytes / (1024.0 * 1024.0 * 1024.0);
+}
+
+/* Refuses, with both figures, a render whose memory does not fit: on the
+ * host two copies of the per-pixel state (the saved one and the one being
+ * gathered, so that a device failing mid-copy loses nothing), the images,
+ * and what a CPU device allocates (its memory is the host's); on each
+ * device its first share of the state, its images and the scene. */
+static int check_memory(const Render *r, int outputs, ClDevice *devices, int device_count, char *error,
+                        size_t error_size)
+{
+    int images = 0;
+    for (int bit = ESTIMATOR_OUTPUT_MEAN; bit <= ESTIMATOR_OUTPUT_GMON; bit <<= 1)
+        images += (outputs & bit) != 0;
+    if (outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS)
+        images += 2;
+    const uint64_t state = render_bytes_per_pixel((size_t)r->sets), image = EST_CHANNELS * sizeof(float) * images;
+    uint64_t scene = 0;
+    for (int i = 0; i < SCENE_BUFFERS; ++i)
+        scene += r->upload.bytes[i];
+    uint64_t host = (2 * state + image) * r->pixels + scene;
+    const uint64_t share = (r->pixels + (size_t)device_count - 1) / (size_t)device_count;
+    for (int i = 0; i < device_count; ++i) {
+        uint64_t device = (state + image) * share + scene;
+        if (devices[i].info.type & CL_DEVICE_TYPE_CPU)
+            host += device;
+        if (device > devices[i].info.global_memory) {
+            snprintf(error, error_size,
+                     "the render needs %.2f GiB on device '%s' (%llu B of set sums and counters and %llu B of images "
+                     "a pixel, M = %d, for %llu pixels), which has %.2f GiB: lower --resolution or --sets, or add "
+                     "devices",
+                     gib(device), devices[i].info.name, (unsigned long long)state, (unsigned long long)image, r->sets,
+                     (unsigned long long)share, gib(devices[i].info.global_memory));
+            return -1;
+        }
+    }
+    char source[128];
+    uint64_t available = memory_host_available(source, sizeof source);
+    if (host > available) {
+        snprintf(error, error_size,
+                 "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, twice "
+                 "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels), but %.2f "
+                 "GiB is available (%s): lower --resolution or --sets, or ask for the mean alone (--estimators mean)",
+                 gib(host), (unsigned long long)state, r->sets, (unsigned long long)image, r->scene->params.width,
+                 r->scene->params.height, gib(available), source);
+        return -1;
+    }
+    return 0;
+}
+
 static void free_state(HostState *h)
 {
     free(h->accumulators);
@@ -552,7 +649,7 @@ static void free_state(HostState *h)
 static int allocate_state(HostState *h, size_t planes, size_t pixels)
 {
     h->accumulators = calloc(planes * pixels, sizeof(uint64_t));
-    h->rejected = calloc(pixels, sizeof(uint32_t));
+    h->rejected = calloc(REJECTED_PLANES * pixels, sizeof(uint32_t));
     h->rays = calloc(pixels, sizeof(uint64_t));
     return h->accumulators && h->rejected && h->rays ? 0 : -1;
 }
@@ -574,10 +671,14 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     memset(&r, 0, sizeof r);
     r.scene = scene;
     r.settings = s;
+    scene_upload_init(&r.upload, scene, s);
     /* Only the mean needs no sets: one sum per pixel. */
     r.sets = (s->outputs & ~ESTIMATOR_OUTPUT_MEAN) || s->keep_sets ? m : 1;
     r.pixels = (size_t)scene->params.width * scene->params.height;
-    r.planes = (size_t)r.sets * EST_CHANNELS * 2;
+    r.planes = accumulator_planes((uint32_t)r.sets);
+    scene_upload_hash(&r.upload, r.sets, out->scene_hash, sizeof out->scene_hash);
+    out->max_depth = scene->params.max_depth;
+    out->integrator = (scene->params.flags & RENDER_NEE) ? "path" : "bsdf";
     r.worker_count = device_count;
     out->width = scene->params.width;
     out->height = scene->params.height;
@@ -589,6 +690,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene, s->outputs);
     RenderStatus status = RENDER_FAILED;
 
+    if (check_memory(&r, s->outputs, devices, device_count, error, error_size))
+        goto done;
     if (allocate_state(&r.saved, r.planes, r.pixels) || allocate_state(&r.scratch, r.planes, r.pixels) ||
         allocate_images(out, s->outputs, r.pixels))
         goto out_of_memory;
@@ -739,7 +842,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     for (size_t i = 0; i < r.pixels; ++i) {
         out->rays += r.saved.rays[i];
         out->rejected_total += r.saved.rejected[i];
+        out->rounded_total += r.saved.rejected[r.pixels + i];
+        out->rounded_pixels += r.saved.rejected[r.pixels + i] != 0;
     }
+    out->bytes_per_pixel = render_bytes_per_pixel((size_t)r.sets);
     r.saved.accumulators = NULL;
     r.saved.rejected = NULL;
     if (complete) {

@@ -69,10 +69,16 @@ struct RenderOutput {
     GiniMode gini_mode;
     uint32_t seed;
     uint64_t first_sample;
-    uint64_t sample_count;  /* samples per pixel actually rendered */
-    uint64_t *accumulators; /* exact set sums, planes [set][channel][word][pixel] */
-    uint32_t *rejected;     /* per pixel: non-finite or out-of-range samples */
-    uint64_t rejected_total;
+    uint64_t sample_count; /* samples per pixel actually rendered */
+    char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
+    uint32_t max_depth;
+    const char *integrator;  /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
+    uint64_t *accumulators;  /* exact set sums, accumulator_planes(set_count) planes (estimator_core.h) */
+    uint32_t *rejected;      /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
+    uint64_t rejected_total; /* non-finite samples (added as 0) */
+    uint64_t rounded_total;  /* samples not added exactly (see estimator_core.h), in ... */
+    uint64_t rounded_pixels; /* ... this many pixels */
+    size_t bytes_per_pixel;  /* per-pixel state on the devices and in each host copy */
     uint64_t rays;
     double seconds;       /* rendering passes and estimates */
     double build_seconds; /* program builds, all devices */
@@ -84,6 +90,12 @@ struct RenderOutput {
     float *mean, *mon, *gmon, *gini;
     int32_t *trim;
 };
+
+/* Counters per pixel: non-finite samples, rounded samples. */
+#define REJECTED_PLANES 2
+
+/* The state one pixel needs with `sets` sets: sums, counters, ray count. */
+size_t render_bytes_per_pixel(size_t sets);
 
 typedef enum {
     RENDER_OK = 0,

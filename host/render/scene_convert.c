@@ -47,15 +47,6 @@ static Material convert_material(const SceneMaterial *in)
     return m;
 }
 
-/* FNV-1a over the converted scene: identifies its content for merges. */
-static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
-{
-    const unsigned char *bytes = data;
-    for (size_t i = 0; i < size; ++i)
-        hash = (hash ^ bytes[i]) * 0x100000001b3ull;
-    return hash;
-}
-
 int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
                        RenderScene *out, SceneSummary *summary, char *error, size_t error_size)
 {
@@ -66,7 +57,7 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     if (scene_load(path, &options, &scene, error, error_size))
         return -1;
     for (size_t i = 0; i < scene.warning_count && !quiet; ++i)
-        fprintf(stderr, "warning: %s\n", scene.warnings[i]);
+        fprintf(stderr, "%s\n", scene.warnings[i]); /* "file:line: warning: ..." */
 
     if (scene.film_filename)
         snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
@@ -123,14 +114,5 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
                 "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
                 "over a Lambertian base, without inter-reflection between them\n",
                 path);
-
-    uint64_t hash = 0xcbf29ce484222325ull;
-    RenderParams params = out->params;
-    params.seed = 0;
-    hash = fnv1a(hash, &params, sizeof params);
-    hash = fnv1a(hash, out->materials, (size_t)out->material_count * sizeof *out->materials);
-    hash = fnv1a(hash, out->primitives, (size_t)out->primitive_count * sizeof *out->primitives);
-    hash = fnv1a(hash, out->emitters, (size_t)out->emitter_count * sizeof *out->emitters);
-    snprintf(summary->hash, sizeof summary->hash, "%016llx", (unsigned long long)hash);
     return 0;
 }

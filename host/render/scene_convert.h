@@ -16,7 +16,6 @@ typedef struct {
     char sampler[64];         /* the Sampler's name, "" if none */
     int regularize;           /* Integrator "regularize" was set */
     int coated_diffuse;       /* some material was approximated */
-    char hash[32];            /* hex digest of the scene text, includes and PLY files */
 } SceneSummary;
 
 /* Loads `path` into `scene` (initialized here, not finalized), at the

@@ -1,6 +1,8 @@
 /* The pbrt-v4 directives: a graphics-state stack (transform, material, area
  * light, orientation) and one handler per directive, which fill a Scene in
  * world space. See README.md in this directory for the supported subset. */
+#define _POSIX_C_SOURCE 200809L /* stat */
+
 #include "scene/lexer.h"
 #include "scene/params.h"
 #include "scene/ply.h"
@@ -15,8 +17,14 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define MAX_INCLUDE_DEPTH 32
+
+/* Geometry lying farther from the origin than this many times its size
+ * gets a warning: the renderer offsets rays leaving a surface by 1e-5 times
+ * their distance from the origin, which is then over 1% of the scene's size. */
+#define PRECISION_RATIO 1e3
 
 typedef enum { PUSHED_ATTRIBUTES, PUSHED_TRANSFORM, PUSHED_OBJECT } PushKind;
 
@@ -54,7 +62,7 @@ typedef struct {
     char **paths; /* every file read, alive until scene_load returns (messages point at them) */
     size_t path_count, path_capacity;
     const char *main_path;
-    mat4 camera_from_world;
+    mat4 camera_from_world, world_from_camera;
     const char *camera_file;
     int camera_line;
 } Parser;
@@ -162,6 +170,37 @@ static double det3(mat4 m)
            (double)m[2][0] * ((double)m[0][1] * m[1][2] - (double)m[1][1] * m[0][2]);
 }
 
+static void cross_d(const double a[3], const double b[3], double out[3])
+{
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static double dot_d(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Scales v to unit length; returns its length before. */
+static double normalize_d(double v[3])
+{
+    double length = sqrt(dot_d(v, v));
+    for (int k = 0; length > 0.0 && k < 3; ++k)
+        v[k] /= length;
+    return length;
+}
+
+/* A triangle's edges from its first vertex, in double. */
+static void edges(const float *positions, const uint32_t *triangle, double e1[3], double e2[3])
+{
+    const float *a = positions + 3 * triangle[0], *b = positions + 3 * triangle[1], *c = positions + 3 * triangle[2];
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = (double)b[k] - a[k];
+        e2[k] = (double)c[k] - a[k];
+    }
+}
+
 /* Whether m's linear part is a rotation (or reflection) times a uniform
  * scale; *scale receives that scale (the columns' mean length). */
 static int is_similarity(mat4 m, double *scale)
@@ -187,6 +226,55 @@ static int is_similarity(mat4 m, double *scale)
 static int is_affine(mat4 m)
 {
     return m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f;
+}
+
+/* The inverse of m by Gauss-Jordan elimination in double (a float inverse
+ * loses a camera's tiny Scale to underflow). Returns -1 when m is singular
+ * or its inverse does not fit a float. */
+static int invert_in_double(mat4 m, mat4 inverse)
+{
+    double a[4][8]; /* [row][column]: m, then the identity */
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            a[r][c] = m[c][r];
+            a[r][c + 4] = r == c ? 1.0 : 0.0;
+        }
+    for (int c = 0; c < 4; ++c) {
+        int pivot = c;
+        for (int r = c + 1; r < 4; ++r)
+            if (fabs(a[r][c]) > fabs(a[pivot][c]))
+                pivot = r;
+        if (a[pivot][c] == 0.0)
+            return -1;
+        for (int k = 0; k < 8; ++k) {
+            double t = a[c][k];
+            a[c][k] = a[pivot][k];
+            a[pivot][k] = t;
+        }
+        double scale = 1.0 / a[c][c];
+        for (int k = 0; k < 8; ++k)
+            a[c][k] *= scale;
+        for (int r = 0; r < 4; ++r) {
+            double f = a[r][c];
+            for (int k = 0; r != c && k < 8; ++k)
+                a[r][k] -= f * a[c][k];
+        }
+    }
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            if (!(fabs(a[r][c + 4]) <= FLT_MAX))
+                return -1;
+            inverse[c][r] = (float)a[r][c + 4];
+        }
+    return 0;
+}
+
+/* Whether every coordinate of a world-space point is within the renderer's
+ * range (false for NaN). */
+static int within_range(const float point[3])
+{
+    return fabsf(point[0]) <= SCENE_MAX_COORDINATE && fabsf(point[1]) <= SCENE_MAX_COORDINATE &&
+           fabsf(point[2]) <= SCENE_MAX_COORDINATE;
 }
 
 /* ------------------------------------------------------- scene building */
@@ -300,18 +388,23 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     if (reserve_vertices(p, base + vertex_count, normals != NULL))
         return out_of_memory(p, file, line);
     float *world = s->positions + 3 * base;
+    int invertible = det3(p->state.ctm) != 0.0; /* else the triangles have no area either */
+    float farthest = 0.0f;                      /* the largest world-space coordinate magnitude */
     for (size_t v = 0; v < vertex_count; ++v) {
-        transform_point(p->state.ctm, positions + 3 * v, world + 3 * v);
-        for (int k = 0; k < 3; ++k)
-            if (!isfinite(world[3 * v + k]))
-                return scene_error(&p->diag, file, line, "%s: vertex %zu is not finite in world space", owner, v);
+        float *w = world + 3 * v;
+        transform_point(p->state.ctm, positions + 3 * v, w);
+        if (!within_range(w))
+            return scene_error(&p->diag, file, line,
+                               "%s: vertex %zu is at (%g, %g, %g) in world space, beyond %g from the origin (the "
+                               "renderer squares distances in single precision)",
+                               owner, v, (double)w[0], (double)w[1], (double)w[2], SCENE_MAX_COORDINATE);
+        farthest = fmaxf(farthest, fmaxf(fabsf(w[0]), fmaxf(fabsf(w[1]), fabsf(w[2]))));
     }
     if (s->normals) {
         float *out = s->normals + 3 * base;
         memset(out, 0, 3 * vertex_count * sizeof *out);
         mat4 inverse;
         glm_mat4_inv(p->state.ctm, inverse);
-        int invertible = det3(p->state.ctm) != 0.0; /* else the triangles have no area either */
         /* Normals transform by the inverse transpose: n'_r = sum_c inverse[r][c] n_c. */
         for (size_t v = 0; normals && invertible && v < vertex_count; ++v) {
             const float *n = normals + 3 * v;
@@ -329,29 +422,44 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
         }
     }
 
-    size_t triangles = index_count / 3, kept = 0, first = s->triangle_count;
+    size_t triangles = index_count / 3, kept = 0, rounded_away = 0, first = s->triangle_count;
     if (scene_reserve((void **)&s->triangles, &p->triangle_capacity, first + triangles, sizeof *s->triangles))
         return out_of_memory(p, file, line);
     for (size_t t = 0; t < triangles; ++t) {
         const uint32_t *tri = indices + 3 * t;
-        const float *a = world + 3 * tri[0], *b = world + 3 * tri[1], *c = world + 3 * tri[2];
-        double e1[3], e2[3];
-        for (int k = 0; k < 3; ++k) {
-            e1[k] = (double)b[k] - a[k];
-            e2[k] = (double)c[k] - a[k];
+        double e1[3], e2[3], normal[3];
+        edges(world, tri, e1, e2);
+        cross_d(e1, e2, normal);
+        if (normal[0] == 0.0 && normal[1] == 0.0 && normal[2] == 0.0) {
+            /* Zero area: harmless to drop, and it has no normal. When it had
+             * area before an invertible transform, rounding took it. */
+            edges(positions, tri, e1, e2);
+            cross_d(e1, e2, normal);
+            rounded_away += invertible && (normal[0] != 0.0 || normal[1] != 0.0 || normal[2] != 0.0);
+            continue;
         }
-        double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-               cz = e1[0] * e2[1] - e1[1] * e2[0];
-        if (cx == 0.0 && cy == 0.0 && cz == 0.0)
-            continue; /* zero area: harmless to drop, and it has no normal */
+        double product = sqrt(dot_d(e1, e1)) * sqrt(dot_d(e2, e2));
+        if (product > SCENE_MAX_EDGE_PRODUCT)
+            return scene_error(&p->diag, file, line,
+                               "%s: triangle %zu is too large for single precision: its edges from its first vertex "
+                               "are %g and %g long, a product over %g",
+                               owner, t, sqrt(dot_d(e1, e1)), sqrt(dot_d(e2, e2)), SCENE_MAX_EDGE_PRODUCT);
         SceneTriangle *out = &s->triangles[first + kept++];
         for (int k = 0; k < 3; ++k)
             out->vertex[k] = (uint32_t)(base + tri[k]);
         out->shape = (uint32_t)s->shape_count;
     }
-    if (kept < triangles && scene_warn(&p->diag, file, line, "%s: skipped %zu degenerate (zero-area) triangle%s of %zu",
-                                       owner, triangles - kept, triangles - kept == 1 ? "" : "s", triangles))
-        return -1;
+    if (kept < triangles) {
+        char why[256] = "";
+        if (rounded_away > 0)
+            snprintf(why, sizeof why,
+                     "; %zu of them lost their area to single-precision rounding in world space (at coordinates "
+                     "up to %g floats are %g apart): move the shape nearer the origin",
+                     rounded_away, (double)farthest, (double)(nextafterf(farthest, INFINITY) - farthest));
+        if (scene_warn(&p->diag, file, line, "%s: skipped %zu degenerate (zero-area) triangle%s of %zu%s", owner,
+                       triangles - kept, triangles - kept == 1 ? "" : "s", triangles, why))
+            return -1;
+    }
     if (kept == 0)
         return 0; /* nothing left to draw: no vertices, no shape */
     s->vertex_count += vertex_count;
@@ -448,42 +556,55 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
 
 static int parse_file(Parser *p, const char *path, const char *from_file, int from_line);
 
-static int apply_transform(Parser *p, mat4 m)
+/* After a transform directive: products of finite numbers can overflow. */
+static int check_transform(Parser *p, Lexer *lex, const Token *d)
 {
-    glm_mat4_mul(p->state.ctm, m, p->state.ctm);
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!isfinite(p->state.ctm[c][r])) {
+                char name[32];
+                directive_name(d, name, sizeof name);
+                return scene_error(&p->diag, lex->path, d->line,
+                                   "%s: the transform overflows single precision (an entry is not finite)", name);
+            }
     return 0;
 }
 
+static int apply_transform(Parser *p, Lexer *lex, const Token *d, mat4 m)
+{
+    glm_mat4_mul(p->state.ctm, m, p->state.ctm);
+    return check_transform(p, lex, d);
+}
+
+/* In double: a float difference of far points overflows, and squaring a
+ * float direction of 1e20 overflows too. */
 static int on_look_at(Parser *p, Lexer *lex, const Token *d)
 {
     double v[9];
     if (read_numbers(p, lex, d, 9, 0, v))
         return -1;
-    vec3 eye = {(float)v[0], (float)v[1], (float)v[2]}, look = {(float)v[3], (float)v[4], (float)v[5]},
-         up = {(float)v[6], (float)v[7], (float)v[8]};
-    vec3 dir, right, new_up;
-    glm_vec3_sub(look, eye, dir);
-    if (glm_vec3_norm(dir) == 0.0f)
+    double eye[3] = {(float)v[0], (float)v[1], (float)v[2]}, up[3] = {(float)v[6], (float)v[7], (float)v[8]};
+    double dir[3] = {(double)(float)v[3] - eye[0], (double)(float)v[4] - eye[1], (double)(float)v[5] - eye[2]};
+    double right[3], new_up[3];
+    if (normalize_d(dir) == 0.0)
         return scene_error(&p->diag, lex->path, d->line, "LookAt: the eye and the look-at point are the same");
-    glm_vec3_normalize(dir);
-    glm_vec3_normalize(up);
-    glm_vec3_cross(up, dir, right); /* left-handed: +x = up x forward */
-    if (glm_vec3_norm(right) < 1e-6f)
+    normalize_d(up);
+    cross_d(up, dir, right); /* left-handed: +x = up x forward */
+    if (normalize_d(right) < 1e-6)
         return scene_error(&p->diag, lex->path, d->line, "LookAt: the up vector is parallel to the view direction");
-    glm_vec3_normalize(right);
-    glm_vec3_cross(dir, right, new_up);
+    cross_d(dir, right, new_up);
     /* camera_from_world is the inverse of [right up dir eye]: rows right,
      * up, dir and the translation -R^T eye. */
     mat4 m = GLM_MAT4_IDENTITY_INIT;
     for (int c = 0; c < 3; ++c) {
-        m[c][0] = right[c];
-        m[c][1] = new_up[c];
-        m[c][2] = dir[c];
+        m[c][0] = (float)right[c];
+        m[c][1] = (float)new_up[c];
+        m[c][2] = (float)dir[c];
     }
-    m[3][0] = -glm_vec3_dot(right, eye);
-    m[3][1] = -glm_vec3_dot(new_up, eye);
-    m[3][2] = -glm_vec3_dot(dir, eye);
-    return apply_transform(p, m);
+    m[3][0] = (float)-dot_d(right, eye);
+    m[3][1] = (float)-dot_d(new_up, eye);
+    m[3][2] = (float)-dot_d(dir, eye);
+    return apply_transform(p, lex, d, m);
 }
 
 static int on_translate(Parser *p, Lexer *lex, const Token *d)
@@ -493,7 +614,7 @@ static int on_translate(Parser *p, Lexer *lex, const Token *d)
         return -1;
     vec3 t = {(float)v[0], (float)v[1], (float)v[2]};
     glm_translate(p->state.ctm, t);
-    return 0;
+    return check_transform(p, lex, d);
 }
 
 static int on_scale(Parser *p, Lexer *lex, const Token *d)
@@ -503,7 +624,7 @@ static int on_scale(Parser *p, Lexer *lex, const Token *d)
         return -1;
     vec3 s = {(float)v[0], (float)v[1], (float)v[2]};
     glm_scale(p->state.ctm, s);
-    return 0;
+    return check_transform(p, lex, d);
 }
 
 static int on_rotate(Parser *p, Lexer *lex, const Token *d)
@@ -515,7 +636,7 @@ static int on_rotate(Parser *p, Lexer *lex, const Token *d)
     if (glm_vec3_norm(axis) == 0.0f)
         return scene_error(&p->diag, lex->path, d->line, "Rotate: the axis is zero");
     glm_rotate(p->state.ctm, (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
-    return 0;
+    return check_transform(p, lex, d);
 }
 
 /* Transform and ConcatTransform list the matrix column by column (pbrt
@@ -544,7 +665,7 @@ static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
     mat4 m;
     if (read_matrix(p, lex, d, m))
         return -1;
-    return apply_transform(p, m);
+    return apply_transform(p, lex, d, m);
 }
 
 static int on_identity(Parser *p, Lexer *lex, const Token *d)
@@ -694,10 +815,22 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
                                    (double)lens_radius);
     if (result == 0)
         result = params_check_unused(&params);
-    if (result == 0 && det3(p->state.ctm) == 0.0)
-        result = scene_error(&p->diag, lex->path, d->line, "Camera: the camera transform is singular");
+    mat4 world_from_camera;
+    if (result == 0 && (det3(p->state.ctm) == 0.0 || invert_in_double(p->state.ctm, world_from_camera)))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "Camera: the camera transform is singular (or its inverse overflows single precision)");
+    const float origin[3] = {0.0f, 0.0f, 0.0f};
+    float position[3];
+    if (result == 0)
+        transform_point(world_from_camera, origin, position);
+    if (result == 0 && !within_range(position))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "Camera: the camera is at (%g, %g, %g), beyond %g from the origin (the renderer squares "
+                             "distances in single precision)",
+                             (double)position[0], (double)position[1], (double)position[2], SCENE_MAX_COORDINATE);
     if (result == 0) {
         glm_mat4_copy(p->state.ctm, p->camera_from_world);
+        glm_mat4_copy(world_from_camera, p->world_from_camera);
         p->scene->camera.fov = fov;
         p->camera_file = lex->path;
         p->camera_line = d->line;
@@ -892,6 +1025,17 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
     return scene_error(&p->diag, lex->path, d->line, "NamedMaterial: no material named %s", shown);
 }
 
+/* A light's radiance (L * scale, in double) must fit a float. */
+static int check_radiance(Parser *p, Lexer *lex, const Token *d, const char *light, const double radiance[3])
+{
+    for (int k = 0; k < 3; ++k)
+        if (radiance[k] > FLT_MAX)
+            return scene_error(&p->diag, lex->path, d->line,
+                               "%s: the radiance L * scale, %g, overflows single precision (at most %g)", light,
+                               radiance[k], (double)FLT_MAX);
+    return 0;
+}
+
 static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -917,10 +1061,13 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
         result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: scale must not be negative");
     if (result == 0)
         result = params_check_unused(&params);
+    double radiance[3] = {(double)L[0] * scale, (double)L[1] * scale, (double)L[2] * scale};
+    if (result == 0)
+        result = check_radiance(p, lex, d, "AreaLightSource", radiance);
     if (result == 0) {
         p->state.has_area_light = 1;
         for (int k = 0; k < 3; ++k)
-            p->state.area_radiance[k] = L[k] * scale;
+            p->state.area_radiance[k] = (float)radiance[k];
         p->state.area_two_sided = two_sided;
     }
     params_free(&params);
@@ -949,11 +1096,16 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         result = scene_error(&p->diag, lex->path, d->line, "LightSource: scale must not be negative");
     if (result == 0)
         result = params_check_unused(&params);
+    Scene *s = p->scene;
+    double radiance[3]; /* several infinite lights add up */
+    for (int k = 0; k < 3; ++k)
+        radiance[k] = s->environment[k] + (double)L[k] * scale;
+    if (result == 0)
+        result = check_radiance(p, lex, d, "LightSource \"infinite\"", radiance);
     if (result == 0) {
-        Scene *s = p->scene;
         s->has_environment = 1;
         for (int k = 0; k < 3; ++k)
-            s->environment[k] += L[k] * scale;
+            s->environment[k] = (float)radiance[k];
     }
     params_free(&params);
     return result;
@@ -985,6 +1137,14 @@ static int shape_sphere(Parser *p, Lexer *lex, const Token *d, ParamList *params
         !(sphere.radius > 0.0f) || !isfinite(sphere.radius))
         return scene_error(&p->diag, lex->path, d->line, "%s: the transformed sphere is degenerate or not finite",
                            params->owner);
+    const float reach[3] = {fabsf(sphere.center[0]) + sphere.radius, fabsf(sphere.center[1]) + sphere.radius,
+                            fabsf(sphere.center[2]) + sphere.radius};
+    if (!within_range(reach))
+        return scene_error(&p->diag, lex->path, d->line,
+                           "%s: the sphere (centre (%g, %g, %g), radius %g in world space) reaches beyond %g from "
+                           "the origin (the renderer squares distances in single precision)",
+                           params->owner, (double)sphere.center[0], (double)sphere.center[1], (double)sphere.center[2],
+                           (double)sphere.radius, SCENE_MAX_COORDINATE);
     if (scene_reserve((void **)&s->spheres, &p->sphere_capacity, s->sphere_count + 1, sizeof *s->spheres))
         return out_of_memory(p, lex->path, d->line);
     sphere.shape = (uint32_t)s->shape_count;
@@ -1059,12 +1219,11 @@ static char *path_relative_to(const char *from, const char *name)
     return path;
 }
 
+/* stat, not open: opening a FIFO could block. */
 static int file_exists(const char *path)
 {
-    FILE *f = fopen(path, "rb");
-    if (f)
-        fclose(f);
-    return f != NULL;
+    struct stat st;
+    return stat(path, &st) == 0;
 }
 
 /* Resolves a file named in `file`: relative to that file's directory, or
@@ -1094,12 +1253,13 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
     if (!path)
         return out_of_memory(p, lex->path, d->line);
     PlyMesh mesh;
-    char message[256];
+    char message[256], owner[1024]; /* messages name the PLY file, their vertex and face numbers its elements' */
+    snprintf(owner, sizeof owner, "%s: \"%s\"", params->owner, path);
     int result = ply_read(path, &mesh, message, sizeof message);
     if (result)
-        result = scene_error(&p->diag, lex->path, d->line, "%s: \"%s\": %s", params->owner, path, message);
+        result = scene_error(&p->diag, lex->path, d->line, "%s: %s", owner, message);
     else
-        result = add_mesh(p, lex->path, d->line, params->owner, mesh.positions, mesh.vertex_count, mesh.indices,
+        result = add_mesh(p, lex->path, d->line, owner, mesh.positions, mesh.vertex_count, mesh.indices,
                           3 * mesh.triangle_count, mesh.normals);
     ply_mesh_destroy(&mesh);
     free(path);
@@ -1251,12 +1411,11 @@ static int parse_file(Parser *p, const char *path, const char *from_file, int fr
     if (p->include_depth >= MAX_INCLUDE_DEPTH)
         return scene_error(&p->diag, from_file, from_line, "Include: files nested more than %d deep (a cycle?)",
                            MAX_INCLUDE_DEPTH);
-    char *data = NULL;
+    char *data = NULL, why[128];
     size_t size = 0;
-    int err = scene_read_file(path, &data, &size);
-    if (err)
-        return from_file ? scene_error(&p->diag, from_file, from_line, "cannot read \"%s\": %s", path, strerror(err))
-                         : scene_error(&p->diag, path, 0, "cannot read: %s", strerror(err));
+    if (scene_read_file(path, SCENE_MAX_TEXT_BYTES, &data, &size, why, sizeof why))
+        return from_file ? scene_error(&p->diag, from_file, from_line, "cannot read \"%s\": %s", path, why)
+                         : scene_error(&p->diag, path, 0, "cannot read: %s", why);
     const char *kept = keep_path(p, path);
     if (!kept) {
         free(data);
@@ -1287,24 +1446,19 @@ static int finish_camera(Parser *p)
 {
     Scene *s = p->scene;
     SceneCamera *camera = &s->camera;
-    mat4 world_from_camera;
-    glm_mat4_inv(p->camera_from_world, world_from_camera);
     int affine = is_affine(p->camera_from_world);
-    if (affine) { /* exact, where the general inverse may round */
-        world_from_camera[0][3] = world_from_camera[1][3] = world_from_camera[2][3] = 0.0f;
-        world_from_camera[3][3] = 1.0f;
-    }
-    memcpy(camera->world_from_camera, world_from_camera, sizeof camera->world_from_camera);
+    memcpy(camera->world_from_camera, p->world_from_camera, sizeof camera->world_from_camera);
     const float origin[3] = {0, 0, 0};
-    transform_point(world_from_camera, origin, camera->position);
+    transform_point(p->world_from_camera, origin, camera->position);
     float *axes[3] = {camera->right, camera->up, camera->forward};
-    for (int a = 0; a < 3; ++a) {
-        vec3 v = {world_from_camera[a][0], world_from_camera[a][1], world_from_camera[a][2]};
-        glm_vec3_normalize(v);
-        memcpy(axes[a], v, sizeof v);
+    for (int a = 0; a < 3; ++a) { /* in double: squaring a 1e20 column overflows a float */
+        double v[3] = {p->world_from_camera[a][0], p->world_from_camera[a][1], p->world_from_camera[a][2]};
+        normalize_d(v);
+        for (int k = 0; k < 3; ++k)
+            axes[a][k] = (float)v[k];
     }
     double scale;
-    if (!affine || !is_similarity(world_from_camera, &scale)) {
+    if (!affine || !is_similarity(p->world_from_camera, &scale)) {
         if (scene_warn(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
                        "Camera: the camera transform is not a rotation with a uniform scale; its axes are "
                        "normalized"))
@@ -1312,6 +1466,40 @@ static int finish_camera(Parser *p)
     }
     scene_camera_tan_half_fov(camera->fov, s->width, s->height, camera->tan_half_fov);
     return 0;
+}
+
+/* Warns when the geometry lies far from the origin for its size, where
+ * single precision (and the renderer's ray offsets, which grow with the
+ * distance from the origin) are too coarse for it. */
+static int check_precision(Parser *p)
+{
+    const Scene *s = p->scene;
+    float lower[3] = {INFINITY, INFINITY, INFINITY}, upper[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < s->triangle_count; ++i)
+        for (int corner = 0; corner < 3; ++corner)
+            for (int k = 0; k < 3; ++k) {
+                float x = s->positions[3 * (size_t)s->triangles[i].vertex[corner] + (size_t)k];
+                lower[k] = fminf(lower[k], x);
+                upper[k] = fmaxf(upper[k], x);
+            }
+    for (size_t i = 0; i < s->sphere_count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            lower[k] = fminf(lower[k], s->spheres[i].center[k] - s->spheres[i].radius);
+            upper[k] = fmaxf(upper[k], s->spheres[i].center[k] + s->spheres[i].radius);
+        }
+    double size = 0.0, distance = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        size = fmax(size, (double)upper[k] - lower[k]);
+        distance = fmax(distance, fmax(fabs(lower[k]), fabs(upper[k])));
+    }
+    if (s->triangle_count + s->sphere_count == 0 || distance <= PRECISION_RATIO * size)
+        return 0;
+    return scene_warn(&p->diag, p->main_path, 0,
+                      "the geometry lies up to %g from the origin but spans only %g: single precision is coarse "
+                      "there, and rays leaving a surface are offset by 1e-5 of their distance from the origin (up to "
+                      "%g, over 1%% of the scene's size), so shadows and surfaces may be wrong; move the scene nearer "
+                      "the origin",
+                      distance, size, 1e-5 * distance);
 }
 
 int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, char *error, size_t error_size)
@@ -1330,6 +1518,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     p.state.material = -1;
     glm_mat4_identity(p.state.ctm);
     glm_mat4_identity(p.camera_from_world);
+    glm_mat4_identity(p.world_from_camera);
 
     /* pbrt-v4's defaults for what the file does not say. */
     scene->width = 1280;
@@ -1345,6 +1534,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = parse_file(&p, path, NULL, 0);
     if (result == 0)
         result = finish_camera(&p);
+    if (result == 0)
+        result = check_precision(&p);
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);

@@ -387,11 +387,16 @@ static int read_vertices(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
             else
                 mesh->normals[3 * item + (size_t)slot[i] - 3] = to_float(v);
         }
+        const float *position = mesh->positions + 3 * item;
+        if (!isfinite(position[0]) || !isfinite(position[1]) || !isfinite(position[2]))
+            return fail(r, "vertex %zu has a non-finite position (%g, %g, %g)", item, (double)position[0],
+                        (double)position[1], (double)position[2]);
     }
     return 0;
 }
 
-static int read_faces(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
+/* vertex_count: the vertex element's, as its header line declares. */
+static int read_faces(PlyReader *r, const PlyElement *e, size_t vertex_count, PlyMesh *mesh)
 {
     int list = find_property(e, "vertex_indices");
     if (list < 0)
@@ -420,8 +425,8 @@ static int read_faces(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
                 int code = read_value(r, p->type, &x);
                 if (code)
                     return data_error(r, code, e, item);
-                if (x < 0 || x > 4294967295.0)
-                    return fail(r, "face %zu: vertex index %.0f is out of range", item, x);
+                if (x < 0 || x >= (double)vertex_count || x > 4294967295.0)
+                    return fail(r, "face %zu: vertex index %.0f is out of range (%zu vertices)", item, x, vertex_count);
                 v[k] = (uint32_t)x;
             }
             uint32_t *out = mesh->indices + 3 * mesh->triangle_count;
@@ -447,11 +452,10 @@ void ply_mesh_destroy(PlyMesh *mesh)
 int ply_read(const char *path, PlyMesh *mesh, char *error, size_t error_size)
 {
     memset(mesh, 0, sizeof *mesh);
-    char *data = NULL;
+    char *data = NULL, why[128];
     size_t size = 0;
-    int err = scene_read_file(path, &data, &size);
-    if (err) {
-        snprintf(error, error_size, "cannot read: %s", strerror(err));
+    if (scene_read_file(path, SCENE_MAX_PLY_BYTES, &data, &size, why, sizeof why)) {
+        snprintf(error, error_size, "cannot read: %s", why);
         return -1;
     }
     PlyReader r = {.data = data, .size = size, .error = error, .error_size = error_size};
@@ -486,7 +490,7 @@ int ply_read(const char *path, PlyMesh *mesh, char *error, size_t error_size)
         if (i == vertex_element) {
             result = read_vertices(&r, e, mesh);
         } else if (i == face_element) {
-            result = read_faces(&r, e, mesh);
+            result = read_faces(&r, e, elements[vertex_element].count, mesh);
         } else {
             for (size_t item = 0; result == 0 && item < e->count; ++item)
                 for (int k = 0; result == 0 && k < e->property_count; ++k)

@@ -10,10 +10,10 @@
 #include <stdint.h>
 
 typedef struct {
-    float *positions; /* 3 per vertex, as stored (not checked for NaN here) */
+    float *positions; /* 3 per vertex, as stored; finite */
     float *normals;   /* 3 per vertex, or NULL */
     size_t vertex_count;
-    uint32_t *indices; /* 3 per triangle, not checked against vertex_count here */
+    uint32_t *indices; /* 3 per triangle, each below vertex_count */
     size_t triangle_count;
 } PlyMesh;
 

@@ -1,13 +1,19 @@
 /* The Scene's lifetime, diagnostics, and the small conversions the renderer
  * needs (fields of view, roughness to alpha). */
+#define _POSIX_C_SOURCE 200809L /* open, fstat, O_CLOEXEC */
+
 #include "scene/scene_internal.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
 
 void scene_destroy(Scene *scene)
 {
@@ -140,39 +146,84 @@ char *scene_strndup(const char *text, size_t length)
     return copy;
 }
 
-int scene_read_file(const char *path, char **data, size_t *size)
+/* "1 GiB" for the size limits in messages. */
+static void format_bytes(size_t bytes, char *out, size_t size)
+{
+    if (bytes >= ((size_t)1 << 30) && bytes % ((size_t)1 << 30) == 0)
+        snprintf(out, size, "%zu GiB", bytes >> 30);
+    else
+        snprintf(out, size, "%zu bytes", bytes);
+}
+
+int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size)
 {
     *data = NULL;
     *size = 0;
-    FILE *file = fopen(path, "rb");
-    if (!file)
-        return errno ? errno : ENOENT;
-    size_t capacity = 0, length = 0;
-    char *buffer = NULL;
-    int result = 0;
-    for (;;) {
-        if (length + 1 >= capacity) {
-            size_t grown = capacity ? 2 * capacity : 65536;
-            char *p = grown > capacity ? realloc(buffer, grown) : NULL;
+    /* O_NONBLOCK: opening a FIFO without a writer would wait for one. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        snprintf(why, why_size, "%s", strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    char limit[32];
+    format_bytes(max_size, limit, sizeof limit);
+    if (fstat(fd, &st) != 0) {
+        snprintf(why, why_size, "%s", strerror(errno));
+        close(fd);
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, why_size, "not a regular file (a directory, device or FIFO)");
+        close(fd);
+        return -1;
+    }
+    if ((uintmax_t)st.st_size > max_size) {
+        snprintf(why, why_size, "%jd bytes, over the %s limit", (intmax_t)st.st_size, limit);
+        close(fd);
+        return -1;
+    }
+    /* Read to the end, not just st_size bytes (the file may have grown),
+     * but never more than one byte past the limit, plus the NUL. */
+    size_t most = max_size + 2, capacity = (size_t)st.st_size + 2, length = 0;
+    char *buffer = malloc(capacity);
+    int failed = buffer == NULL;
+    if (failed)
+        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
+    while (!failed) {
+        if (length + 1 == capacity) {
+            if (capacity == most)
+                break; /* one byte past the limit */
+            size_t grown = capacity > most / 2 ? most : 2 * capacity;
+            char *p = realloc(buffer, grown);
             if (!p) {
-                result = ENOMEM;
+                snprintf(why, why_size, "out of memory for %zu bytes", grown);
+                failed = 1;
                 break;
             }
             buffer = p;
             capacity = grown;
         }
-        size_t n = fread(buffer + length, 1, capacity - 1 - length, file);
-        length += n;
-        if (n == 0) {
-            if (ferror(file))
-                result = errno ? errno : EIO;
+        ssize_t n = read(fd, buffer + length, capacity - 1 - length);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            snprintf(why, why_size, "%s", strerror(errno));
+            failed = 1;
+        } else if (n == 0) {
             break;
+        } else {
+            length += (size_t)n;
         }
     }
-    fclose(file);
-    if (result) {
+    close(fd);
+    if (!failed && length > max_size) {
+        snprintf(why, why_size, "over the %s limit", limit);
+        failed = 1;
+    }
+    if (failed) {
         free(buffer);
-        return result;
+        return -1;
     }
     buffer[length] = '\0';
     *data = buffer;

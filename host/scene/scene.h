@@ -8,6 +8,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The renderer intersects rays in single precision, squaring distances
+ * and multiplying a triangle's two edges by a third length. Beyond these
+ * limits those products overflow a float, so scene_load rejects world-space
+ * coordinates (vertices, a sphere's extent, the camera) larger in magnitude
+ * than SCENE_MAX_COORDINATE, and triangles whose edges from their first
+ * vertex have lengths multiplying to more than SCENE_MAX_EDGE_PRODUCT. */
+#define SCENE_MAX_COORDINATE 1e18
+#define SCENE_MAX_EDGE_PRODUCT 1e19
+
 typedef struct {
     /* Downgrade unsupported features to warnings, each with the substitute
      * the README lists (unknown material: grey diffuse; unknown shape or

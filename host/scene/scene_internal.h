@@ -39,9 +39,16 @@ int scene_unsupported(Diagnostics *diag, const char *file, int line, const char 
  * Returns 0, or -1 when out of memory or the size overflows. */
 int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size);
 
+/* Size limits for what scene_read_file reads: pbrt scenes come with PLY
+ * files of several GB, but no sane scene text is larger than this. */
+#define SCENE_MAX_TEXT_BYTES ((size_t)1 << 30)
+#define SCENE_MAX_PLY_BYTES ((size_t)4 << 30)
+
 /* Reads the whole of `path` into *data (NUL-terminated, *size bytes before
- * the NUL). Returns 0, or an errno value. */
-int scene_read_file(const char *path, char **data, size_t *size);
+ * the NUL). Only a regular file of at most max_size bytes is read (a device
+ * such as /dev/zero would be read forever, a FIFO could block). Returns 0,
+ * or -1 with the reason (without the path) in `why`. */
+int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size);
 
 /* A copy of text[0, length) with a terminating NUL, or NULL. */
 char *scene_strndup(const char *text, size_t length);

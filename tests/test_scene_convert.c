@@ -1,0 +1,164 @@
+/* From scene file to the kernels' scene, without a device: the repository's
+ * scenes convert to finite primitives, emitters and light-picking
+ * probabilities with a BVH; emitters whose radiance or area would overflow
+ * a float are file:line errors; geometry at the limits the scene reader
+ * allows still converts to finite values. Runs under clang's UBSan too
+ * (the clang_ubsan test). */
+#define _POSIX_C_SOURCE 200809L
+
+#include "render/scene_convert.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+static char temp_dir[64];
+static char error[1024];
+
+static int setup(void **state)
+{
+    (void)state;
+    strcpy(temp_dir, "/tmp/gmon-convert-XXXXXX");
+    return mkdtemp(temp_dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    return rmdir(temp_dir);
+}
+
+/* Writes temp_dir/name (removed by convert_text). */
+static const char *write_scene(const char *name, const char *text)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "%s/%s", temp_dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    assert_int_equal(fputs(text, f) >= 0, 1);
+    fclose(f);
+    return path;
+}
+
+/* Loads and finalizes `path` at 16 x 16; returns scene_convert_load's
+ * result (the scene is left empty on failure). */
+static int convert(const char *path, RenderScene *scene)
+{
+    SceneSummary summary;
+    error[0] = '\0';
+    if (scene_convert_load(path, 0, 16, 16, 1, scene, &summary, error, sizeof error))
+        return -1;
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+    return 0;
+}
+
+/* Every number the kernels read is finite, and the lights are picked with
+ * probabilities that add up to 1. */
+static void assert_finite(const RenderScene *scene)
+{
+    const RenderParams *p = &scene->params;
+    for (int k = 0; k < 3; ++k)
+        assert_true(isfinite(p->camera_position[k]) && isfinite(p->camera_forward[k]) && isfinite(p->camera_right[k]) &&
+                    isfinite(p->camera_up[k]) && isfinite(p->environment[k]));
+    for (int i = 0; i < scene->bvh.primitive_count; ++i) {
+        const Primitive *prim = &scene->bvh.primitives[i];
+        for (int k = 0; k < 3; ++k)
+            assert_true(isfinite(prim->a[k]) && isfinite(prim->b[k]) && isfinite(prim->c[k]));
+    }
+    double total = 0.0;
+    for (int i = 0; i < scene->emitter_count; ++i) {
+        const Emitter *e = &scene->emitters[i];
+        assert_true(isfinite(e->area) && e->area > 0.0f);
+        for (int k = 0; k < 3; ++k)
+            assert_true(isfinite(e->radiance[k]));
+        assert_true(isfinite(e->pick_probability));
+        total += e->pick_probability;
+    }
+    if (scene->emitter_count > 0)
+        assert_true(fabs(total - 1.0) < 1e-5);
+}
+
+static void test_repository_scenes(void **state)
+{
+    (void)state;
+    static const char *const names[] = {"scenes/cornell-diffuse.pbrt", "scenes/cornell-glass.pbrt",
+                                        "scenes/narrow-gap.pbrt", "scenes/furnace.pbrt", "tests/data/scenes/main.pbrt"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; ++i) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/%s", GMON_SOURCE_DIR, names[i]);
+        RenderScene scene;
+        if (convert(path, &scene))
+            fail_msg("%s", error);
+        assert_true(scene.primitive_count > 0);
+        assert_finite(&scene);
+        render_scene_destroy(&scene);
+    }
+}
+
+#define CAMERA "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+
+/* An infinite radiance or emitter area made an all-black image. */
+static void test_overflowing_emitters_are_errors(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text, *needle;
+    } cases[] = {
+        {CAMERA "AreaLightSource \"diffuse\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\nShape \"sphere\"\n",
+         ":4: AreaLightSource: the radiance L * scale, 3e+39, overflows single precision"},
+        {CAMERA "AreaLightSource \"diffuse\"\nShape \"sphere\" \"float radius\" 1e20\n",
+         ":5: Shape \"sphere\": the sphere (centre (0, 0, 0), radius 1e+20 in world space) reaches beyond 1e+18"},
+        {CAMERA "LightSource \"infinite\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\n",
+         ":4: LightSource \"infinite\": the radiance L * scale, 3e+39, overflows single precision"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        const char *path = write_scene("emitter.pbrt", cases[i].text);
+        RenderScene scene;
+        int result = convert(path, &scene);
+        remove(path);
+        if (result == 0)
+            fail_msg("case %zu converted; expected \"%s\"", i, cases[i].needle);
+        if (strncmp(error, path, strlen(path)) != 0 || !strstr(error, cases[i].needle))
+            fail_msg("error \"%s\"; expected \"%s\" and \"%s\"", error, path, cases[i].needle);
+        assert_int_equal(scene.primitive_count, 0);
+    }
+}
+
+/* Just inside the reader's limits, every converted number stays finite. */
+static void test_geometry_at_the_limits_converts(void **state)
+{
+    (void)state;
+    const char *path =
+        write_scene("limits.pbrt", CAMERA
+                    "AttributeBegin\n  AreaLightSource \"diffuse\" \"rgb L\" [ 3e38 1 1 ]\n"
+                    "  Translate 5e17 0 0\n  Shape \"sphere\" \"float radius\" 4.9e17\nAttributeEnd\n"
+                    "AreaLightSource \"diffuse\"\n"
+                    "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  3e9 0 0  0 3e9 0 ] \"integer indices\" [ 0 1 2 ]\n");
+    RenderScene scene;
+    int result = convert(path, &scene);
+    remove(path);
+    if (result)
+        fail_msg("%s", error);
+    assert_int_equal(scene.primitive_count, 2);
+    assert_int_equal(scene.emitter_count, 2);
+    assert_finite(&scene);
+    render_scene_destroy(&scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_repository_scenes),
+        cmocka_unit_test(test_overflowing_emitters_are_errors),
+        cmocka_unit_test(test_geometry_at_the_limits_converts),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
