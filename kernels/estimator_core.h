@@ -366,7 +366,8 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
         inexact |= grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
         exponent += 1;
     }
-    accumulators[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
+    if ((uint64_t)(exponent + EST_GRID_BIAS) != grid)
+        accumulators[grid_index(pixel)] = (uint64_t)(exponent + EST_GRID_BIAS);
     return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
 }
 
