@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config clang clang-format
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
-  libopenexr-dev libcglm-dev libcmocka-dev
+  libopenexr-dev libpng-dev libcglm-dev libcmocka-dev
   python3 python3-venv
 )
 
