@@ -2,6 +2,7 @@
  * the reader of `gmonrt estimate` and `merge`. An image read without error
  * must own every layer it reports, at the size its header says. */
 #include "fuzz_input.h"
+#include "estimator_core.h" /* accumulator_planes */
 #include "io/exr_image.h"
 
 #include <string.h>
@@ -31,9 +32,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fuzz_touch(image.trim, 3 * pixels * sizeof *image.trim);
         if (image.nonfinite)
             fuzz_touch(image.nonfinite, pixels * sizeof *image.nonfinite);
+        if (image.rounded)
+            fuzz_touch(image.rounded, pixels * sizeof *image.rounded);
         if (image.accumulators)
-            fuzz_touch(image.accumulators, (size_t)image.metadata.set_count * 3 * 2 *
-                                               pixels /* [set][channel][word][pixel] */ * sizeof *image.accumulators);
+            fuzz_touch(image.accumulators,
+                       accumulator_planes((uint32_t)image.metadata.set_count) * pixels * sizeof *image.accumulators);
         const ExrMetadata *meta = &image.metadata;
         const char *strings[] = {meta->software, meta->scene_path, meta->scene_hash};
         for (size_t i = 0; i < sizeof strings / sizeof strings[0]; ++i)
