@@ -4,8 +4,9 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config clang clang-format
+  libclang-rt-dev llvm
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
-  libopenexr-dev libcglm-dev libcmocka-dev
+  libopenexr-dev libpng-dev libcglm-dev libcmocka-dev
   python3 python3-venv
 )
 

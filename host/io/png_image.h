@@ -1,6 +1,5 @@
-/* 8-bit sRGB PNG previews of linear images, with no dependency: the zlib
- * stream uses stored (uncompressed) deflate blocks, and CRC-32 and Adler-32
- * are computed here. Files are about 3 bytes per pixel. */
+/* 8-bit sRGB PNG previews of linear images, written with libpng
+ * (compressed, with an sRGB chunk). */
 #ifndef HOST_IO_PNG_IMAGE_H
 #define HOST_IO_PNG_IMAGE_H
 
