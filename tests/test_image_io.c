@@ -368,6 +368,21 @@ static void test_exr_refuses_out_of_range_set_sums(void **state)
     remove(path);
 }
 
+/* A damaged header claiming far more pixels than the file can hold (found
+ * by fuzzing: 509 bytes claiming 2x671088641 pixels) is refused before
+ * anything is allocated for it. */
+static void test_exr_data_window_larger_than_the_file(void **state)
+{
+    (void)state;
+    char path[1024], error[512] = "";
+    snprintf(path, sizeof path, "%s/tests/fuzz/corpus/exr/huge-data-window.exr", GMON_SOURCE_DIR);
+    ExrImage read;
+    assert_int_equal(exr_image_read(path, &read, error, sizeof error), IMAGE_IO_ERROR);
+    if (!strstr(error, "more than a 509-byte file can hold"))
+        fail_msg("unexpected error: %s", error);
+    exr_image_free(&read);
+}
+
 /* The file as OpenEXR itself reads it: one scanline part, ZIP, the channel
  * names, types and order, attribute types. */
 static void test_exr_layout_seen_by_openexr(void **state)
@@ -991,6 +1006,7 @@ int main(void)
         cmocka_unit_test(test_exr_mean_only),
         cmocka_unit_test(test_exr_layout_seen_by_openexr),
         cmocka_unit_test(test_exr_refuses_out_of_range_set_sums),
+        cmocka_unit_test(test_exr_data_window_larger_than_the_file),
         cmocka_unit_test(test_exr_foreign_file),
         cmocka_unit_test(test_exr_missing_and_damaged_files),
         cmocka_unit_test(test_exr_write_errors),

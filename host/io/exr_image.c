@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define RGB_CHANNELS 3
 #define SUM_WORDS 4         /* 32-bit channels per 128-bit set sum */
@@ -1070,6 +1071,35 @@ static ImageIoStatus check_sums_compression(IoContext *io, exr_const_context_t c
     return IMAGE_IO_OK;
 }
 
+/* A header can claim any data window; before allocating for it, the file
+ * must be large enough to hold that many pixels at the best ratio its
+ * compression can reach (deflate's is about 1032:1, RLE's 64:1; the
+ * others get a generous bound), so a small damaged file cannot make the
+ * reader allocate gigabytes (found by fuzzing). */
+static ImageIoStatus check_size_against_file(IoContext *io, exr_const_context_t ctxt, const exr_attr_chlist_t *list,
+                                             const ExrImage *image)
+{
+    size_t pixels = (size_t)image->width * (size_t)image->height;
+    exr_compression_t compression;
+    if (EXR_FAILED(io, exr_get_compression(ctxt, 0, &compression), "cannot read the compression"))
+        return IMAGE_IO_ERROR;
+    struct stat file;
+    if (stat(io->path, &file) != 0)
+        return fail(io, "cannot stat the file: %s", strerror(errno));
+    double ratio = compression == EXR_COMPRESSION_NONE || compression == EXR_COMPRESSION_RLE ||
+                           compression == EXR_COMPRESSION_ZIPS || compression == EXR_COMPRESSION_ZIP
+                       ? 1100.0
+                       : 65536.0;
+    double bytes_per_pixel = 0.0;
+    for (int i = 0; i < list->num_channels; ++i)
+        bytes_per_pixel += list->entries[i].pixel_type == EXR_PIXEL_HALF ? 2.0 : 4.0;
+    double data = bytes_per_pixel * (double)pixels;
+    if (data > ratio * (double)file.st_size + 65536.0)
+        return fail(io, "the header claims %dx%d pixels (%.3g bytes of data), more than a %lld-byte file can hold",
+                    image->width, image->height, data, (long long)file.st_size);
+    return IMAGE_IO_OK;
+}
+
 static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrImage *image)
 {
     int part_count = 0;
@@ -1107,6 +1137,8 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     int found[LAYER_COUNT];
     int set_count = 0, grid_found = 0, wanted = 0;
     ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &grid_found, &wanted);
+    if (status == IMAGE_IO_OK)
+        status = check_size_against_file(io, ctxt, list, image);
     if (status == IMAGE_IO_OK && found[LAYER_SETS])
         status = check_sums_compression(io, ctxt);
     if (status == IMAGE_IO_OK && found[LAYER_SETS]) {
