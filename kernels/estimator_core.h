@@ -45,8 +45,9 @@
  * merged. When a finer sample arrives, the pixel's sums shift left (exact).
  * accumulators_normalize then puts a pixel in its one canonical form (E as
  * high as the sums allow exactly), so that equal sums have equal bits
- * whatever the order that built them: the kernels do it at the end of every
- * pass, merging at the end of every merge. Scaling every sample by 2^k moves
+ * whatever the order that built them: the renderer does it before its sums
+ * leave it, merging at the end of every merge. (Estimates do not need it:
+ * the same values give the same estimates on any grid.) Scaling every sample by 2^k moves
  * E by k and leaves the integers as they are, so estimates scale by exactly
  * 2^k.
  *
@@ -66,6 +67,7 @@
  * ---------------------------------------------------------------------- */
 
 #define EST_SUM_BITS 126
+#define EST_GRID_MARGIN 24
 #define EST_GRID_BIAS 1024
 #define EST_ADD_EXACT 0
 #define EST_ADD_NONFINITE 1
@@ -284,10 +286,11 @@ KERNEL_FN void store_sum(GLOBAL uint64_t *accumulators, uint64_t lo_index, uint6
 
 /* Moves a pixel's grid down by up to d bits (shifting its sums left, exact)
  * as far as its largest sum allows; returns the bits moved. */
-KERNEL_FN int grid_refine(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
-                          int d)
+KERNEL_COLD_FN int grid_refine(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                               int d)
 {
     int widest = 0;
+    KERNEL_NO_UNROLL
     for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
         int bits = fixed_bits(load_sum(accumulators, sum_index(s, pixel, pixel_count), pixel_count));
         widest = bits > widest ? bits : widest;
@@ -295,19 +298,21 @@ KERNEL_FN int grid_refine(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_
     int room = EST_SUM_BITS - widest;
     d = d < room ? d : room;
     if (d > 0)
-        for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
-            uint64_t i = sum_index(s, pixel, pixel_count);
-            store_sum(accumulators, i, pixel_count, fixed_shift_left(load_sum(accumulators, i, pixel_count), d));
-        }
+        KERNEL_NO_UNROLL
+    for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
+        uint64_t i = sum_index(s, pixel, pixel_count);
+        store_sum(accumulators, i, pixel_count, fixed_shift_left(load_sum(accumulators, i, pixel_count), d));
+    }
     return d > 0 ? d : 0;
 }
 
 /* Moves a pixel's grid up by d >= 1 bits (shifting its sums right,
  * rounded); returns 1 if that lost bits. */
-KERNEL_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
-                           int d)
+KERNEL_COLD_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                                int d)
 {
     int inexact = 0;
+    KERNEL_NO_UNROLL
     for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
         uint64_t i = sum_index(s, pixel, pixel_count);
         store_sum(accumulators, i, pixel_count,
@@ -316,14 +321,10 @@ KERNEL_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64
     return inexact;
 }
 
-/* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
- * EST_ADD_EXACT, EST_ADD_ROUNDED (added, but not exactly: see above) or
- * EST_ADD_NONFINITE (not added; it still counts as a sample, as 0). */
-KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
-                                uint32_t set, float r, float g, float b)
+/* accumulate_sample for a finite sample, any case. */
+KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                                                uint32_t set_count, uint32_t set, float r, float g, float b)
 {
-    if (!sample_is_finite(r, g, b))
-        return EST_ADD_NONFINITE;
     float rgb[EST_CHANNELS];
     rgb[0] = r;
     rgb[1] = g;
@@ -341,10 +342,16 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     }
     if (!nonzero)
         return EST_ADD_EXACT;
+    /* A new grid, or a finer one, goes EST_GRID_MARGIN bits further down
+     * than this sample needs (where the sums leave room), so that the next
+     * slightly finer samples need not shift every sum again: a pixel's
+     * finest value keeps improving (on a new minimum, about ln n times in n
+     * samples), and each shift touches all 3M sums. */
     uint64_t grid = accumulators[grid_index(pixel)];
-    int exponent = grid == 0 ? finest : grid_exponent(grid);
+    int target = finest - EST_GRID_MARGIN;
+    int exponent = grid == 0 ? target : grid_exponent(grid);
     if (finest < exponent)
-        exponent -= grid_refine(accumulators, pixel, pixel_count, set_count, exponent - finest);
+        exponent -= grid_refine(accumulators, pixel, pixel_count, set_count, exponent - target);
     /* Keep the sample below 2^(EST_SUM_BITS - 1) units, so that it and a
      * sum below 2^EST_SUM_BITS cannot wrap 128 bits. */
     int inexact = 0;
@@ -371,6 +378,68 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
 }
 
+/* A value as a count of units 2^grid_exponent, if it is such a count and
+ * below 2^(EST_SUM_BITS - 1) in magnitude (else *fits becomes 0), as nearly
+ * every sample is once a pixel has its grid. */
+KERNEL_FN FixedSum value_on_grid(uint32_t bits, int grid_exponent, int *fits)
+{
+    FixedSum v;
+    v.lo = 0;
+    v.hi = 0;
+    if ((bits & 0x7fffffffu) == 0)
+        return v;
+    uint64_t significand = (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
+    int shift = ulp_exponent(bits) - grid_exponent; /* the value is significand * 2^shift units */
+    int ok = shift >= -23 && shift + 24 <= EST_SUM_BITS - 1;
+    shift = ok ? shift : 0;
+    if (shift < 0) {
+        *fits &= ok && (significand & (((uint64_t)1 << -shift) - 1)) == 0;
+        v.lo = significand >> -shift;
+    } else {
+        *fits &= ok;
+        v.lo = significand;
+        v = fixed_shift_left(v, shift);
+    }
+    if (bits >> 31) {
+        v.lo = ~v.lo + 1;
+        v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
+    }
+    return v;
+}
+
+/* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
+ * EST_ADD_EXACT, EST_ADD_ROUNDED (added, but not exactly: see above) or
+ * EST_ADD_NONFINITE (not added; it still counts as a sample, as 0). The
+ * common case, every value on the pixel's grid, is one 128-bit addend a
+ * channel; the rest (a new pixel, a finer or much larger value) is
+ * accumulate_sample_in_general, with the same result. */
+KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                                uint32_t set, float r, float g, float b)
+{
+    if (!sample_is_finite(r, g, b))
+        return EST_ADD_NONFINITE;
+    uint64_t grid = accumulators[grid_index(pixel)];
+    int exponent = grid_exponent(grid), fits = grid != 0;
+    FixedSum values[EST_CHANNELS];
+    values[0] = value_on_grid(float_bits(r), exponent, &fits);
+    values[1] = value_on_grid(float_bits(g), exponent, &fits);
+    values[2] = value_on_grid(float_bits(b), exponent, &fits);
+    if (!fits)
+        return accumulate_sample_in_general(accumulators, pixel, pixel_count, set_count, set, r, g, b);
+    int too_wide = 0;
+    for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
+        uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
+        FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), values[c]);
+        store_sum(accumulators, i, pixel_count, sum);
+        too_wide |= (int)(((sum.hi ^ (sum.hi << 1)) >> 63) != 0); /* bits 127 and 126 differ: 2^126 or more */
+    }
+    if (!too_wide)
+        return EST_ADD_EXACT;
+    int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
+    accumulators[grid_index(pixel)] = grid + 1;
+    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
 /* Puts a pixel's sums in their canonical form: its grid moved up by the
  * trailing zero bits all its sums share (exact), or no grid when they are
  * all 0. Equal sums then have equal bits. */
@@ -381,6 +450,7 @@ KERNEL_FN void accumulators_normalize(GLOBAL uint64_t *accumulators, uint64_t pi
     if (grid == 0)
         return;
     int zeros = 128; /* trailing zeros shared by every sum */
+    KERNEL_NO_UNROLL
     for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
         FixedSum v = load_sum(accumulators, sum_index(s, pixel, pixel_count), pixel_count);
         int here = v.lo != 0 ? trailing_zeros64(v.lo) : (v.hi != 0 ? 64 + trailing_zeros64(v.hi) : 128);
@@ -421,6 +491,7 @@ KERNEL_FN int accumulators_merge_pixel(GLOBAL uint64_t *total, GLOBAL uint64_t *
         exponent = a > b ? a : b;
     }
     int too_wide = 0;
+    KERNEL_NO_UNROLL
     for (uint32_t s = 0; s < set_count * EST_CHANNELS; ++s) {
         uint64_t i = sum_index(s, pixel, pixel_count);
         FixedSum sum = fixed_add(load_sum(total, i, pixel_count), load_sum(part, i, pixel_count));

@@ -279,7 +279,6 @@ __kernel void render_samples(__global const RenderParams *params, __global const
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }
-    accumulators_normalize(accumulators, local_pixel, buffer_pixel_count, EST_SETS);
     /* Two planes: non-finite samples, then rounded ones (estimator_core.h). */
     rejected[local_pixel] += nonfinite;
     rejected[buffer_pixel_count + local_pixel] += rounded;

@@ -837,6 +837,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     if (!complete && estimate_on_host(&r, r.saved_samples, out) != 0)
         goto out_of_memory;
     out->seconds = now_seconds() - start - callback_seconds;
+    /* The sums in their canonical form: the same bits for the same sums,
+     * whatever the devices, passes and pixel moves that built them. */
+    for (size_t p = 0; p < r.pixels; ++p)
+        accumulators_normalize(r.saved.accumulators, p, r.pixels, (uint32_t)r.sets);
     out->accumulators = r.saved.accumulators;
     out->rejected = r.saved.rejected;
     for (size_t i = 0; i < r.pixels; ++i) {
