@@ -407,35 +407,36 @@ static int find_spec(const ChannelSpec *specs, int count, const char *name)
     return -1;
 }
 
+/* A 64-bit number as a decimal string attribute (EXR has no 64-bit
+ * integer attribute, and a double would round values above 2^53). */
+static ImageIoStatus write_uint64_attribute(IoContext *io, exr_context_t ctxt, int part, const char *name,
+                                            uint64_t value)
+{
+    char number[24], action[NAME_CAPACITY + 32];
+    snprintf(number, sizeof number, "%" PRIu64, value);
+    snprintf(action, sizeof action, "cannot set attribute %s", name);
+    return EXR_FAILED(io, exr_attr_set_string(ctxt, part, name, number), action) ? IMAGE_IO_ERROR : IMAGE_IO_OK;
+}
+
 static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part, const ExrMetadata *meta)
 {
-    char number[24];
     if (meta->software && EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "software", meta->software),
                                      "cannot set attribute " METADATA_PREFIX "software"))
         return IMAGE_IO_ERROR;
     if (meta->set_count > 0 && EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "sets", meta->set_count),
                                           "cannot set attribute " METADATA_PREFIX "sets"))
         return IMAGE_IO_ERROR;
-    snprintf(number, sizeof number, "%" PRIu64, meta->sample_count);
-    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "samples", number),
-                   "cannot set attribute " METADATA_PREFIX "samples"))
-        return IMAGE_IO_ERROR;
-    snprintf(number, sizeof number, "%" PRIu64, meta->seed);
-    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "seed", number),
-                   "cannot set attribute " METADATA_PREFIX "seed"))
-        return IMAGE_IO_ERROR;
-    snprintf(number, sizeof number, "%" PRIu64, meta->first_sample);
-    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "firstSample", number),
-                   "cannot set attribute " METADATA_PREFIX "firstSample"))
-        return IMAGE_IO_ERROR;
-    snprintf(number, sizeof number, "%" PRIu64, meta->nonfinite_samples);
-    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "nonfiniteSamples", number),
-                   "cannot set attribute " METADATA_PREFIX "nonfiniteSamples"))
-        return IMAGE_IO_ERROR;
-    snprintf(number, sizeof number, "%" PRIu64, meta->rounded_samples);
-    if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "roundedSamples", number),
-                   "cannot set attribute " METADATA_PREFIX "roundedSamples"))
-        return IMAGE_IO_ERROR;
+    const struct {
+        const char *name;
+        uint64_t value;
+    } numbers[] = {{METADATA_PREFIX "samples", meta->sample_count},
+                   {METADATA_PREFIX "seed", meta->seed},
+                   {METADATA_PREFIX "firstSample", meta->first_sample},
+                   {METADATA_PREFIX "nonfiniteSamples", meta->nonfinite_samples},
+                   {METADATA_PREFIX "roundedSamples", meta->rounded_samples}};
+    for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; ++i)
+        if (write_uint64_attribute(io, ctxt, part, numbers[i].name, numbers[i].value) != IMAGE_IO_OK)
+            return IMAGE_IO_ERROR;
     if (meta->scene_path &&
         EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneFile", meta->scene_path),
                    "cannot set attribute " METADATA_PREFIX "sceneFile"))
