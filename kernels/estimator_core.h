@@ -46,10 +46,10 @@
  * accumulators_normalize then puts a pixel in its one canonical form (E as
  * high as the sums allow exactly), so that equal sums have equal bits
  * whatever the order that built them: the renderer does it before its sums
- * leave it, merging at the end of every merge. (Estimates do not need it:
- * the same values give the same estimates on any grid.) Scaling every sample by 2^k moves
- * E by k and leaves the integers as they are, so estimates scale by exactly
- * 2^k.
+ * leave it, merging at the end of every merge (estimates do not need it:
+ * the same values give the same estimates on any grid). Scaling every
+ * sample by 2^k moves E by k and leaves the integers as they are, so
+ * estimates scale by exactly 2^k.
  *
  * Sums stay below 2^EST_SUM_BITS in magnitude. A pixel whose values span
  * more binary orders than that holds (about 100 minus log2 of the samples
