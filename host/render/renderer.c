@@ -121,8 +121,15 @@ typedef struct {
     size_t planes; /* accumulator planes: accumulator_planes(sets) */
     Worker workers[RENDER_MAX_DEVICES];
     int worker_count;
-    HostState saved;   /* every pixel's state after saved_samples samples */
-    HostState scratch; /* where a new copy is gathered before it replaces `saved` */
+    HostState saved; /* every pixel's state after saved_samples samples */
+    /* Where a new copy is gathered before it replaces `saved`, with several
+     * devices (so that one failing mid-copy leaves `saved` consistent); one
+     * device is read straight into `saved`, and if that read fails no
+     * consistent copy is left (saved_lost): a third less host memory for
+     * the common case, against an image lost to a device failing exactly
+     * while its sums are read. */
+    HostState scratch;
+    int saved_lost;
     uint64_t saved_samples;
     double save_seconds; /* cost of the last copy */
     double saved_at;
@@ -390,16 +397,20 @@ static int assign_until_settled(Render *r, const double *weights, char *error, s
 static int save_state(Render *r, uint64_t samples)
 {
     double start = now_seconds();
+    HostState *target = r->scratch.accumulators ? &r->scratch : &r->saved;
     for (int i = 0; i < r->worker_count; ++i) {
         Worker *w = &r->workers[i];
-        if (w->live && transfer_state(r, w, 0, &r->scratch) != CL_SUCCESS) {
+        if (w->live && transfer_state(r, w, 0, target) != CL_SUCCESS) {
+            r->saved_lost |= target == &r->saved;
             drop_on_cl_error(r, w, "reading back its sums");
             return -1;
         }
     }
-    HostState swap = r->saved;
-    r->saved = r->scratch;
-    r->scratch = swap;
+    if (target == &r->scratch) {
+        HostState swap = r->saved;
+        r->saved = r->scratch;
+        r->scratch = swap;
+    }
     r->saved_samples = samples;
     for (int i = 0; i < r->worker_count; ++i) {
         r->workers[i].report->samples += r->workers[i].unsaved_samples;
@@ -591,11 +602,16 @@ static double gib(uint64_t bytes)
     return (double)bytes / (1024.0 * 1024.0 * 1024.0);
 }
 
+/* Host copies of the per-pixel state: see Render.scratch. */
+static int host_copies(int device_count)
+{
+    return device_count > 1 ? 2 : 1;
+}
+
 /* Refuses, with both figures, a render whose memory does not fit: on the
- * host two copies of the per-pixel state (the saved one and the one being
- * gathered, so that a device failing mid-copy loses nothing), the images,
- * and what a CPU device allocates (its memory is the host's); on each
- * device its first share of the state, its images and the scene. */
+ * host its copies of the per-pixel state, the images, and what a CPU
+ * device allocates (its memory is the host's); on each device its first
+ * share of the state, its images and the scene. */
 static int check_memory(const Render *r, int outputs, ClDevice *devices, int device_count, char *error,
                         size_t error_size)
 {
@@ -608,7 +624,8 @@ static int check_memory(const Render *r, int outputs, ClDevice *devices, int dev
     uint64_t scene = 0;
     for (int i = 0; i < SCENE_BUFFERS; ++i)
         scene += r->upload.bytes[i];
-    uint64_t host = (2 * state + image) * r->pixels + scene;
+    const int copies = host_copies(device_count);
+    uint64_t host = (copies * state + image) * r->pixels + scene;
     const uint64_t share = (r->pixels + (size_t)device_count - 1) / (size_t)device_count;
     for (int i = 0; i < device_count; ++i) {
         uint64_t device = (state + image) * share + scene;
@@ -628,11 +645,11 @@ static int check_memory(const Render *r, int outputs, ClDevice *devices, int dev
     uint64_t available = memory_host_available(source, sizeof source);
     if (host > available) {
         snprintf(error, error_size,
-                 "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, twice "
+                 "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, %s "
                  "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels), but %.2f "
                  "GiB is available (%s): lower --resolution or --sets, or ask for the mean alone (--estimators mean)",
-                 gib(host), (unsigned long long)state, r->sets, (unsigned long long)image, r->scene->params.width,
-                 r->scene->params.height, gib(available), source);
+                 gib(host), (unsigned long long)state, r->sets, copies == 1 ? "once" : "twice",
+                 (unsigned long long)image, r->scene->params.width, r->scene->params.height, gib(available), source);
         return -1;
     }
     return 0;
@@ -692,7 +709,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
 
     if (check_memory(&r, s->outputs, devices, device_count, error, error_size))
         goto done;
-    if (allocate_state(&r.saved, r.planes, r.pixels) || allocate_state(&r.scratch, r.planes, r.pixels) ||
+    if (allocate_state(&r.saved, r.planes, r.pixels) ||
+        (host_copies(device_count) > 1 && allocate_state(&r.scratch, r.planes, r.pixels)) ||
         allocate_images(out, s->outputs, r.pixels))
         goto out_of_memory;
 
@@ -834,6 +852,11 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     int complete = live_workers(&r) > 0;
     if (complete && estimate_on_devices(&r, r.saved_samples, out) != 0)
         complete = 0;
+    if (!complete && r.saved_lost) {
+        snprintf(error, error_size,
+                 "the only device failed while its sums were copied to the host: no consistent copy of them is left");
+        goto done;
+    }
     if (!complete && estimate_on_host(&r, r.saved_samples, out) != 0)
         goto out_of_memory;
     out->seconds = now_seconds() - start - callback_seconds;
