@@ -118,11 +118,23 @@ KERNEL_FN int ulp_exponent(uint32_t bits)
     return (biased != 0 ? biased : 1) - 150;
 }
 
+/* The significand of a finite float as an integer: the value is it times
+ * 2^ulp_exponent. */
+KERNEL_FN uint64_t float_significand(uint32_t bits)
+{
+    return (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
+}
+
 /* The exponent of the lowest set bit of a nonzero finite float. */
 KERNEL_FN int lowest_bit_exponent(uint32_t bits)
 {
-    uint64_t significand = (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
-    return ulp_exponent(bits) + trailing_zeros64(significand);
+    return ulp_exponent(bits) + trailing_zeros64(float_significand(bits));
+}
+
+/* Whether |v| reaches 2^EST_SUM_BITS (bits 127 and 126 differ). */
+KERNEL_FN int fixed_too_wide(FixedSum v)
+{
+    return (int)(((v.hi ^ (v.hi << 1)) >> 63) != 0);
 }
 
 /* Bits needed for the magnitude of v: v lies in [-2^b, 2^b). */
@@ -193,9 +205,7 @@ KERNEL_FN FixedSum fixed_shift_right_rounded(FixedSum v, int d, int *inexact)
 KERNEL_FN FixedSum fixed_from_float(float x, int grid_exponent, int *inexact)
 {
     uint32_t bits = float_bits(x);
-    uint64_t mantissa = bits & 0x7fffffu;
-    if ((bits & 0x7f800000u) != 0)
-        mantissa |= 0x800000u;
+    uint64_t mantissa = float_significand(bits);
     int shift = ulp_exponent(bits) - grid_exponent;
     FixedSum v;
     if (shift >= 0) {
@@ -367,7 +377,7 @@ KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, u
         uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
         FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), fixed_from_float(rgb[c], exponent, &inexact));
         store_sum(accumulators, i, pixel_count, sum);
-        too_wide |= fixed_bits(sum) > EST_SUM_BITS;
+        too_wide |= fixed_too_wide(sum);
     }
     if (too_wide) {
         inexact |= grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
@@ -381,29 +391,22 @@ KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, u
 /* A value as a count of units 2^grid_exponent, if it is such a count and
  * below 2^(EST_SUM_BITS - 1) in magnitude (else *fits becomes 0), as nearly
  * every sample is once a pixel has its grid. */
-KERNEL_FN FixedSum value_on_grid(uint32_t bits, int grid_exponent, int *fits)
+KERNEL_FN FixedSum value_on_grid(float x, int grid_exponent, int *fits)
 {
+    /* The value is significand * 2^shift units, below 2^(shift + 24). */
+    int shift = ulp_exponent(float_bits(x)) - grid_exponent;
     FixedSum v;
     v.lo = 0;
     v.hi = 0;
-    if ((bits & 0x7fffffffu) == 0)
+    if ((float_bits(x) & 0x7fffffffu) == 0) /* +-0 lies on every grid */
         return v;
-    uint64_t significand = (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
-    int shift = ulp_exponent(bits) - grid_exponent; /* the value is significand * 2^shift units */
-    int ok = shift >= -23 && shift + 24 <= EST_SUM_BITS - 1;
-    shift = ok ? shift : 0;
-    if (shift < 0) {
-        *fits &= ok && (significand & (((uint64_t)1 << -shift) - 1)) == 0;
-        v.lo = significand >> -shift;
-    } else {
-        *fits &= ok;
-        v.lo = significand;
-        v = fixed_shift_left(v, shift);
+    if (shift < -23 || shift + 24 > EST_SUM_BITS - 1) {
+        *fits = 0;
+        return v;
     }
-    if (bits >> 31) {
-        v.lo = ~v.lo + 1;
-        v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
-    }
+    int inexact = 0;
+    v = fixed_from_float(x, grid_exponent, &inexact);
+    *fits &= !inexact;
     return v;
 }
 
@@ -421,9 +424,9 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     uint64_t grid = accumulators[grid_index(pixel)];
     int exponent = grid_exponent(grid), fits = grid != 0;
     FixedSum values[EST_CHANNELS];
-    values[0] = value_on_grid(float_bits(r), exponent, &fits);
-    values[1] = value_on_grid(float_bits(g), exponent, &fits);
-    values[2] = value_on_grid(float_bits(b), exponent, &fits);
+    values[0] = value_on_grid(r, exponent, &fits);
+    values[1] = value_on_grid(g, exponent, &fits);
+    values[2] = value_on_grid(b, exponent, &fits);
     if (!fits)
         return accumulate_sample_in_general(accumulators, pixel, pixel_count, set_count, set, r, g, b);
     int too_wide = 0;
@@ -431,7 +434,7 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
         uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
         FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), values[c]);
         store_sum(accumulators, i, pixel_count, sum);
-        too_wide |= (int)(((sum.hi ^ (sum.hi << 1)) >> 63) != 0); /* bits 127 and 126 differ: 2^126 or more */
+        too_wide |= fixed_too_wide(sum);
     }
     if (!too_wide)
         return EST_ADD_EXACT;
@@ -496,7 +499,7 @@ KERNEL_FN int accumulators_merge_pixel(GLOBAL uint64_t *total, GLOBAL uint64_t *
         uint64_t i = sum_index(s, pixel, pixel_count);
         FixedSum sum = fixed_add(load_sum(total, i, pixel_count), load_sum(part, i, pixel_count));
         store_sum(total, i, pixel_count, sum);
-        too_wide |= fixed_bits(sum) > EST_SUM_BITS;
+        too_wide |= fixed_too_wide(sum);
     }
     if (too_wide) {
         inexact |= grid_coarsen(total, pixel, pixel_count, set_count, 1);
