@@ -1050,7 +1050,7 @@ static ImageIoStatus check_set_sums(IoContext *io, const ExrImage *image, int se
 /* Set sums must read back exactly: a file re-saved with a lossy
  * compression, or with B44 (which OpenEXR 3.1.5 decodes wrongly for them,
  * without an error), is refused rather than read as other sums. */
-static ImageIoStatus check_sums_compression(IoContext *io, exr_const_context_t ctxt)
+static ImageIoStatus check_sums_compression(IoContext *io, exr_compression_t compression)
 {
     static const struct {
         exr_compression_t compression;
@@ -1060,9 +1060,6 @@ static ImageIoStatus check_sums_compression(IoContext *io, exr_const_context_t c
                    {EXR_COMPRESSION_B44A, "B44A"},
                    {EXR_COMPRESSION_DWAA, "DWAA"},
                    {EXR_COMPRESSION_DWAB, "DWAB"}};
-    exr_compression_t compression;
-    if (EXR_FAILED(io, exr_get_compression(ctxt, 0, &compression), "cannot read the compression"))
-        return IMAGE_IO_ERROR;
     for (size_t i = 0; i < sizeof refused / sizeof refused[0]; ++i)
         if (compression == refused[i].compression)
             return fail(io,
@@ -1077,13 +1074,10 @@ static ImageIoStatus check_sums_compression(IoContext *io, exr_const_context_t c
  * compression can reach (deflate's is about 1032:1, RLE's 64:1; the
  * others get a generous bound), so a small damaged file cannot make the
  * reader allocate gigabytes (found by fuzzing). */
-static ImageIoStatus check_size_against_file(IoContext *io, exr_const_context_t ctxt, const exr_attr_chlist_t *list,
-                                             const ExrImage *image)
+static ImageIoStatus check_size_against_file(IoContext *io, exr_compression_t compression,
+                                             const exr_attr_chlist_t *list, const ExrImage *image)
 {
     size_t pixels = (size_t)image->width * (size_t)image->height;
-    exr_compression_t compression;
-    if (EXR_FAILED(io, exr_get_compression(ctxt, 0, &compression), "cannot read the compression"))
-        return IMAGE_IO_ERROR;
     struct stat file;
     if (stat(io->path, &file) != 0)
         return fail(io, "cannot stat the file: %s", strerror(errno));
@@ -1132,6 +1126,9 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
         return IMAGE_IO_ERROR;
     if (!list || list->num_channels < 1)
         return fail(io, "the file has no channels");
+    exr_compression_t compression;
+    if (EXR_FAILED(io, exr_get_compression(ctxt, 0, &compression), "cannot read the compression"))
+        return IMAGE_IO_ERROR;
     ChannelSpec *specs = malloc(sizeof *specs * (size_t)list->num_channels);
     if (!specs)
         return fail(io, "out of memory");
@@ -1139,9 +1136,9 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     int set_count = 0, grid_found = 0, wanted = 0;
     ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &grid_found, &wanted);
     if (status == IMAGE_IO_OK)
-        status = check_size_against_file(io, ctxt, list, image);
+        status = check_size_against_file(io, compression, list, image);
     if (status == IMAGE_IO_OK && found[LAYER_SETS])
-        status = check_sums_compression(io, ctxt);
+        status = check_sums_compression(io, compression);
     if (status == IMAGE_IO_OK && found[LAYER_SETS]) {
         if (image->metadata.set_count == 0)
             image->metadata.set_count = set_count;
