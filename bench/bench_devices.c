@@ -11,7 +11,7 @@
  * so that the first build of each variant is cold. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
-#include "estimator/estimator_cl.h"
+#include "film/film_cl.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -148,7 +148,7 @@ static int features_mode(ClDevice *device, const Options *o)
      * that the cold builds below are the path tracer's alone. */
     RenderSettings defaults;
     render_settings_default(&defaults);
-    EstimatorProgram *estimator = estimator_program_new(device, &defaults.estimator, defaults.outputs, NULL);
+    EstimatorProgram *estimator = estimator_program_new(device, &defaults.estimator, NULL);
     if (!estimator)
         return 1;
     estimator_program_destroy(estimator);

@@ -21,9 +21,9 @@
 
 #include "cl/cl_check.h"
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
-#include "estimator/estimator_cl.h"
-#include "estimator_core.h"
+#include "film/film.h"
+#include "film/film_cl.h"
+#include "estimators.h"
 
 #include <errno.h>
 #include <inttypes.h>
@@ -37,7 +37,7 @@
 #define MAX_DEVICES 32
 #define GOAL_RATIO 0.5
 #define CHECK_PIXELS 64 /* pixels compared with the host reference */
-#define OUTPUT_MASK (ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON)
+#define OUTPUT_MASK PASSES_DEFAULT
 #define OUTPUT_IMAGES 3
 #define COPY_ALIGN 16 /* the copy kernel moves float4s */
 
@@ -289,7 +289,7 @@ typedef struct {
     Tile *tiles;
     size_t tile_count;
     cl_mem copy_output;
-    cl_mem images[OUTPUT_IMAGES];
+    cl_mem images; /* every tile's images, one after another (pass_slot) */
     void *host_tile;
 } Bench;
 
@@ -299,9 +299,8 @@ static void bench_release(Bench *b)
         if (b->tiles[t].input)
             clReleaseMemObject(b->tiles[t].input);
     free(b->tiles);
-    for (int i = 0; i < OUTPUT_IMAGES; ++i)
-        if (b->images[i])
-            clReleaseMemObject(b->images[i]);
+    if (b->images)
+        clReleaseMemObject(b->images);
     if (b->copy_output)
         clReleaseMemObject(b->copy_output);
     if (b->copy_kernel)
@@ -314,6 +313,16 @@ static void bench_release(Bench *b)
         cl_device_close(&b->device);
 }
 
+/* M sets, the default passes (mean, MoN, G-MoN). */
+static EstimatorSettings default_settings(int sets)
+{
+    EstimatorSettings settings;
+    estimator_settings_default(&settings);
+    settings.set_count = sets;
+    settings.passes = OUTPUT_MASK;
+    return settings;
+}
+
 /* One run of the estimator over all tiles: returns 0 and the summed event
  * time and the wall time to clFinish. */
 static int run_estimator(Bench *b, uint64_t sample_count, int from_accumulators, double *event_s, double *wall_s)
@@ -323,7 +332,7 @@ static int run_estimator(Bench *b, uint64_t sample_count, int from_accumulators,
     double start = wall_seconds();
     for (size_t t = 0; t < b->tile_count; ++t) {
         events[t] = estimator_program_enqueue(b->estimator, b->tiles[t].input, from_accumulators, b->tiles[t].count,
-                                              sample_count, b->images[0], b->images[1], b->images[2], NULL, NULL);
+                                              sample_count, b->images);
         if (!events[t])
             goto done;
     }
@@ -377,7 +386,7 @@ done:
 static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
 {
     const int sets = (int)o->sets;
-    EstimatorSettings settings = {sets, GINI_PER_CHANNEL, 0};
+    EstimatorSettings settings = default_settings(sets);
     int mismatches = 0;
     const Tile *last = &b->tiles[b->tile_count - 1];
     size_t samples = last->count < CHECK_PIXELS ? last->count : CHECK_PIXELS;
@@ -391,10 +400,9 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
         mismatches = -1;
         goto done;
     }
-    for (int i = 0; i < OUTPUT_IMAGES; ++i)
-        CL_CHECK(clEnqueueReadBuffer(b->device.queue, b->images[i], CL_TRUE, 0, image_floats * sizeof(float),
-                                     device_images + (size_t)i * image_floats, 0, NULL, NULL),
-                 fail);
+    CL_CHECK(clEnqueueReadBuffer(b->device.queue, b->images, CL_TRUE, 0, OUTPUT_IMAGES * image_floats * sizeof(float),
+                                 device_images, 0, NULL, NULL),
+             fail);
     for (size_t s = 0; s < samples; ++s) {
         size_t p = samples > 1 ? s * (last->count - 1) / (samples - 1) : 0; /* pixel within the tile */
         for (uint32_t j = 0; j < (uint32_t)sets; ++j)
@@ -404,12 +412,10 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
                 store_fixed(accumulators, j, c, s, samples, v);
             }
     }
-    EstimatorImages images = {host_images,
-                              host_images + samples * EST_CHANNELS,
-                              host_images + 2 * samples * EST_CHANNELS,
-                              NULL,
-                              NULL,
-                              samples * EST_CHANNELS};
+    EstimatorImages images = {.pass[PASS_MEAN] = host_images,
+                              .pass[PASS_MON] = host_images + samples * EST_CHANNELS,
+                              .pass[PASS_GMON] = host_images + 2 * samples * EST_CHANNELS,
+                              .length = samples * EST_CHANNELS};
     char message[256] = "";
     EstimatorStatus st =
         o->from_accumulators
@@ -531,9 +537,9 @@ int main(int argc, char **argv)
     fflush(stdout);
 
     /* Programs. */
-    EstimatorSettings settings = {sets, GINI_PER_CHANNEL, 0};
+    EstimatorSettings settings = default_settings(sets);
     double build_start = wall_seconds();
-    b.estimator = estimator_program_new(&b.device, &settings, OUTPUT_MASK, NULL);
+    b.estimator = estimator_program_new(&b.device, &settings, NULL);
     if (!b.estimator)
         goto done;
     b.copy_program = cl_program_build(&b.device, "bench_copy", "", NULL);
@@ -575,11 +581,9 @@ int main(int argc, char **argv)
     }
     b.copy_output = clCreateBuffer(b.device.context, CL_MEM_WRITE_ONLY, largest_copy, NULL, &err);
     CL_CHECK(err, done);
-    for (int i = 0; i < OUTPUT_IMAGES; ++i) {
-        b.images[i] =
-            clCreateBuffer(b.device.context, CL_MEM_WRITE_ONLY, tile_pixels * EST_CHANNELS * sizeof(float), NULL, &err);
-        CL_CHECK(err, done);
-    }
+    b.images = clCreateBuffer(b.device.context, CL_MEM_WRITE_ONLY,
+                              estimator_program_image_bytes(b.estimator, tile_pixels), NULL, &err);
+    CL_CHECK(err, done);
     double fill_seconds = wall_seconds() - fill_start;
 
     const double estimator_read = (double)(pixel_count * bytes_per_pixel);

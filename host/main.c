@@ -1,5 +1,6 @@
 /* gmonrt: renders a pbrt-v4 scene with the OpenCL path tracer and writes the
- * mean, MoN and G-MoN of the same samples to one EXR plus a PNG preview. */
+ * requested estimators of the same samples (mean, MoN and G-MoN by
+ * default) to one EXR plus a PNG preview. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
 #include "cli/checkpoints.h"
@@ -10,7 +11,7 @@
 #include "cli/options.h"
 #include "cli/output_files.h"
 #include "cli/progress.h"
-#include "estimator/estimator.h"
+#include "film/film.h"
 #include "io/exr_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
@@ -24,7 +25,7 @@
 #define GMON_DEFAULT_SCENE "scenes/cornell-glass.pbrt"
 #endif
 
-static const char *gini_mode_name(GiniMode mode)
+static const char *gini_mode_label(GiniMode mode)
 {
     return mode == GINI_PER_PIXEL ? "pixel" : (mode == SORT_BY_LUMINANCE ? "luminance" : "channel");
 }
@@ -35,15 +36,22 @@ static void print_summary(const Options *o, const RenderOutput *out)
 {
     double samples = (double)out->sample_count * out->width * out->height;
     double seconds = out->seconds > 0.0 ? out->seconds : 1e-9;
+    uint64_t total = 0;
+    double estimate_seconds = 0.0;
+    for (int i = 0; i < out->device_count; ++i) {
+        total += out->devices[i].samples;
+        estimate_seconds += out->devices[i].estimate_seconds;
+    }
+    const uint32_t estimates = out->estimator.passes & PASSES_ESTIMATES;
     printf("%ux%u, %llu spp, M = %d, gini %s, %.2f s, %.3g samples/s, %.3g rays/s, %llu non-finite samples, "
            "%llu rounded samples, %zu bytes per pixel, %d device%s\n",
            out->width, out->height, (unsigned long long)out->sample_count, out->set_count,
-           gini_mode_name(o->estimator.gini_mode), out->seconds, samples / seconds, (double)out->rays / seconds,
+           gini_mode_label(o->estimator.gini_mode), out->seconds, samples / seconds, (double)out->rays / seconds,
            (unsigned long long)out->rejected_total, (unsigned long long)out->rounded_total, out->bytes_per_pixel,
            out->device_count, out->device_count == 1 ? "" : "s");
-    uint64_t total = 0;
-    for (int i = 0; i < out->device_count; ++i)
-        total += out->devices[i].samples;
+    printf("  %d estimator%s%s, estimation %.3f s (device time, every estimation)\n", count_bits32(estimates),
+           count_bits32(estimates) == 1 ? "" : "s", out->estimator.with_stderr ? " with standard errors" : "",
+           estimate_seconds);
     for (int i = 0; i < out->device_count; ++i) {
         const RenderDeviceReport *d = &out->devices[i];
         printf("  device %d '%s': %.1f%% of samples, %.3g samples/s, %.1f MiB allocated, build %.2f s%s%s\n", i,
@@ -113,12 +121,10 @@ static int render(const Options *o)
             goto done;
         }
         checkpoints.scene_path = scene_path;
-        checkpoints.diagnostics = o->diagnostics;
     }
     RenderSettings settings;
     render_settings_default(&settings);
     settings.estimator = o->estimator;
-    settings.outputs = o->outputs | (o->diagnostics ? ESTIMATOR_OUTPUT_DIAGNOSTICS : 0);
     settings.seed = o->seed;
     settings.first_sample = o->first_sample;
     settings.sample_count = o->spp ? o->spp : (summary.pixel_samples ? summary.pixel_samples : 64);
@@ -161,16 +167,17 @@ static int render(const Options *o)
         /* A black image would replace a good one. */
         fprintf(stderr, "gmonrt: no sample was rendered: %s not written\n", exr_name);
     } else {
-        ExrImage image = render_output_exr(&out);
+        static FilmFile file;
+        render_output_file(&file, &out);
+        ExrImage *image = &file.image;
         if (!o->diagnostics) {
-            image.nonfinite = NULL;
-            image.rounded = NULL;
+            image->nonfinite = NULL;
+            image->rounded = NULL;
         }
         if (!o->write_sets)
-            image.accumulators = NULL;
-        image.metadata.scene_path = scene_path;
-        status = write_render_files(exr_name, &image, preview_image(o->preview, out.mean, out.mon, out.gmon),
-                                    o->exposure, o->preview);
+            image->accumulators = NULL;
+        image->metadata.scene_path = scene_path;
+        status = write_render_files(exr_name, image, out.pass[o->preview], o->exposure, pass_name(o->preview));
     }
     if (!o->quiet)
         print_summary(o, &out);

@@ -34,6 +34,7 @@ typedef uchar uint8_t;
 #define leading_zeros64(x) ((int)clz(x))
 /* OpenCL 1.2 has no ctz: the bits below the lowest one, counted. x != 0. */
 #define trailing_zeros64(x) ((int)popcount(((x) & (0 - (x))) - 1))
+#define count_bits32(x) ((int)popcount((uint)(x)))
 
 #else /* host C11 */
 
@@ -65,6 +66,7 @@ KERNEL_FN float float_from_bits(uint32_t bits)
  * pass 0. */
 #define leading_zeros64(x) __builtin_clzll(x)
 #define trailing_zeros64(x) __builtin_ctzll(x)
+#define count_bits32(x) __builtin_popcount(x)
 
 #endif
 

@@ -1,13 +1,13 @@
 /* Estimator kernels: each work item turns the M set sums of each channel of
- * EST_VECTOR_WIDTH consecutive pixels into the mean, MoN and G-MoN images
- * (and diagnostics), one pixel per vector lane, with the host's code
- * (estimator_core.h, estimate_lanes).
+ * EST_VECTOR_WIDTH consecutive pixels into the requested passes (passes.h:
+ * estimates, their standard errors, diagnostics), one pixel per vector
+ * lane, with the host's code (estimators.h, estimate_lanes).
  *
  * Compile-time constants (build options):
  *   EST_SETS          M, 1..64
  *   EST_GINI_MODE     EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
- *   GMON_FEATURES     feature mask (feature_mask.h); its output bits are the
- *                     images written (default all)
+ *   EST_PASSES        the passes computed (a mask of PASS_BIT, passes.h)
+ *   EST_STDERR        1: also the standard errors of its estimates
  *   EST_FIRST_SET     (first sample index) mod M of a render of a sample
  *                     range: logical set j is stored set (j + EST_FIRST_SET)
  *                     mod M, so that the counts fall right (default 0)
@@ -18,10 +18,10 @@
  * (more are allowed); the last one may hold fewer pixels. The host
  * (host/estimator/estimator_cl.c) picks the width per device.
  * Inputs are planes [set][channel][pixel], so a work item's pixels are
- * consecutive values. Output images are RGB floats, pixel-interleaved; trim
- * counts are ints. */
-#include "estimator_core.h"
-#include "feature_mask.h"
+ * consecutive values. Output: one buffer of RGB planes, pixel-interleaved,
+ * in the order of pass_slot and stderr_slot (passes.h); trim counts are
+ * ints. */
+#include "estimators.h"
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -30,11 +30,12 @@
 #define EST_GINI_MODE EST_GINI_PER_CHANNEL
 #endif
 
-#define EST_OUTPUT_MEAN 1
-#define EST_OUTPUT_MON 2
-#define EST_OUTPUT_GMON 4
-#define EST_OUTPUT_DIAGNOSTICS 8
-#define EST_OUTPUTS (GMON_FEATURES & FEATURES_OUTPUTS)
+#ifndef EST_PASSES
+#error "build with -DEST_PASSES=<mask>"
+#endif
+#ifndef EST_STDERR
+#define EST_STDERR 0
+#endif
 #ifndef EST_FIRST_SET
 #define EST_FIRST_SET 0
 #endif
@@ -129,22 +130,27 @@ KERNEL_FN void store_rgb_int(__global int *image, ulong first, int count, const 
             image[(first + l) * EST_CHANNELS + c] = lanes[c][l];
 }
 
-KERNEL_FN void store_estimates(const LaneEstimates *e, ulong first, int count, __global float *mean,
-                               __global float *mon, __global float *gmon, __global float *gini, __global int *trim)
+/* Writes every requested image of a work item's pixels. */
+KERNEL_FN void store_estimates(const LaneEstimates *e, ulong pixel_count, ulong first, int count,
+                               __global float *images)
 {
-#if EST_OUTPUTS & EST_OUTPUT_MEAN
-    store_rgb(mean, first, count, e->mean);
-#endif
-#if EST_OUTPUTS & EST_OUTPUT_MON
-    store_rgb(mon, first, count, e->mon);
-#endif
-#if EST_OUTPUTS & EST_OUTPUT_GMON
-    store_rgb(gmon, first, count, e->gmon);
-#endif
-#if EST_OUTPUTS & EST_OUTPUT_DIAGNOSTICS
-    store_rgb(gini, first, count, e->gini);
-    store_rgb_int(trim, first, count, e->trim);
-#endif
+    const ulong plane = pixel_count * EST_CHANNELS;
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(EST_PASSES & PASS_BIT(p)))
+            continue;
+        __global float *image = images + (ulong)pass_slot(EST_PASSES, p) * plane;
+        if (p == PASS_TRIM) {
+            est_int trim[EST_CHANNELS];
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                trim[c] = EST_INT_FROM_FLOAT(e->value[p][c]);
+            store_rgb_int((__global int *)image, first, count, trim);
+        } else {
+            store_rgb(image, first, count, e->value[p]);
+        }
+        if (EST_STDERR && (PASSES_ESTIMATES & PASS_BIT(p)))
+            store_rgb(images + (ulong)stderr_slot(EST_PASSES, p) * plane, first, count, e->error[p]);
+    }
 }
 
 /* EST_PREFETCH (CPU devices only, set by the host): prefetch the input of
@@ -229,9 +235,7 @@ EST_INLINE void prefetch_channel(__global const void *input, int from_accumulato
  * constants: not inlined, as its loops do not unroll. */
 static __attribute__((noinline)) void estimate_in_general(__global const void *input, int from_accumulators,
                                                           ulong pixel_count, ulong sample_count, ulong first,
-                                                          __global float *mean, __global float *mon,
-                                                          __global float *gmon, __global float *gini,
-                                                          __global int *trim)
+                                                          const EstimatorParams *params, __global float *images)
 {
     int count = pixel_count - first < LANES ? (int)(pixel_count - first) : LANES;
     int m = sample_count < EST_SETS ? (int)sample_count : EST_SETS;
@@ -239,81 +243,82 @@ static __attribute__((noinline)) void estimate_in_general(__global const void *i
     for (uint c = 0; c < EST_CHANNELS; ++c)
         load_channel(input, from_accumulators, pixel_count, first, count, c, sums[c]);
     LaneEstimates e;
-    estimate_lanes(sums, sample_count, EST_SETS, m, EST_GINI_MODE, from_accumulators, &e);
+    est_int grid = from_accumulators ? load_grid_exponents(input, first, count) : EST_INTS(0);
+    estimate_lanes(sums, sample_count, EST_SETS, m, EST_PASSES, EST_STDERR, EST_GINI_MODE, params, grid,
+                   from_accumulators, &e);
     if (from_accumulators)
-        estimates_to_grid(&e, load_grid_exponents(input, first, count));
-    store_estimates(&e, first, count, mean, mon, gmon, gini, trim);
+        estimates_to_grid(&e, EST_PASSES, grid);
+    store_estimates(&e, pixel_count, first, count, images);
 }
 
 /* The common case: LANES pixels, every set non-empty (m = M, a constant). */
 EST_INLINE void estimate_common(__global const void *input, int from_accumulators, ulong pixel_count,
-                                ulong sample_count, ulong first, __global float *mean, __global float *mon,
-                                __global float *gmon, __global float *gini, __global int *trim)
+                                ulong sample_count, ulong first, const EstimatorParams *params, __global float *images)
 {
     const int prefetch = EST_PREFETCH > 0 && first + (EST_PREFETCH + 1) * LANES <= pixel_count;
     const ulong ahead = first + EST_PREFETCH * LANES;
     LaneEstimates e;
-#if EST_GINI_MODE == EST_GINI_PER_CHANNEL
-    /* estimate_lanes channel by channel (as it runs in this mode), each
-     * channel's input loaded just before it is needed, and the same channel
-     * of a later work item prefetched (spread out, not all at once). */
-    const SetCounts k = est_set_counts(sample_count, EST_SETS, EST_SETS);
-    EST_UNROLL
-    for (uint c = 0; c < EST_CHANNELS; ++c) {
-        if (prefetch)
-            prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
-        est_float sums[EST_SETS];
-        load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums);
-        estimate_channel_alone(&k, sums, from_accumulators, &e, (int)c);
+    est_int grid = from_accumulators ? load_grid_exponents(input, first, LANES) : EST_INTS(0);
+    if (!channels_together(EST_PASSES, EST_STDERR, EST_GINI_MODE)) {
+        /* estimate_lanes channel by channel (as it runs then), each
+         * channel's input loaded just before it is needed, and the same
+         * channel of a later work item prefetched (spread out, not all at
+         * once). */
+        const SetCounts k = est_set_counts(sample_count, EST_SETS, EST_SETS);
+        EST_UNROLL
+        for (uint c = 0; c < EST_CHANNELS; ++c) {
+            if (prefetch)
+                prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
+            est_float sums[EST_SETS];
+            load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums);
+            estimate_channel_alone(&k, sums, from_accumulators, &e, (int)c);
+        }
+    } else {
+        est_float sums[EST_CHANNELS][EST_SETS];
+        EST_UNROLL
+        for (uint c = 0; c < EST_CHANNELS; ++c) {
+            if (prefetch)
+                prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
+            load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums[c]);
+        }
+        estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_PASSES, EST_STDERR, EST_GINI_MODE, params, grid,
+                       from_accumulators, &e);
     }
-#else
-    est_float sums[EST_CHANNELS][EST_SETS];
-    EST_UNROLL
-    for (uint c = 0; c < EST_CHANNELS; ++c) {
-        if (prefetch)
-            prefetch_channel(input, from_accumulators, pixel_count, ahead, c);
-        load_channel(input, from_accumulators, pixel_count, first, LANES, c, sums[c]);
-    }
-    estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_GINI_MODE, from_accumulators, &e);
-#endif
     if (from_accumulators)
-        estimates_to_grid(&e, load_grid_exponents(input, first, LANES));
-    store_estimates(&e, first, LANES, mean, mon, gmon, gini, trim);
+        estimates_to_grid(&e, EST_PASSES, grid);
+    store_estimates(&e, pixel_count, first, LANES, images);
 }
 
 /* Input: float set sums, planes [set][channel][pixel]. */
 __kernel void estimate_from_sums(__global const float *set_sums, ulong pixel_count, ulong sample_count,
-                                 __global float *mean, __global float *mon, __global float *gmon, __global float *gini,
-                                 __global int *trim)
+                                 EstimatorParams params, __global float *images)
 {
     ulong first = get_global_id(0) * LANES;
     if (first >= pixel_count)
         return;
     if (sample_count < EST_SETS || pixel_count - first < LANES)
-        estimate_in_general(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+        estimate_in_general(set_sums, 0, pixel_count, sample_count, first, &params, images);
     else
-        estimate_common(set_sums, 0, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+        estimate_common(set_sums, 0, pixel_count, sample_count, first, &params, images);
 }
 
-/* Input: the renderer's exact fixed-point accumulators (estimator.h), planes
- * [set][channel][word][pixel]. */
+/* Input: the renderer's exact fixed-point accumulators (accumulate.h). */
 __kernel void estimate_from_accumulators(__global const ulong *accumulators, ulong pixel_count, ulong sample_count,
-                                         __global float *mean, __global float *mon, __global float *gmon,
-                                         __global float *gini, __global int *trim)
+                                         EstimatorParams params, __global float *images)
 {
     ulong first = get_global_id(0) * LANES;
     if (first >= pixel_count)
         return;
     if (sample_count < EST_SETS || pixel_count - first < LANES)
-        estimate_in_general(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+        estimate_in_general(accumulators, 1, pixel_count, sample_count, first, &params, images);
     else
-        estimate_common(accumulators, 1, pixel_count, sample_count, first, mean, mon, gmon, gini, trim);
+        estimate_common(accumulators, 1, pixel_count, sample_count, first, &params, images);
 }
 
 /* Drives the shared accumulation code from a sample stream (tests): work
  * item p adds samples[p][i] (RGB) as sample index first_sample + i of pixel
  * p, and counts the rejected ones: rejected holds two planes, the non-finite
- * samples and the rounded ones (estimator_core.h). One pixel per work item whatever
+ * samples and the rounded ones (accumulate.h). One pixel per work item whatever
  * EST_VECTOR_WIDTH is. */
 __kernel void accumulate_stream(__global const float *samples, ulong stream_length, ulong first_sample,
                                 __global ulong *accumulators, ulong pixel_count, __global uint *rejected)

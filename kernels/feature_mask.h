@@ -1,6 +1,6 @@
 /* Kernel specialization: the host computes one bit mask of what a render
- * uses (shapes, materials, lights, integrator mode, estimator outputs) from
- * the scene and the requested outputs, and builds every program with
+ * uses (shapes, materials, lights, integrator mode) from the scene, and
+ * builds the path tracer with
  * -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_* macros
  * (0 or 1) for `#if` guards and constant conditions, so code a render does
  * not need is compiled out. Without the define (host code, tests, the
@@ -8,12 +8,7 @@
 #ifndef KERNELS_FEATURES_H
 #define KERNELS_FEATURES_H
 
-/* The estimator outputs keep the values of ESTIMATOR_OUTPUT_* and
- * EST_OUTPUT_*, so an output mask is a feature mask as it is. */
-#define FEATURE_MEAN 0x1u
-#define FEATURE_MON 0x2u
-#define FEATURE_GMON 0x4u
-#define FEATURE_DIAGNOSTICS 0x8u
+/* (The estimator kernel is specialized by its passes instead: passes.h.) */
 #define FEATURE_TRIANGLES 0x10u
 #define FEATURE_SPHERES 0x20u
 #define FEATURE_DIFFUSE 0x40u
@@ -24,8 +19,7 @@
 #define FEATURE_AREA_LIGHTS 0x800u  /* emitting shapes */
 #define FEATURE_ENVIRONMENT 0x1000u /* a constant infinite light */
 #define FEATURE_NEE 0x2000u         /* next-event estimation with MIS; else BSDF sampling only */
-#define FEATURES_OUTPUTS 0xfu
-#define FEATURES_ALL 0x3fffu
+#define FEATURES_ALL 0x3ff0u
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL

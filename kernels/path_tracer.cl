@@ -1,6 +1,6 @@
 /* Unidirectional path tracer: one work item per pixel renders a run of
  * samples and adds each to set (sample index mod M) of its pixel through the
- * shared accumulation code (estimator_core.h).
+ * shared accumulation code (accumulate.h).
  *
  * With RENDER_NEE: next-event estimation on area and environment lights,
  * combined with BSDF sampling by multiple importance sampling (power
@@ -10,7 +10,7 @@
  * Build options: -DEST_SETS=M, and -DGMON_FEATURES=<mask> to compile out
  * what the scene does not use (feature_mask.h). */
 #include "bsdf.h"
-#include "estimator_core.h"
+#include "accumulate.h"
 #include "feature_mask.h"
 #include "intersect.h"
 #include "rng.h"
@@ -279,7 +279,7 @@ __kernel void render_samples(__global const RenderParams *params, __global const
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }
-    /* Two planes: non-finite samples, then rounded ones (estimator_core.h). */
+    /* Two planes: non-finite samples, then rounded ones (accumulate.h). */
     rejected[local_pixel] += nonfinite;
     rejected[buffer_pixel_count + local_pixel] += rounded;
     ray_counts[local_pixel] += rays;

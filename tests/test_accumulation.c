@@ -2,8 +2,8 @@
  * and on the device through the shared accumulation code; the set mean must
  * be within 1e-6 relative of a long-double sum of the same floats. */
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
-#include "estimator_core.h"
+#include "film/film.h"
+#include "accumulate.h"
 #include "exact_sum.h"
 #include "sample_streams.h"
 #include "test_device.h"

@@ -88,10 +88,10 @@ static void test_embedded_source_has_line_markers(void **state)
     char *source = kernel_source_load("estimator", NULL, &include_dir, error, sizeof error);
     assert_non_null(source);
     assert_null(include_dir);
-    assert_non_null(strstr(source, "#line 1 \"kernels/estimator_core.h\""));
+    assert_non_null(strstr(source, "#line 1 \"kernels/estimators.h\""));
     assert_non_null(strstr(source, "#line 1 \"kernels/compat.h\""));
     assert_non_null(strstr(source, "\"kernels/estimator.cl\""));
-    assert_null(strstr(source, "#include \"estimator_core.h\""));
+    assert_null(strstr(source, "#include \"estimators.h\""));
     free(source);
 }
 
@@ -103,7 +103,7 @@ static void test_kernel_dir_override(void **state)
     char *source = kernel_source_load("estimator", GMON_SOURCE_DIR "/kernels", &include_dir, error, sizeof error);
     assert_non_null(source);
     assert_string_equal(include_dir, GMON_SOURCE_DIR "/kernels");
-    assert_non_null(strstr(source, "#include \"estimator_core.h\""));
+    assert_non_null(strstr(source, "#include \"estimators.h\""));
     free(source);
     assert_null(kernel_source_load("estimator", "/nonexistent-dir", &include_dir, error, sizeof error));
     assert_non_null(strstr(error, "/nonexistent-dir/estimator.cl"));

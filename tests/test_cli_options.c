@@ -25,8 +25,9 @@ static void test_defaults(void **state)
     assert_null(o.input);
     assert_int_equal(o.estimator.set_count, 21);
     assert_int_equal(o.estimator.gini_mode, GINI_PER_CHANNEL);
-    assert_int_equal(o.outputs, ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON);
-    assert_string_equal(o.preview, "gmon");
+    assert_int_equal(o.estimator.passes, PASSES_DEFAULT);
+    assert_int_equal(o.estimator.with_stderr, 0);
+    assert_int_equal(o.preview, PASS_GMON);
     assert_int_equal(o.max_depth, -1);
     assert_int_equal(o.spp, 0);
 }
@@ -45,9 +46,9 @@ static void test_every_flag(void **state)
     assert_int_equal(o.spp, 128);
     assert_int_equal(o.seed, 9);
     assert_int_equal(o.estimator.set_count, 5);
-    assert_int_equal(o.outputs, ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_GMON);
+    assert_int_equal(o.estimator.passes, PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_GMON) | PASSES_DIAGNOSTICS);
     assert_int_equal(o.estimator.gini_mode, SORT_BY_LUMINANCE);
-    assert_string_equal(o.preview, "mean");
+    assert_int_equal(o.preview, PASS_MEAN);
     assert_true(o.exposure == 2.5f);
     assert_true(o.time_budget == 30.0);
     assert_int_equal(o.width, 320);
@@ -118,6 +119,40 @@ static void test_subcommand_flags_and_help(void **state)
     assert_non_null(strstr(merge, "merged.exr"));
     assert_null(strstr(merge, "  --write-sets "));
     assert_null(strstr(merge, "  --sets "));
+}
+
+/* The estimator family by name, its parameters and standard errors. */
+static void test_estimator_family_flags(void **state)
+{
+    (void)state;
+    Options o;
+    char error[256] = "";
+    assert_int_equal(PARSE(&o, error, "--estimators", "all", "--stderr", "--estimator-param", "admon.alpha=0.25",
+                           "--estimator-param=trimmed.c=2", "--preview", "gmon-authors"),
+                     0);
+    assert_int_equal(o.estimator.passes, PASSES_ESTIMATES);
+    assert_int_equal(o.estimator.with_stderr, 1);
+    assert_true(o.estimator.params.admon_alpha == 0.25f);
+    assert_int_equal(o.estimator.params.trimmed_c, 2);
+    assert_true(o.estimator.params.amon_alpha == 0.5f); /* the others keep their defaults */
+    assert_int_equal(o.preview, PASS_GMON_AUTHORS);
+    /* Without gmon, the preview is the first estimator asked for. */
+    assert_int_equal(PARSE(&o, error, "--estimators", "winsorized,pakmon"), 0);
+    assert_int_equal(o.preview, PASS_PAKMON);
+    assert_int_equal(PARSE(&o, error, "--estimators", "gmedian", "--preview", "mean"), 2);
+    assert_non_null(strstr(error, "not among --estimators"));
+    assert_int_equal(PARSE(&o, error, "--stderr", "--gini-mode", "luminance"), 2);
+    assert_non_null(strstr(error, "--stderr"));
+    assert_int_equal(PARSE(&o, error, "--estimator-param", "amon.alpha=3"), 2);
+    assert_non_null(strstr(error, "amon.alpha"));
+    assert_int_equal(PARSE(&o, error, "--estimator-param", "alpha=0.3"), 2);
+    assert_non_null(strstr(error, "known parameter"));
+    assert_int_equal(PARSE(&o, error, "--estimators", "gmon,trim"), 2);
+    assert_non_null(strstr(error, "unknown estimator 'trim'"));
+    /* estimate picks its preview once the file's estimators are known. */
+    assert_int_equal(PARSE(&o, error, "estimate", "in.exr"), 0);
+    assert_int_equal(o.preview, -1);
+    assert_non_null(strstr(options_help(COMMAND_ESTIMATE), "--estimator-param"));
 }
 
 static void test_device_selection(void **state)
@@ -197,9 +232,13 @@ static void test_bad_flags_and_values(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_defaults),         cmocka_unit_test(test_every_flag),
-        cmocka_unit_test(test_subcommands),      cmocka_unit_test(test_subcommand_flags_and_help),
-        cmocka_unit_test(test_device_selection), cmocka_unit_test(test_bad_flags_and_values),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_every_flag),
+        cmocka_unit_test(test_subcommands),
+        cmocka_unit_test(test_subcommand_flags_and_help),
+        cmocka_unit_test(test_device_selection),
+        cmocka_unit_test(test_bad_flags_and_values),
+        cmocka_unit_test(test_estimator_family_flags),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

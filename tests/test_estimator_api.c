@@ -1,7 +1,7 @@
 /* Argument validation of the host estimator API: every bad argument returns
  * ESTIMATOR_INVALID_ARGUMENT with a one-line reason, never crashes, and works
  * without a message buffer; valid calls return ESTIMATOR_OK. */
-#include "estimator/estimator.h"
+#include "film/film.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -42,10 +42,15 @@ static void fixture_init(Fixture *f)
         for (size_t plane = 0; plane < (size_t)M * 3; ++plane)
             f->accumulators[(1 + plane * 2) * PIXELS + p] = (uint64_t)1 << 56;
     }
+    estimator_settings_default(&f->settings);
     f->settings.set_count = M;
-    f->settings.gini_mode = GINI_PER_CHANNEL;
-    EstimatorImages images = {f->mean, f->mon, f->gmon, f->gini, f->trim, OUTPUTS};
-    f->images = images;
+    f->settings.passes = PASSES_DEFAULT | PASSES_DIAGNOSTICS;
+    f->images.pass[PASS_MEAN] = f->mean;
+    f->images.pass[PASS_MON] = f->mon;
+    f->images.pass[PASS_GMON] = f->gmon;
+    f->images.pass[PASS_GINI] = f->gini;
+    f->images.pass[PASS_TRIM] = f->trim;
+    f->images.length = OUTPUTS;
 }
 
 static Fixture fixture;
@@ -107,7 +112,7 @@ static void test_valid_calls_succeed(void **state)
                      ESTIMATOR_OK);
     assert_true(f->sums[0] == 1.0f && f->sums[SUMS - 1] == 1.0f);
     /* Only one output requested, and no message buffer. */
-    EstimatorImages gmon_only = {NULL, NULL, f->gmon, NULL, NULL, OUTPUTS};
+    EstimatorImages gmon_only = {.pass[PASS_GMON] = f->gmon, .length = OUTPUTS};
     assert_int_equal(from_sums(&f->settings, f->sums, SUMS, PIXELS, &gmon_only, NULL, 0), ESTIMATOR_OK);
     assert_true(f->gmon[0] == 1.0f / 25.0f); /* sums 1, 100 / M = 25 samples per set */
     /* Longer buffers than needed, and zero pixels, are fine. */
@@ -115,7 +120,10 @@ static void test_valid_calls_succeed(void **state)
     assert_int_equal(from_sums(&f->settings, f->sums, SUMS, 0, &f->images, NULL, 0), ESTIMATOR_OK);
     /* The ends of the valid range of M (1 and 64 sets, one pixel). */
     static float sums64[64 * 3];
-    EstimatorSettings one = {1, GINI_PER_CHANNEL, 0}, most = {64, SORT_BY_LUMINANCE, 0};
+    EstimatorSettings one = f->settings, most = f->settings;
+    one.set_count = 1;
+    most.set_count = 64;
+    most.gini_mode = SORT_BY_LUMINANCE;
     assert_int_equal(from_sums(&one, sums64, 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
     assert_int_equal(from_sums(&most, sums64, 64 * 3, 1, &f->images, NULL, 0), ESTIMATOR_OK);
 }
@@ -145,8 +153,8 @@ static void test_set_count_out_of_range(void **state)
     (void)state;
     static const int bad[] = {0, 65, -1, 1000, INT32_MIN};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+        bad_settings = fixture.settings;
         bad_settings.set_count = bad[i];
-        bad_settings.gini_mode = GINI_PER_CHANNEL;
         expect_invalid(sums_with_bad_settings);
         expect_invalid(accumulators_with_bad_settings);
         expect_invalid(conversion_with_bad_set_count);
@@ -158,11 +166,74 @@ static void test_unknown_gini_mode(void **state)
     (void)state;
     static const int bad[] = {3, -1, 1000};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
-        bad_settings.set_count = M;
+        bad_settings = fixture.settings;
         bad_settings.gini_mode = (GiniMode)bad[i];
         expect_invalid(sums_with_bad_settings);
         expect_invalid(accumulators_with_bad_settings);
     }
+}
+
+/* Passes outside the list, standard errors with sort-by-luminance, and
+ * parameters out of their ranges. */
+static void test_bad_passes_and_parameters(void **state)
+{
+    (void)state;
+    bad_settings = fixture.settings;
+    bad_settings.passes = PASS_BIT(PASS_COUNT);
+    expect_invalid(sums_with_bad_settings);
+    bad_settings = fixture.settings;
+    bad_settings.with_stderr = 1;
+    bad_settings.gini_mode = SORT_BY_LUMINANCE;
+    expect_invalid(sums_with_bad_settings);
+    expect_invalid(accumulators_with_bad_settings);
+    bad_settings = fixture.settings;
+    bad_settings.params.amon_alpha = 1.5f;
+    expect_invalid(sums_with_bad_settings);
+    bad_settings = fixture.settings;
+    bad_settings.params.gmedian_iterations = 0;
+    expect_invalid(accumulators_with_bad_settings);
+}
+
+/* The names users give: estimator lists and parameter assignments. */
+static void test_names_and_parameters(void **state)
+{
+    (void)state;
+    uint32_t passes = 0;
+    char message[640];
+    assert_int_equal(passes_from_list("mean,gmon-authors,gmedian", &passes, message, sizeof message), 0);
+    assert_int_equal(passes, PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_GMON_AUTHORS) | PASS_BIT(PASS_GMEDIAN));
+    assert_int_equal(passes_from_list("all", &passes, message, sizeof message), 0);
+    assert_int_equal(passes, PASSES_ESTIMATES);
+    static const char *const bad_lists[] = {"", "mean,", ",mean", "median", "gini", "mean,,mon"};
+    for (size_t i = 0; i < sizeof bad_lists / sizeof bad_lists[0]; ++i) {
+        assert_int_equal(passes_from_list(bad_lists[i], &passes, message, sizeof message), -1);
+        print_message("refused '%s': %s\n", bad_lists[i], message);
+    }
+    for (int p = 0; p < PASS_COUNT; ++p)
+        assert_int_equal(pass_from_name(pass_name(p)), p);
+
+    EstimatorParams params = fixture.settings.params;
+    assert_int_equal(estimator_param_set(&params, "admon.alpha=0.25", message, sizeof message), 0);
+    assert_true(params.admon_alpha == 0.25f);
+    assert_int_equal(estimator_param_set(&params, "trimmed.c=3", message, sizeof message), 0);
+    assert_int_equal(params.trimmed_c, 3);
+    static const char *const bad_params[] = {
+        "admon.alpha", "admon.alpha=", "admon.alpha=2",       "admon.alpha=x", "trimmed.c=1.5",
+        "nope=1",      "=1",           "gmedian.iterations=0"};
+    for (size_t i = 0; i < sizeof bad_params / sizeof bad_params[0]; ++i) {
+        assert_int_equal(estimator_param_set(&params, bad_params[i], message, sizeof message), -1);
+        print_message("refused '%s': %s\n", bad_params[i], message);
+    }
+    /* Formatted values read back as the same values. */
+    EstimatorParams again = fixture.settings.params;
+    for (int i = 0; i < estimator_param_count(); ++i) {
+        const char *name;
+        char value[32], assignment[96];
+        estimator_param_format(&params, i, &name, value, sizeof value);
+        snprintf(assignment, sizeof assignment, "%s=%s", name, value);
+        assert_int_equal(estimator_param_set(&again, assignment, message, sizeof message), 0);
+    }
+    assert_memory_equal(&again, &params, sizeof params);
 }
 
 static EstimatorStatus sums_null_settings(char *message, size_t size)
@@ -218,7 +289,7 @@ static void test_null_arguments(void **state)
     expect_invalid(conversion_null_sums);
 }
 
-static EstimatorImages no_outputs = {NULL, NULL, NULL, NULL, NULL, OUTPUTS};
+static EstimatorImages no_outputs = {.length = OUTPUTS};
 
 static EstimatorStatus sums_no_output(char *message, size_t size)
 {
@@ -344,6 +415,8 @@ int main(void)
         cmocka_unit_test_setup(test_set_count_out_of_range, setup),
         cmocka_unit_test_setup(test_unknown_gini_mode, setup),
         cmocka_unit_test_setup(test_null_arguments, setup),
+        cmocka_unit_test_setup(test_bad_passes_and_parameters, setup),
+        cmocka_unit_test_setup(test_names_and_parameters, setup),
         cmocka_unit_test_setup(test_no_output_requested, setup),
         cmocka_unit_test_setup(test_input_too_short, setup),
         cmocka_unit_test_setup(test_output_too_short, setup),

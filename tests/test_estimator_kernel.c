@@ -1,12 +1,14 @@
 /* Kernel == host, bit for bit: the estimator kernels on the OpenCL device
- * against the host reference (the same estimator_core.h compiled by the host
- * compiler), for M in {1, 2, 3, 4, 20, 21, 64}, every Gini mode and every
- * input case, plus sample streams with NaN and Inf accumulated on both. */
+ * against the host reference (the same estimators.h compiled by the host
+ * compiler), for M in {1, 2, 3, 4, 20, 21, 64}, every pass (the whole
+ * estimator family, diagnostics and standard errors), every Gini mode and
+ * every input case, plus sample streams with NaN and Inf accumulated on both. */
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
-#include "estimator/estimator_cl.h"
+#include "film/film.h"
+#include "film/film_cl.h"
 #include "estimator_cases.h"
-#include "estimator_core.h"
+#include "estimator_images.h"
+#include "estimators.h"
 #include "sample_streams.h"
 #include "test_device.h"
 
@@ -24,51 +26,32 @@
 static const int set_counts[] = {1, 2, 3, 4, 20, 21, 64};
 #define SET_COUNTS (int)(sizeof set_counts / sizeof set_counts[0])
 
+/* The kernels compared: every pass with and without standard errors, in
+ * the Gini modes that have them, every pass in sort-by-luminance, and the
+ * default passes (the kernels' fast path, channel by channel). */
 typedef struct {
-    float *mean, *mon, *gmon, *gini;
-    int32_t *trim;
-    EstimatorImages view;
-} Images;
+    GiniMode mode;
+    uint32_t passes;
+    int with_stderr;
+} Variant;
+static const Variant variants[] = {
+    {GINI_PER_CHANNEL, PASSES_ALL, 1},
+    {GINI_PER_CHANNEL, PASSES_ALL, 0},
+    {GINI_PER_PIXEL, PASSES_ALL, 1},
+    {SORT_BY_LUMINANCE, PASSES_ALL, 0},
+    {GINI_PER_CHANNEL, PASSES_DEFAULT | PASSES_DIAGNOSTICS, 0},
+};
+#define VARIANTS (int)(sizeof variants / sizeof variants[0])
 
-static void images_init(Images *im, size_t pixel_count)
+static EstimatorSettings variant_settings(int set_count, const Variant *v)
 {
-    size_t n = pixel_count * 3;
-    im->mean = calloc(n, sizeof(float));
-    im->mon = calloc(n, sizeof(float));
-    im->gmon = calloc(n, sizeof(float));
-    im->gini = calloc(n, sizeof(float));
-    im->trim = calloc(n, sizeof(int32_t));
-    im->view = (EstimatorImages){im->mean, im->mon, im->gmon, im->gini, im->trim, n};
-}
-
-static void images_free(Images *im)
-{
-    free(im->mean);
-    free(im->mon);
-    free(im->gmon);
-    free(im->gini);
-    free(im->trim);
-}
-
-/* Bitwise comparison, naming the first differing value on failure. */
-static void assert_images_identical(const Images *a, const Images *b, size_t pixel_count, const char *what)
-{
-    size_t n = pixel_count * 3;
-    const void *pa[5] = {a->mean, a->mon, a->gmon, a->gini, a->trim};
-    const void *pb[5] = {b->mean, b->mon, b->gmon, b->gini, b->trim};
-    const char *names[5] = {"mean", "mon", "gmon", "gini", "trim"};
-    for (int i = 0; i < 5; ++i) {
-        if (memcmp(pa[i], pb[i], n * 4) == 0)
-            continue;
-        for (size_t k = 0; k < n; ++k) {
-            uint32_t x, y;
-            memcpy(&x, (const char *)pa[i] + 4 * k, 4);
-            memcpy(&y, (const char *)pb[i] + 4 * k, 4);
-            if (x != y)
-                fail_msg("%s: %s differs at pixel %zu channel %zu: kernel %08x (%g) host %08x (%g)", what, names[i],
-                         k / 3, k % 3, x, (double)float_from_bits(x), y, (double)float_from_bits(y));
-        }
-    }
+    EstimatorSettings settings;
+    estimator_settings_default(&settings);
+    settings.set_count = set_count;
+    settings.gini_mode = v->mode;
+    settings.passes = v->passes;
+    settings.with_stderr = v->with_stderr;
+    return settings;
 }
 
 static void test_kernel_equals_host_on_all_cases(void **state)
@@ -77,34 +60,32 @@ static void test_kernel_equals_host_on_all_cases(void **state)
     REQUIRE_TEST_DEVICE();
     int compared = 0;
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
-        for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
-            EstimatorSettings settings = {set_counts[mi], (GiniMode)mode, 0};
-            EstimatorProgram *program = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+        for (int vi = 0; vi < VARIANTS; ++vi) {
+            EstimatorSettings settings = variant_settings(set_counts[mi], &variants[vi]);
+            EstimatorProgram *program = estimator_program_new(&test_device, &settings, NULL);
             assert_non_null(program);
             for (int kind = 0; kind < CASE_COUNT; ++kind) {
                 EstimatorCase c = estimator_case_make((EstimatorCaseKind)kind, set_counts[mi], 1);
                 size_t values = (size_t)c.set_count * 3 * c.pixel_count;
-                Images host, kernel;
-                images_init(&host, c.pixel_count);
-                images_init(&kernel, c.pixel_count);
+                EstimatorImages host = test_images_new(settings.passes, settings.with_stderr, c.pixel_count);
+                EstimatorImages kernel = test_images_new(settings.passes, settings.with_stderr, c.pixel_count);
                 char message[256];
-                assert_int_equal(estimator_from_sums(&settings, c.sums, values, c.pixel_count, c.sample_count,
-                                                     &host.view, message, sizeof message),
+                assert_int_equal(estimator_from_sums(&settings, c.sums, values, c.pixel_count, c.sample_count, &host,
+                                                     message, sizeof message),
                                  ESTIMATOR_OK);
-                assert_int_equal(estimator_program_run(program, c.sums, 0, c.pixel_count, c.sample_count, &kernel.view),
-                                 0);
+                assert_int_equal(estimator_program_run(program, c.sums, 0, c.pixel_count, c.sample_count, &kernel), 0);
                 char what[128];
-                snprintf(what, sizeof what, "M=%d mode=%d case '%s'", set_counts[mi], mode, c.name);
+                snprintf(what, sizeof what, "M=%d variant %d case '%s'", set_counts[mi], vi, c.name);
                 assert_images_identical(&kernel, &host, c.pixel_count, what);
                 ++compared;
-                images_free(&host);
-                images_free(&kernel);
+                test_images_free(&host);
+                test_images_free(&kernel);
                 estimator_case_free(&c);
             }
             estimator_program_destroy(program);
         }
     }
-    printf("compared %d (M, mode, case) combinations bit for bit\n", compared);
+    printf("compared %d (M, kernel, case) combinations bit for bit, %d passes each\n", compared, PASS_COUNT);
 }
 
 /* A stream of RGB samples with NaN, +Inf, -Inf, huge and denormal values
@@ -188,7 +169,7 @@ static void test_streams_with_nan_and_inf(void **state)
 
         /* Device: the same stream in two passes of unequal length. */
         char options[64];
-        snprintf(options, sizeof options, "-DEST_SETS=%d", m);
+        snprintf(options, sizeof options, "-DEST_SETS=%d -DEST_PASSES=0", m);
         cl_program program = cl_program_build(&test_device, "estimator", options, NULL);
         assert_non_null(program);
         cl_int err = CL_SUCCESS;
@@ -223,24 +204,28 @@ static void test_streams_with_nan_and_inf(void **state)
         assert_true(nonfinite > 0 && rounded > 0);
 
         /* And the estimates of those sums, from the accumulators. */
-        for (int mode = GINI_PER_CHANNEL; mode <= SORT_BY_LUMINANCE; ++mode) {
-            EstimatorSettings settings = {m, (GiniMode)mode, 0};
-            EstimatorProgram *est = estimator_program_new(&test_device, &settings, ESTIMATOR_OUTPUT_ALL, NULL);
+        /* Every variant at the paper's M; elsewhere the default passes and
+         * all passes with errors (each kernel takes seconds to compile). */
+        for (int vi = 0; vi < VARIANTS; ++vi) {
+            if (m != ESTIMATOR_DEFAULT_SETS && vi != 0 && vi != VARIANTS - 1)
+                continue;
+            EstimatorSettings settings = variant_settings(m, &variants[vi]);
+            EstimatorProgram *est = estimator_program_new(&test_device, &settings, NULL);
             assert_non_null(est);
-            Images host, kern;
-            images_init(&host, pixel_count);
-            images_init(&kern, pixel_count);
+            EstimatorImages host = test_images_new(settings.passes, settings.with_stderr, pixel_count);
+            EstimatorImages kern = test_images_new(settings.passes, settings.with_stderr, pixel_count);
             assert_int_equal(
-                estimator_from_accumulators(&settings, host_acc, words, pixel_count, length, &host.view, NULL, 0),
+                estimator_from_accumulators(&settings, host_acc, words, pixel_count, length, &host, NULL, 0),
                 ESTIMATOR_OK);
-            assert_int_equal(estimator_program_run(est, device_acc, 1, pixel_count, length, &kern.view), 0);
+            assert_int_equal(estimator_program_run(est, device_acc, 1, pixel_count, length, &kern), 0);
             char what[96];
-            snprintf(what, sizeof what, "stream M=%d mode=%d", m, mode);
+            snprintf(what, sizeof what, "stream M=%d variant %d", m, vi);
             assert_images_identical(&kern, &host, pixel_count, what);
-            for (size_t i = 0; i < pixel_count * 3; ++i)
-                assert_true(isfinite(host.mean[i]) && isfinite(host.gmon[i]) && isfinite(host.mon[i]));
-            images_free(&host);
-            images_free(&kern);
+            for (int p = 0; p < PASS_COUNT; ++p)
+                for (size_t i = 0; (settings.passes & PASSES_ESTIMATES & PASS_BIT(p)) && i < pixel_count * 3; ++i)
+                    assert_true(isfinite(TEST_IMAGE(host, p)[i]));
+            test_images_free(&host);
+            test_images_free(&kern);
             estimator_program_destroy(est);
         }
 

@@ -2,9 +2,9 @@
  * formulas (tests/support/long_double_reference.c), and the properties that
  * shared/ESTIMATORS.md requires of every implementation; plus the exact
  * fixed-point accumulation and its conversion to float sums. */
-#include "estimator/estimator.h"
+#include "film/film.h"
 #include "estimator_cases.h"
-#include "estimator_core.h"
+#include "estimators.h"
 #include "long_double_reference.h"
 #include "sample_streams.h"
 
@@ -54,8 +54,13 @@ static void outputs_init(Outputs *o, size_t pixel_count)
     o->gini = calloc(n, sizeof(float));
     o->trim = calloc(n, sizeof(int32_t));
     assert_true(o->mean && o->mon && o->gmon && o->gini && o->trim);
-    EstimatorImages images = {o->mean, o->mon, o->gmon, o->gini, o->trim, n};
-    o->images = images;
+    memset(&o->images, 0, sizeof o->images);
+    o->images.pass[PASS_MEAN] = o->mean;
+    o->images.pass[PASS_MON] = o->mon;
+    o->images.pass[PASS_GMON] = o->gmon;
+    o->images.pass[PASS_GINI] = o->gini;
+    o->images.pass[PASS_TRIM] = o->trim;
+    o->images.length = n;
 }
 
 static void outputs_free(Outputs *o)
@@ -76,10 +81,21 @@ static int outputs_identical(const Outputs *a, const Outputs *b, size_t pixel_co
            memcmp(a->trim, b->trim, n * sizeof(int32_t)) == 0;
 }
 
+/* Mean, MoN, G-MoN and the diagnostics, with M sets in a Gini mode. */
+static EstimatorSettings default_passes(int set_count, GiniMode mode)
+{
+    EstimatorSettings settings;
+    estimator_settings_default(&settings);
+    settings.set_count = set_count;
+    settings.gini_mode = mode;
+    settings.passes = PASSES_DEFAULT | PASSES_DIAGNOSTICS;
+    return settings;
+}
+
 static void estimate(int set_count, GiniMode mode, const float *sums, size_t pixel_count, uint64_t sample_count,
                      Outputs *o)
 {
-    EstimatorSettings settings = {set_count, mode, 0};
+    EstimatorSettings settings = default_passes(set_count, mode);
     char message[256] = "";
     EstimatorStatus status = estimator_from_sums(&settings, sums, (size_t)set_count * 3 * pixel_count, pixel_count,
                                                  sample_count, &o->images, message, sizeof message);
@@ -571,7 +587,7 @@ static void check_accumulation(int set_count, size_t pixel_count, uint64_t sampl
     outputs_init(&from_sums, pixel_count);
     outputs_init(&from_accumulators, pixel_count);
     for (int mode = 0; mode < MODE_CHOICES; ++mode) {
-        EstimatorSettings settings = {set_count, modes[mode], 0};
+        EstimatorSettings settings = default_passes(set_count, modes[mode]);
         estimate(set_count, modes[mode], sums, pixel_count, sample_count, &from_sums);
         assert_int_equal(estimator_from_accumulators(&settings, accumulators, words, pixel_count, sample_count,
                                                      &from_accumulators.images, message, sizeof message),

@@ -79,10 +79,26 @@ static int file_exists(const char *path)
  * EXR
  * ---------------------------------------------------------------------- */
 
+/* RGB layers of a test image: any names (a dot inside included), float or
+ * int32. */
+#define TEST_LAYERS 6
+static const char *const test_layer_names[TEST_LAYERS] = {"mean", "mon", "gmon", "gini", "gmon.stderr", "trim"};
+static const ExrKeyValue test_attributes[] = {
+    {"gmon.giniMode", "sort_by_luminance"},
+    {"gmon.estimators", "mean,mon,gmon,gini,trim"},
+};
+
+/* The data of RGB layer `name`, or NULL. */
+static const void *layer_data(const ExrImage *image, const char *name)
+{
+    const ExrRgbLayer *layer = exr_image_layer(image, name);
+    return layer ? layer->data : NULL;
+}
+
 /* Buffers behind a test image. */
 typedef struct {
     ExrImage image;
-    float *rgb[4];
+    float *rgb[TEST_LAYERS - 1];
     int32_t *trim;
     uint32_t *nonfinite;
     uint32_t *rounded;
@@ -103,7 +119,7 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
     memset(&t, 0, sizeof t);
     size_t pixels = (size_t)width * (size_t)height;
     uint64_t state = seed;
-    for (int layer = 0; layer < 4; ++layer) {
+    for (int layer = 0; layer < TEST_LAYERS - 1; ++layer) {
         t.rgb[layer] = malloc(pixels * 3 * sizeof(float));
         assert_non_null(t.rgb[layer]);
         for (size_t i = 0; i < pixels * 3; ++i) {
@@ -143,11 +159,12 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
 
     t.image.width = width;
     t.image.height = height;
-    t.image.mean = t.rgb[0];
-    t.image.mon = t.rgb[1];
-    t.image.gmon = t.rgb[2];
-    t.image.gini = t.rgb[3];
-    t.image.trim = t.trim;
+    for (int layer = 0; layer < TEST_LAYERS; ++layer) {
+        int is_int = layer == TEST_LAYERS - 1;
+        const void *data = is_int ? (const void *)t.trim : t.rgb[layer];
+        t.image.layers[layer] = (ExrRgbLayer){test_layer_names[layer], is_int, data};
+    }
+    t.image.layer_count = TEST_LAYERS;
     t.image.nonfinite = t.nonfinite;
     t.image.rounded = t.rounded;
     t.image.accumulators = t.accumulators;
@@ -161,7 +178,8 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
     meta->first_sample = 9007199254740993u; /* 2^53 + 1 */
     meta->scene_path = "scenes/cornell box/scene.pbrt";
     meta->scene_hash = "sha256:9f86d081884c7d659a2feaa0c55ad015a3bf4f1b2b0b822cd15d6c15b0f00a08";
-    meta->gini_mode = SORT_BY_LUMINANCE;
+    meta->attributes = test_attributes;
+    meta->attribute_count = sizeof test_attributes / sizeof test_attributes[0];
     meta->extras = test_extras;
     meta->extra_count = sizeof test_extras / sizeof test_extras[0];
     return t;
@@ -169,7 +187,7 @@ static TestImage make_full_image(int width, int height, int set_count, uint64_t 
 
 static void free_test_image(TestImage *t)
 {
-    for (int layer = 0; layer < 4; ++layer)
+    for (int layer = 0; layer < TEST_LAYERS - 1; ++layer)
         free(t->rgb[layer]);
     free(t->trim);
     free(t->nonfinite);
@@ -208,11 +226,14 @@ static void assert_images_equal(const ExrImage *expected, const ExrImage *actual
     assert_int_equal(actual->width, expected->width);
     assert_int_equal(actual->height, expected->height);
     size_t pixels = (size_t)expected->width * (size_t)expected->height;
-    assert_same_bytes(expected->mean, actual->mean, pixels * 3 * sizeof(float));
-    assert_same_bytes(expected->mon, actual->mon, pixels * 3 * sizeof(float));
-    assert_same_bytes(expected->gmon, actual->gmon, pixels * 3 * sizeof(float));
-    assert_same_bytes(expected->gini, actual->gini, pixels * 3 * sizeof(float));
-    assert_same_bytes(expected->trim, actual->trim, pixels * 3 * sizeof(int32_t));
+    assert_int_equal(actual->layer_count, expected->layer_count);
+    for (int i = 0; i < expected->layer_count; ++i) {
+        const ExrRgbLayer *want = &expected->layers[i], *got = exr_image_layer(actual, want->name);
+        if (!got)
+            fail_msg("layer %s missing", want->name);
+        assert_int_equal(got->is_int, want->is_int);
+        assert_same_bytes(want->data, got->data, pixels * 3 * sizeof(float));
+    }
     assert_same_bytes(expected->nonfinite, actual->nonfinite, pixels * sizeof(uint32_t));
     assert_same_bytes(expected->rounded, actual->rounded, pixels * sizeof(uint32_t));
     const ExrMetadata *e = &expected->metadata, *a = &actual->metadata;
@@ -230,7 +251,12 @@ static void assert_images_equal(const ExrImage *expected, const ExrImage *actual
     assert_true(a->rounded_samples == e->rounded_samples);
     assert_same_string(e->scene_path, a->scene_path);
     assert_same_string(e->scene_hash, a->scene_hash);
-    assert_int_equal(a->gini_mode, e->gini_mode);
+    assert_int_equal(a->attribute_count, e->attribute_count);
+    for (size_t i = 0; i < e->attribute_count; ++i) {
+        const char *value = exr_image_attribute(actual, e->attributes[i].key);
+        assert_non_null(value);
+        assert_string_equal(value, e->attributes[i].value);
+    }
     assert_int_equal(a->extra_count, e->extra_count);
     for (size_t i = 0; i < e->extra_count; ++i) {
         const char *value = find_extra(a, e->extras[i].key);
@@ -251,7 +277,7 @@ static void round_trip(int width, int height, int set_count, uint64_t seed)
         fail_msg("read failed: %s", error);
     assert_images_equal(&t.image, &read);
     exr_image_free(&read);
-    assert_null(read.mean);
+    assert_int_equal(read.layer_count, 0);
     assert_null(read.storage);
     free_test_image(&t);
     remove(path);
@@ -294,9 +320,10 @@ static void test_exr_chunk_that_zip_does_not_shrink(void **state)
     assert_int_equal(exr_image_read(path, &again, error, sizeof error), IMAGE_IO_OK);
     size_t values = (size_t)original.width * original.height * 3;
     assert_int_equal(original.width, 32);
-    assert_memory_equal(again.mean, original.mean, values * sizeof(float));
-    assert_memory_equal(again.mon, original.mon, values * sizeof(float));
-    assert_memory_equal(again.gmon, original.gmon, values * sizeof(float));
+    assert_int_equal(original.layer_count, 3);
+    for (int i = 0; i < 3; ++i)
+        assert_memory_equal(layer_data(&again, test_layer_names[i]), layer_data(&original, test_layer_names[i]),
+                            values * sizeof(float));
     exr_image_free(&original);
     exr_image_free(&again);
     remove(path);
@@ -314,17 +341,14 @@ static void test_exr_mean_only(void **state)
     memset(&image, 0, sizeof image);
     image.width = 4;
     image.height = 3;
-    image.mean = mean;
+    image.layers[image.layer_count++] = (ExrRgbLayer){"mean", 0, mean};
     if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK)
         fail_msg("write failed: %s", error);
     ExrImage read;
     if (exr_image_read(path, &read, error, sizeof error) != IMAGE_IO_OK)
         fail_msg("read failed: %s", error);
     assert_images_equal(&image, &read);
-    assert_null(read.mon);
-    assert_null(read.gmon);
-    assert_null(read.gini);
-    assert_null(read.trim);
+    assert_int_equal(read.layer_count, 1);
     assert_null(read.nonfinite);
     assert_null(read.accumulators);
     assert_int_equal(read.metadata.set_count, 0);
@@ -414,12 +438,13 @@ static void test_exr_layout_seen_by_openexr(void **state)
 
     const exr_attr_chlist_t *channels = NULL;
     assert_int_equal(exr_get_channels(ctxt, 0, &channels), EXR_ERR_SUCCESS);
-    /* 4 float layers + trim (3 each) + nonfinite + rounded + sets.grid +
+    /* 5 float layers + trim (3 each) + nonfinite + rounded + sets.grid +
      * 2 sets x 3 x 4 words */
-    assert_int_equal(channels->num_channels, 5 * 3 + 3 + 2 * 3 * 4);
+    assert_int_equal(channels->num_channels, 6 * 3 + 3 + 2 * 3 * 4);
     const char *expected[][2] = {
-        {"gini.B", "f"},  {"gmon.R", "f"},      {"mean.G", "f"},      {"mon.B", "f"},     {"nonfinite", "u"},
-        {"rounded", "u"}, {"sets.0.R.w0", "u"}, {"sets.1.B.w3", "u"}, {"sets.grid", "u"}, {"trim.G", "u"},
+        {"gini.B", "f"},      {"gmon.R", "f"},        {"mean.G", "f"},  {"mon.B", "f"},
+        {"nonfinite", "u"},   {"gmon.stderr.G", "f"}, {"rounded", "u"}, {"sets.0.R.w0", "u"},
+        {"sets.1.B.w3", "u"}, {"sets.grid", "u"},     {"trim.G", "u"},
     };
     for (size_t e = 0; e < sizeof expected / sizeof expected[0]; ++e) {
         int found = 0;
@@ -525,23 +550,21 @@ static void test_exr_foreign_file(void **state)
         fail_msg("read failed: %s", error);
     assert_int_equal(read.width, width);
     assert_int_equal(read.height, height);
-    assert_non_null(read.mean);
+    const float *mean = layer_data(&read, "mean");
+    assert_non_null(mean);
     for (int p = 0; p < width * height; ++p) {
         for (int c = 0; c < 3; ++c) { /* c: R, G, B; planes are B, G, R */
             float expected = half_values[(size_t)(p + 3 * (2 - c)) % HALF_VALUE_COUNT].value;
-            assert_memory_equal(&read.mean[p * 3 + c], &expected, sizeof expected);
+            assert_memory_equal(&mean[p * 3 + c], &expected, sizeof expected);
         }
     }
-    assert_null(read.mon);
-    assert_null(read.gmon);
-    assert_null(read.gini);
-    assert_null(read.trim);
+    assert_int_equal(read.layer_count, 1); /* Z is no RGB layer */
     assert_null(read.nonfinite);
     assert_null(read.accumulators);
     assert_int_equal(read.metadata.set_count, 0);
     assert_true(read.metadata.sample_count == 0);
     assert_null(read.metadata.scene_path);
-    assert_int_equal(read.metadata.gini_mode, GINI_PER_CHANNEL);
+    assert_int_equal(read.metadata.attribute_count, 0);
     assert_string_equal(find_extra(&read.metadata, "owner"), "someone else");
     exr_image_free(&read);
     remove(path);
@@ -618,7 +641,7 @@ static void test_exr_write_errors(void **state)
 
     assert_int_equal(exr_image_write("test_image_io_empty.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
     assert_non_null(strstr(error, "no layer"));
-    image.mean = mean;
+    image.layers[image.layer_count++] = (ExrRgbLayer){"mean", 0, mean};
 
     image.accumulators = accumulators; /* without M */
     assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
@@ -636,9 +659,26 @@ static void test_exr_write_errors(void **state)
     assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
     image.metadata.extra_count = 0;
 
-    image.metadata.gini_mode = (GiniMode)7;
+    /* Film attributes: gmon.* keys, none of the file's own. */
+    ExrKeyValue not_film[] = {{"giniMode", "per_pixel"}}, own[] = {{"gmon.samples", "3"}};
+    image.metadata.attributes = not_film;
+    image.metadata.attribute_count = 1;
     assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
-    image.metadata.gini_mode = GINI_PER_CHANNEL;
+    image.metadata.attributes = own;
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    image.metadata.attribute_count = 0;
+
+    /* RGB layer names: not the counters' or the sums', not twice. */
+    static const char *const bad_names[] = {"", "sets", "nonfinite", "rounded", "a-name-longer-than-24-byte"};
+    for (size_t i = 0; i < sizeof bad_names / sizeof bad_names[0]; ++i) {
+        image.layers[0].name = bad_names[i];
+        assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    }
+    image.layers[0].name = "mean";
+    image.layers[image.layer_count++] = (ExrRgbLayer){"mean", 0, mean};
+    assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "twice"));
+    image.layer_count = 1;
 
     /* A directory that does not exist: the library's message. */
     assert_int_equal(exr_image_write("no_such_directory/x.exr", &image, error, sizeof error), IMAGE_IO_ERROR);

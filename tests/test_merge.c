@@ -5,7 +5,9 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/merge.h"
 #include "cli/options.h"
-#include "estimator_core.h"
+#include "accumulate.h"
+#include "film/film_file.h"
+#include "film/film_merge.h"
 #include "io/exr_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
@@ -57,7 +59,7 @@ static void render_part_of(const RenderScene *scene, const char *name, uint64_t 
     RenderSettings s;
     render_settings_default(&s);
     s.estimator.set_count = sets;
-    s.outputs = ESTIMATOR_OUTPUT_ALL;
+    s.estimator.passes = PASSES_ALL;
     s.keep_sets = 1;
     s.first_sample = first;
     s.sample_count = count;
@@ -66,10 +68,11 @@ static void render_part_of(const RenderScene *scene, const char *name, uint64_t 
     char error[1024], path[1024];
     if (renderer_run(&test_device, 1, scene, &s, &out, error, sizeof error) != RENDER_OK)
         fail_msg("%s", error);
-    ExrImage image = render_output_exr(&out);
-    image.metadata.scene_path = "cornell-glass.pbrt";
+    static FilmFile file;
+    render_output_file(&file, &out);
+    file.image.metadata.scene_path = "cornell-glass.pbrt";
     snprintf(path, sizeof path, "%s/%s", directory, name);
-    if (exr_image_write(path, &image, error, sizeof error) != IMAGE_IO_OK)
+    if (exr_image_write(path, &file.image, error, sizeof error) != IMAGE_IO_OK)
         fail_msg("%s", error);
     render_output_free(&out);
 }
@@ -167,11 +170,10 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     assert_int_equal(merged.metadata.set_count, 5);
     assert_non_null(merged.accumulators);
     assert_memory_equal(merged.accumulators, whole.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
-    assert_memory_equal(merged.mean, whole.mean, pixels * 3 * sizeof(float));
-    assert_memory_equal(merged.mon, whole.mon, pixels * 3 * sizeof(float));
-    assert_memory_equal(merged.gmon, whole.gmon, pixels * 3 * sizeof(float));
-    assert_memory_equal(merged.gini, whole.gini, pixels * 3 * sizeof(float));
-    assert_memory_equal(merged.trim, whole.trim, pixels * 3 * sizeof(int32_t));
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        assert_non_null(film_file_pass(&merged, p, 0));
+        assert_memory_equal(film_file_pass(&merged, p, 0), film_file_pass(&whole, p, 0), pixels * 3 * sizeof(float));
+    }
     assert_memory_equal(merged.nonfinite, whole.nonfinite, pixels * sizeof(uint32_t));
     printf("  [0,7) + [7,10) + [10,24), M = 5: merged == whole render, bit for bit\n");
     exr_image_free(&whole);
@@ -186,7 +188,8 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     read_image("merged.exr", &merged);
     assert_int_equal(merged.metadata.first_sample, 7);
     assert_memory_equal(merged.accumulators, tail.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
-    assert_memory_equal(merged.gmon, tail.gmon, pixels * 3 * sizeof(float));
+    assert_memory_equal(film_file_pass(&merged, PASS_GMON, 0), film_file_pass(&tail, PASS_GMON, 0),
+                        pixels * 3 * sizeof(float));
     exr_image_free(&tail);
     exr_image_free(&merged);
 }
@@ -244,9 +247,58 @@ static void test_mismatches_are_refused(void **state)
     render_scene_destroy(&small);
 }
 
+/* film_merge on its own: a pixel's stream split into two sample ranges at
+ * any point, each accumulated apart, merges into the sums of the whole
+ * stream, bit for bit; values too far apart for one sum are rounded and
+ * counted; M out of range is refused. */
+static void test_film_merge_adds_ranges_exactly(void **state)
+{
+    (void)state;
+    enum { PIXELS = 3, SETS = 4, SAMPLES = 37 };
+    const size_t words = accumulator_planes(SETS) * PIXELS;
+    uint64_t whole[accumulator_planes(SETS) * PIXELS], first[accumulator_planes(SETS) * PIXELS],
+        second[accumulator_planes(SETS) * PIXELS];
+    /* pixel 0: ordinary values; 1: 1e-12 beside 1e10; 2: no samples */
+    float values[PIXELS][SAMPLES];
+    for (int i = 0; i < SAMPLES; ++i) {
+        values[0][i] = 0.25f * (float)(i % 5) + 0.001f * (float)i;
+        values[1][i] = i % 3 ? 1e-12f * (float)(i + 1) : 1e10f;
+        values[2][i] = 0.0f;
+    }
+    for (int split = 0; split <= SAMPLES; split += 6) {
+        memset(whole, 0, sizeof whole);
+        memset(first, 0, sizeof first);
+        memset(second, 0, sizeof second);
+        for (size_t p = 0; p < PIXELS; ++p) {
+            for (int i = 0; i < SAMPLES; ++i) {
+                float v = values[p][i];
+                uint32_t set = set_of_sample((uint64_t)i, SETS);
+                accumulate_sample(whole, p, PIXELS, SETS, set, v, 2.0f * v, -v);
+                accumulate_sample(i < split ? first : second, p, PIXELS, SETS, set, v, 2.0f * v, -v);
+            }
+            accumulators_normalize(whole, p, PIXELS, SETS);
+        }
+        uint32_t rounded[PIXELS] = {0};
+        assert_int_equal(film_merge(first, second, PIXELS, SETS, rounded), 0);
+        assert_memory_equal(first, whole, words * sizeof(uint64_t));
+        assert_int_equal(rounded[0] + rounded[1] + rounded[2], 0);
+    }
+    /* 2^-140 beside 2^100: beyond what a sum spans, rounded and counted. */
+    memset(first, 0, sizeof first);
+    memset(second, 0, sizeof second);
+    accumulate_sample(first, 1, PIXELS, SETS, 0, 0x1p100f, 0.0f, 0.0f);
+    accumulate_sample(second, 1, PIXELS, SETS, 0, 0x1p-140f, 0.0f, 0.0f);
+    uint32_t rounded[PIXELS] = {0};
+    assert_int_equal(film_merge(first, second, PIXELS, SETS, rounded), 1);
+    assert_int_equal(rounded[1], 1);
+    assert_int_equal(film_merge(first, second, PIXELS, 0, NULL), -1);
+    assert_int_equal(film_merge(first, second, PIXELS, 65, NULL), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_film_merge_adds_ranges_exactly),
         cmocka_unit_test(test_parts_merge_into_the_whole_bit_for_bit),
         cmocka_unit_test(test_mismatches_are_refused),
     };

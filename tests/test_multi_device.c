@@ -10,8 +10,8 @@
  * cannot pass unnoticed. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
-#include "estimator_core.h"
+#include "film/film.h"
+#include "estimators.h"
 #include "feature_mask.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
@@ -88,7 +88,8 @@ static RenderSettings small_settings(void)
     RenderSettings s;
     render_settings_default(&s);
     s.estimator.set_count = 5;
-    s.outputs = ESTIMATOR_OUTPUT_ALL;
+    s.estimator.passes = PASSES_ALL;
+    s.estimator.with_stderr = 1;
     s.sample_count = 23;
     s.seed = 7;
     s.seconds_per_pass = 0.002; /* many short passes: many chances to rebalance */
@@ -113,15 +114,14 @@ static void assert_same_render(const RenderOutput *a, const RenderOutput *b)
                         accumulator_planes((uint32_t)a->set_count) * pixels * sizeof(uint64_t));
     assert_memory_equal(a->rejected, b->rejected, REJECTED_PLANES * pixels * sizeof(uint32_t));
     assert_int_equal(a->rays, b->rays);
-    const float *images_a[4] = {a->mean, a->mon, a->gmon, a->gini};
-    const float *images_b[4] = {b->mean, b->mon, b->gmon, b->gini};
-    for (int k = 0; k < 4; ++k) {
-        assert_true((images_a[k] == NULL) == (images_b[k] == NULL));
-        if (images_a[k])
-            assert_memory_equal(images_a[k], images_b[k], pixels * 3 * sizeof(float));
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        assert_true((a->pass[p] == NULL) == (b->pass[p] == NULL));
+        assert_true((a->error[p] == NULL) == (b->error[p] == NULL));
+        if (a->pass[p])
+            assert_memory_equal(a->pass[p], b->pass[p], pixels * 3 * sizeof(float));
+        if (a->error[p])
+            assert_memory_equal(a->error[p], b->error[p], pixels * 3 * sizeof(float));
     }
-    if (a->trim)
-        assert_memory_equal(a->trim, b->trim, pixels * 3 * sizeof(int32_t));
 }
 
 static void test_all_devices_equal_one_device(void **state)
@@ -228,7 +228,7 @@ static int log_checkpoint(void *user, const RenderOutput *out)
     if (out->sample_count == 8) {
         size_t bytes = (size_t)out->width * out->height * 3 * sizeof(float);
         log->mean_at_8 = malloc(bytes);
-        memcpy(log->mean_at_8, out->mean, bytes);
+        memcpy(log->mean_at_8, out->pass[PASS_MEAN], bytes);
     }
     return 0;
 }
@@ -251,7 +251,7 @@ static void test_checkpoints_at_powers_of_two_equal_shorter_renders(void **state
     s.sample_count = 8;
     assert_int_equal(render_on(0, 1, &s, &eight), RENDER_OK);
     assert_non_null(log.mean_at_8);
-    assert_memory_equal(log.mean_at_8, eight.mean, (size_t)eight.width * eight.height * 3 * sizeof(float));
+    assert_memory_equal(log.mean_at_8, eight.pass[PASS_MEAN], (size_t)eight.width * eight.height * 3 * sizeof(float));
     free(log.mean_at_8);
     render_output_free(&out);
     render_output_free(&eight);
@@ -265,20 +265,22 @@ static void test_mean_only_keeps_one_sum_per_pixel(void **state)
     REQUIRE_DEVICES(1);
     RenderSettings s = small_settings();
     s.estimator.set_count = 21;
-    s.outputs = ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON;
+    s.estimator.passes = PASSES_DEFAULT;
+    s.estimator.with_stderr = 0;
     RenderOutput all, mean_only;
     assert_int_equal(render_on(0, 1, &s, &all), RENDER_OK);
-    s.outputs = ESTIMATOR_OUTPUT_MEAN;
+    s.estimator.passes = PASS_BIT(PASS_MEAN);
     assert_int_equal(render_on(0, 1, &s, &mean_only), RENDER_OK);
     assert_int_equal(all.set_count, 21);
     assert_int_equal(mean_only.set_count, 1);
-    assert_null(mean_only.gmon);
+    assert_null(mean_only.pass[PASS_GMON]);
     printf("  device memory: %zu bytes with M = 21, %zu with the mean only\n", all.devices[0].peak_bytes,
            mean_only.devices[0].peak_bytes);
     assert_true(mean_only.devices[0].peak_bytes * 8 < all.devices[0].peak_bytes);
     double worst = 0.0;
     for (size_t i = 0; i < (size_t)all.width * all.height * 3; ++i) {
-        double d = fabs((double)all.mean[i] - mean_only.mean[i]) / fmax(fabs((double)all.mean[i]), 1e-6);
+        double a = ((const float *)all.pass[PASS_MEAN])[i], b = ((const float *)mean_only.pass[PASS_MEAN])[i];
+        double d = fabs(a - b) / fmax(fabs(a), 1e-6);
         worst = d > worst ? d : worst;
     }
     printf("  mean from 21 sets vs one sum: largest relative difference %.3g\n", worst);
@@ -313,7 +315,7 @@ static void test_sample_range_not_starting_at_set_zero(void **state)
                 sum += test_set_sum(out.accumulators, j, c, p, pixels);
             }
             double mean = (double)(sum / 13.0L);
-            double d = fabs(mean - out.mean[p * 3 + c]) / fmax(fabs(mean), 1e-3);
+            double d = fabs(mean - ((const float *)out.pass[PASS_MEAN])[p * 3 + c]) / fmax(fabs(mean), 1e-3);
             worst = d > worst ? d : worst;
         }
     printf("  samples [7, 20), M = 5: mean vs sum / n, largest relative difference %.3g\n", worst);
@@ -324,12 +326,11 @@ static void test_sample_range_not_starting_at_set_zero(void **state)
 static void test_feature_mask_follows_scene_and_outputs(void **state)
 {
     (void)state;
-    uint32_t glass_features = render_scene_features(&glass, ESTIMATOR_OUTPUT_GMON);
+    uint32_t glass_features = render_scene_features(&glass);
     assert_true(glass_features & FEATURE_DIELECTRIC);
     assert_true(glass_features & FEATURE_TRIANGLES);
     assert_true(glass_features & FEATURE_AREA_LIGHTS);
     assert_true(glass_features & FEATURE_NEE);
-    assert_int_equal(glass_features & FEATURES_OUTPUTS, ESTIMATOR_OUTPUT_GMON);
     RenderScene diffuse;
     char path[1024], error[1024];
     snprintf(path, sizeof path, "%s/scenes/cornell-diffuse.pbrt", GMON_SOURCE_DIR);
@@ -337,7 +338,7 @@ static void test_feature_mask_follows_scene_and_outputs(void **state)
     assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &diffuse, &summary, error, sizeof error), 0);
     diffuse.params.flags = 0; /* BSDF sampling only */
     assert_int_equal(render_scene_finalize(&diffuse, error, sizeof error), 0);
-    uint32_t features = render_scene_features(&diffuse, ESTIMATOR_OUTPUT_MEAN);
+    uint32_t features = render_scene_features(&diffuse);
     assert_int_equal(features & (FEATURE_DIELECTRIC | FEATURE_CONDUCTOR | FEATURE_COATED_DIFFUSE | FEATURE_ROUGH |
                                  FEATURE_SPHERES | FEATURE_ENVIRONMENT | FEATURE_NEE),
                      0);
@@ -361,8 +362,8 @@ static void test_specialized_kernels_match_all_features(void **state)
     double sum_a = 0.0, sum_b = 0.0;
     size_t values = (size_t)all.width * all.height * 3;
     for (size_t i = 0; i < values; ++i) {
-        sum_a += all.mean[i];
-        sum_b += specialized.mean[i];
+        sum_a += ((const float *)all.pass[PASS_MEAN])[i];
+        sum_b += ((const float *)specialized.pass[PASS_MEAN])[i];
     }
     printf("  features 0x%x vs all: image means %.6f and %.6f\n", specialized.features, sum_b / values, sum_a / values);
     assert_true(fabs(sum_a - sum_b) <= 1e-4 * fabs(sum_a));

@@ -51,7 +51,7 @@ static void render_and_check(RenderScene *scene, int nee, unsigned max_depth, do
     for (int c = 0; c < 3; ++c) {
         double sum = 0.0, sum2 = 0.0;
         for (size_t p = 0; p < pixels; ++p) {
-            double v = out.mean[3 * p + (size_t)c];
+            double v = ((const float *)out.pass[PASS_MEAN])[3 * p + (size_t)c];
             sum += v;
             sum2 += v * v;
         }

@@ -27,11 +27,12 @@ int checkpoints_open(Checkpoints *c, const char *directory, const char *referenc
             exr_image_free(&reference);
             return -1;
         }
-        int usable = reference.mean && reference.width == (int)width && reference.height == (int)height;
+        const float *mean = film_file_pass(&reference, PASS_MEAN, 0);
+        int usable = mean && reference.width == (int)width && reference.height == (int)height;
         if (usable) {
             size_t bytes = (size_t)width * height * 3 * sizeof(float);
             if ((c->reference = malloc(bytes)))
-                memcpy(c->reference, reference.mean, bytes);
+                memcpy(c->reference, mean, bytes);
         }
         exr_image_free(&reference);
         if (!usable) {
@@ -76,28 +77,25 @@ int checkpoints_write(void *user, const RenderOutput *out)
     char path[4096], seconds[32];
     snprintf(path, sizeof path, "%s/spp-%06llu.exr", c->directory, (unsigned long long)out->sample_count);
     snprintf(seconds, sizeof seconds, "%.6f", out->seconds);
-    ExrImage image = render_output_exr(out);
-    image.accumulators = NULL;
-    image.nonfinite = NULL;
-    if (!c->diagnostics) {
-        image.gini = NULL;
-        image.trim = NULL;
-    }
-    image.metadata.scene_path = c->scene_path;
+    static FilmFile file; /* large; checkpoints are written one at a time */
+    render_output_file(&file, out);
+    ExrImage *image = &file.image;
+    image->accumulators = NULL;
+    image->nonfinite = NULL;
+    image->rounded = NULL;
+    image->metadata.scene_path = c->scene_path;
     const ExrKeyValue extras[] = {{"seconds", seconds}};
-    image.metadata.extras = extras;
-    image.metadata.extra_count = 1;
-    if (write_exr_file(path, &image))
+    image->metadata.extras = extras;
+    image->metadata.extra_count = 1;
+    if (write_exr_file(path, image))
         ++c->failures;
-    const char *names[3] = {"mean", "mon", "gmon"};
-    const float *images[3] = {out->mean, out->mon, out->gmon};
-    for (int k = 0; k < 3; ++k) {
-        if (!images[k])
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(PASSES_ESTIMATES & PASS_BIT(p)) || !out->pass[p])
             continue;
-        fprintf(c->csv, "%llu,%.6f,%s,", (unsigned long long)out->sample_count, out->seconds, names[k]);
+        fprintf(c->csv, "%llu,%.6f,%s,", (unsigned long long)out->sample_count, out->seconds, pass_name(p));
         if (c->reference) {
             double rmse = 0.0, relmse = 0.0;
-            image_errors(images[k], c->reference, (size_t)out->width * out->height * 3, &rmse, &relmse);
+            image_errors(out->pass[p], c->reference, (size_t)out->width * out->height * 3, &rmse, &relmse);
             fprintf(c->csv, "%.9g,%.9g\n", rmse, relmse);
         } else {
             fprintf(c->csv, ",\n");

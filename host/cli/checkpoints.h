@@ -17,7 +17,6 @@ typedef struct {
     FILE *csv;
     float *reference; /* RGB per pixel, or NULL */
     const char *scene_path;
-    int diagnostics;
     int failures; /* checkpoints or CSV rows that could not be written */
 } Checkpoints;
 

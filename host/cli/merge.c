@@ -1,7 +1,7 @@
 #include "cli/merge.h"
 
 #include "cli/output_files.h"
-#include "estimator_core.h"
+#include "film/film_merge.h"
 #include "io/exr_image.h"
 
 #include <stdio.h>
@@ -148,11 +148,7 @@ int merge_command(const Options *o)
                 !compatible(ranges[0].path, &total, ranges[i].path, &part))
                 goto done;
             image = &part;
-            for (size_t p = 0; p < pixels; ++p) {
-                int inexact = accumulators_merge_pixel(sums, (uint64_t *)part.accumulators, p, pixels, m);
-                rounded[p] += (uint32_t)inexact;
-                inexact_pixels += (uint64_t)inexact;
-            }
+            inexact_pixels += (uint64_t)film_merge(sums, (uint64_t *)part.accumulators, pixels, (int)m, rounded);
         }
         for (size_t p = 0; p < pixels; ++p) {
             nonfinite[p] += image->nonfinite ? image->nonfinite[p] : 0;
@@ -187,8 +183,15 @@ int merge_command(const Options *o)
     merged.metadata.software = "gmonrt merge";
     merged.metadata.extras = NULL;
     merged.metadata.extra_count = 0;
+    /* The first part's estimators unless --estimators says otherwise. */
+    Options chosen;
+    char error[1024];
+    if (options_for_file(o, &total, &chosen, error, sizeof error) != 0) {
+        fprintf(stderr, "gmonrt: merge: %s: %s\n", ranges[0].path, error);
+        goto done;
+    }
     /* The sums stay in the file: a merged render can be merged again. */
-    status = write_estimates(o, &merged, 1, "merged.exr");
+    status = write_estimates(&chosen, &chosen.estimator, &merged, 1, "merged.exr");
     if (status == 0 && !o->quiet)
         printf("merged %d parts: samples [%llu, %llu), M = %d, %dx%d\n", count, (unsigned long long)ranges[0].first,
                (unsigned long long)(ranges[0].first + samples), (int)m, total.width, total.height);

@@ -41,11 +41,22 @@ static const Flag flags[] = {
     {"--resolution", "WxH", FOR_RENDER, "override the scene's Film resolution (each 1..65536)"},
     {NULL, NULL, FOR_ALL, "Estimators"},
     {"--sets", "M", FOR_RENDER, "number of sets for MoN and G-MoN, 1..64 (default 21)"},
-    {"--estimators", "LIST", FOR_ALL, "comma-separated subset of mean,mon,gmon (default all)"},
+    {"--estimators", "LIST", FOR_ALL,
+     "comma-separated estimators, or all (default mean,mon,gmon;\n`estimate`: the file's): mean, mon, gmon, amon, "
+     "admon,\n"
+     "ggmon, gmon-binary, gmon-partial, dmon-partial,\ngmon-authors, pakmon, trimmed, winsorized, gmedian\n"
+     "(README, \"Estimators\")"},
+    {"--estimator-param", "NAME=VALUE", FOR_ALL,
+     "set an estimator parameter (repeatable): amon.alpha,\nadmon.alpha, gmon-binary.threshold,\n"
+     "gmon-partial.threshold, gmon-partial.alpha,\ndmon-partial.threshold, dmon-partial.alpha, trimmed.c,\n"
+     "winsorized.c (-1: floor(m/4)), gmedian.iterations;\nwritten to the EXR metadata"},
+    {"--stderr", NULL, FOR_ALL,
+     "add a <name>.stderr layer per estimator: its per-pixel\nstandard error (the mean's from the set means, the\n"
+     "others by the jackknife over sets)"},
     {"--gini-mode", "MODE", FOR_ALL,
      "channel: G and trim per channel (default);\npixel: one G per pixel, the mean of the channels' G;\n"
      "luminance: sort and trim whole sets by luminance"},
-    {"--diagnostics", NULL, FOR_ALL, "add layers: Gini G, trim count c, non-finite samples"},
+    {"--diagnostics", NULL, FOR_ALL, "add layers: Gini G, trim count c, non-finite and\nrounded samples"},
     {"--write-sets", NULL, FOR_RENDER,
      "add the exact per-set sums, for `estimate` and merging\n(without it, --estimators mean accumulates one sum\n"
      "per pixel instead of M)"},
@@ -59,7 +70,7 @@ static const Flag flags[] = {
     {"--outfile", "PATH", FOR_ESTIMATE, "EXR file (default estimate.exr); the PNG preview goes\nbeside it"},
     {"--outfile", "PATH", FOR_MERGE, "EXR file (default merged.exr); the PNG preview goes\nbeside it"},
     {"--preview", "NAME", FOR_ALL,
-     "estimator shown in the PNG: mean, mon or gmon (default\ngmon, or the only one requested)"},
+     "estimator shown in the PNG, one of --estimators (default\ngmon if requested, else the first requested)"},
     {"--exposure", "X", FOR_ALL, "PNG exposure multiplier (default 1)"},
     {"--quiet", NULL, FOR_ALL, "no progress bar and no summary line"},
     {"--checkpoints", "DIR", FOR_RENDER,
@@ -189,26 +200,6 @@ static int parse_double(const char *text, double *out)
     return 0;
 }
 
-static int parse_estimators(const char *text, int *outputs)
-{
-    *outputs = 0;
-    char copy[64];
-    if (strlen(text) >= sizeof copy)
-        return -1;
-    strcpy(copy, text);
-    for (char *save = NULL, *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
-        if (strcmp(item, "mean") == 0)
-            *outputs |= ESTIMATOR_OUTPUT_MEAN;
-        else if (strcmp(item, "mon") == 0)
-            *outputs |= ESTIMATOR_OUTPUT_MON;
-        else if (strcmp(item, "gmon") == 0)
-            *outputs |= ESTIMATOR_OUTPUT_GMON;
-        else
-            return -1;
-    }
-    return *outputs ? 0 : -1;
-}
-
 /* WIDTHxHEIGHT, each 1..65536 (checked as 64-bit numbers: no wrap-around). */
 static int parse_resolution(const char *text, unsigned *width, unsigned *height)
 {
@@ -321,8 +312,16 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
             return fail(error, size, "--sets: '%s' is not in 1..64", value);
         o->estimator.set_count = (int)number;
     } else if (strcmp(flag, "--estimators") == 0) {
-        if (parse_estimators(value, &o->outputs))
-            return fail(error, size, "--estimators: '%s' is not a list of mean, mon, gmon", value);
+        char message[640];
+        if (passes_from_list(value, &o->estimator.passes, message, sizeof message))
+            return fail(error, size, "--estimators: %s", message);
+        o->estimators_given = 1;
+    } else if (strcmp(flag, "--estimator-param") == 0) {
+        char message[640];
+        if (estimator_param_set(&o->estimator.params, value, message, sizeof message))
+            return fail(error, size, "--estimator-param: %s", message);
+    } else if (strcmp(flag, "--stderr") == 0) {
+        o->estimator.with_stderr = 1;
     } else if (strcmp(flag, "--gini-mode") == 0) {
         if (strcmp(value, "channel") == 0)
             o->estimator.gini_mode = GINI_PER_CHANNEL;
@@ -333,9 +332,9 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
         else
             return fail(error, size, "--gini-mode: '%s' is not channel, pixel or luminance", value);
     } else if (strcmp(flag, "--preview") == 0) {
-        if (strcmp(value, "mean") && strcmp(value, "mon") && strcmp(value, "gmon"))
-            return fail(error, size, "--preview: '%s' is not mean, mon or gmon", value);
-        o->preview = value;
+        o->preview = pass_from_name(value);
+        if (o->preview < 0 || !(PASSES_ESTIMATES & PASS_BIT(o->preview)))
+            return fail(error, size, "--preview: '%s' is not an estimator name (see --estimators)", value);
     } else if (strcmp(flag, "--exposure") == 0) {
         if (parse_double(value, &real))
             return fail(error, size, "--exposure: '%s' is not a non-negative number", value);
@@ -370,15 +369,26 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
     return 0;
 }
 
+int options_check_preview(Options *o, char *error, size_t size)
+{
+    const uint32_t estimates = o->estimator.passes & PASSES_ESTIMATES;
+    if (o->preview < 0) {
+        o->preview = (estimates & PASS_BIT(PASS_GMON)) ? PASS_GMON : trailing_zeros64((uint64_t)estimates);
+        return 0;
+    }
+    if (!(estimates & PASS_BIT(o->preview)))
+        return fail(error, size, "--preview %s: that estimator is not among --estimators", pass_name(o->preview));
+    return 0;
+}
+
 static const char *const command_names[] = {"render", "estimate", "merge", "--list-devices"};
 
 int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
 {
     memset(o, 0, sizeof *o);
     o->command = COMMAND_RENDER;
-    o->estimator.set_count = ESTIMATOR_DEFAULT_SETS;
-    o->estimator.gini_mode = GINI_PER_CHANNEL;
-    o->outputs = ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON;
+    estimator_settings_default(&o->estimator);
+    o->preview = -1;
     o->exposure = 1.0f;
     o->max_depth = -1;
 
@@ -440,16 +450,11 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         return fail(error, size, "merge needs the EXR files to combine (written with --write-sets)");
     if (o->reference && !o->checkpoints)
         return fail(error, size, "--reference is used with --checkpoints");
-    if (!o->preview) {
-        o->preview = (o->outputs & ESTIMATOR_OUTPUT_GMON)  ? "gmon"
-                     : (o->outputs & ESTIMATOR_OUTPUT_MON) ? "mon"
-                                                           : "mean";
-    } else {
-        int bit = strcmp(o->preview, "mean") == 0  ? ESTIMATOR_OUTPUT_MEAN
-                  : strcmp(o->preview, "mon") == 0 ? ESTIMATOR_OUTPUT_MON
-                                                   : ESTIMATOR_OUTPUT_GMON;
-        if (!(o->outputs & bit))
-            return fail(error, size, "--preview %s: that estimator is not among --estimators", o->preview);
-    }
+    if (o->diagnostics)
+        o->estimator.passes |= PASSES_DIAGNOSTICS;
+    if (o->estimator.with_stderr && o->estimator.gini_mode == SORT_BY_LUMINANCE)
+        return fail(error, size, "--stderr is not available with --gini-mode luminance (it trims whole RGB sets)");
+    if (o->command != COMMAND_ESTIMATE || o->estimators_given)
+        return options_check_preview(o, error, size);
     return 0;
 }

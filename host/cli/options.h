@@ -2,7 +2,7 @@
 #ifndef HOST_CLI_OPTIONS_H
 #define HOST_CLI_OPTIONS_H
 
-#include "estimator/estimator.h"
+#include "film/film.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -36,11 +36,12 @@ typedef struct {
     uint64_t spp;        /* 0: the scene's Sampler pixelsamples */
     uint32_t seed;
     int quiet;
-    EstimatorSettings estimator; /* --sets, --gini-mode */
-    int outputs;                 /* --estimators: ESTIMATOR_OUTPUT_* */
-    int diagnostics;             /* --diagnostics: Gini, trim count, non-finite count layers */
+    EstimatorSettings estimator; /* --sets, --gini-mode, --estimators (passes, with the diagnostics'),
+                                    --stderr, --estimator-param */
+    int estimators_given;        /* --estimators was given (estimate: else the file's list) */
+    int diagnostics;             /* --diagnostics: Gini, trim count, non-finite and rounded count layers */
     int write_sets;              /* --write-sets: exact per-set sums in the EXR */
-    const char *preview;         /* estimator shown in the PNG: mean, mon or gmon */
+    int preview;                 /* the pass shown in the PNG (a PASS_* id) */
     float exposure;              /* PNG exposure multiplier */
     double time_budget;          /* --time seconds, 0: none */
     unsigned width, height;      /* --resolution, 0: the scene's */
@@ -60,6 +61,11 @@ typedef struct {
  * subcommand does not use, writes a one-line message to `error` and returns
  * 2 (the exit code to use). */
 int options_parse(int argc, char **argv, Options *options, char *error, size_t error_size);
+
+/* Picks the preview (gmon if requested, else the first estimator) or
+ * checks that the one asked for is requested: 0, or 2 with a message. For
+ * `estimate`, once the file's estimators are known. */
+int options_check_preview(Options *options, char *error, size_t error_size);
 
 /* The --help text of a command: its usage and only the flags it takes. */
 const char *options_help(Command command);

@@ -2,7 +2,8 @@
 #include "cli/output_files.h"
 
 #include "cli/interrupt.h"
-#include "estimator_core.h"
+#include "accumulate.h"
+#include "film/film_file.h"
 #include "io/png_image.h"
 
 #include <errno.h>
@@ -21,11 +22,6 @@ void replace_extension(const char *path, const char *extension, char *out, size_
         *dot = '\0';
     size_t length = strlen(out);
     snprintf(out + length, size - length, "%s", extension);
-}
-
-const float *preview_image(const char *name, const float *mean, const float *mon, const float *gmon)
-{
-    return strcmp(name, "mean") == 0 ? mean : (strcmp(name, "mon") == 0 ? mon : gmon);
 }
 
 int write_replacing(const char *path, OutputWriter writer, const void *data, char *error, size_t error_size)
@@ -118,43 +114,62 @@ int write_render_files(const char *exr_path, const ExrImage *image, const float 
     return 0;
 }
 
-int write_estimates(const Options *o, const ExrImage *sums, int keep_sets, const char *default_path)
+int options_for_file(const Options *o, const ExrImage *in, Options *chosen, char *error, size_t size)
 {
-    EstimatorSettings settings = o->estimator;
+    *chosen = *o;
+    if (!o->estimators_given) {
+        EstimatorSettings recorded;
+        if (film_file_settings(in, &recorded, error, size) != 0)
+            return -1;
+        chosen->estimator.passes = (recorded.passes & PASSES_ESTIMATES) | (o->estimator.passes & PASSES_DIAGNOSTICS);
+        if (!(chosen->estimator.passes & PASSES_ESTIMATES))
+            chosen->estimator.passes |= PASSES_DEFAULT;
+    }
+    return options_check_preview(chosen, error, size) == 0 ? 0 : -1;
+}
+
+int write_estimates(const Options *o, const EstimatorSettings *requested, const ExrImage *sums, int keep_sets,
+                    const char *default_path)
+{
+    EstimatorSettings settings = *requested;
     settings.set_count = sums->metadata.set_count;
     settings.first_sample = sums->metadata.first_sample;
     const size_t pixels = (size_t)sums->width * (size_t)sums->height, values = pixels * 3;
-    float *mean = malloc(values * sizeof(float)), *mon = malloc(values * sizeof(float)),
-          *gmon = malloc(values * sizeof(float)), *gini = malloc(values * sizeof(float));
-    int32_t *trim = malloc(values * sizeof(int32_t));
-    int status = 1;
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    images.length = values;
+    int status = 1, allocated = 1;
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(settings.passes & PASS_BIT(p)))
+            continue;
+        allocated &= (images.pass[p] = malloc(values * sizeof(float))) != NULL;
+        if (settings.with_stderr && (PASSES_ESTIMATES & PASS_BIT(p)))
+            allocated &= (images.error[p] = malloc(values * sizeof(float))) != NULL;
+    }
     char error[1024];
-    EstimatorImages images = {mean, mon, gmon, gini, trim, values};
-    if (!mean || !mon || !gmon || !gini || !trim) {
+    if (!allocated) {
         fprintf(stderr, "gmonrt: out of memory\n");
     } else if (estimator_from_accumulators(&settings, sums->accumulators,
                                            accumulator_planes((uint32_t)settings.set_count) * pixels, pixels,
                                            sums->metadata.sample_count, &images, error, sizeof error) != ESTIMATOR_OK) {
         fprintf(stderr, "gmonrt: %s\n", error);
     } else {
-        ExrImage out = *sums;
-        out.storage = NULL;
-        out.mean = (o->outputs & ESTIMATOR_OUTPUT_MEAN) ? mean : NULL;
-        out.mon = (o->outputs & ESTIMATOR_OUTPUT_MON) ? mon : NULL;
-        out.gmon = (o->outputs & ESTIMATOR_OUTPUT_GMON) ? gmon : NULL;
-        out.gini = o->diagnostics ? gini : NULL;
-        out.trim = o->diagnostics ? trim : NULL;
-        out.accumulators = keep_sets ? sums->accumulators : NULL;
-        out.metadata.gini_mode = settings.gini_mode;
+        static FilmFile file;
+        film_file_init(&file, sums->width, sums->height, &settings, &images);
+        ExrImage *out = &file.image;
+        out->metadata = sums->metadata;
+        out->metadata.attributes = file.attributes;
+        out->metadata.attribute_count = FILM_FILE_ATTRIBUTES;
+        out->nonfinite = sums->nonfinite;
+        out->rounded = sums->rounded;
+        out->accumulators = keep_sets ? sums->accumulators : NULL;
         char exr_path[4096];
         replace_extension(o->outfile ? o->outfile : default_path, ".exr", exr_path, sizeof exr_path);
-        status =
-            write_render_files(exr_path, &out, preview_image(o->preview, mean, mon, gmon), o->exposure, o->preview);
+        status = write_render_files(exr_path, out, images.pass[o->preview], o->exposure, pass_name(o->preview));
     }
-    free(mean);
-    free(mon);
-    free(gmon);
-    free(gini);
-    free(trim);
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        free(images.pass[p]);
+        free(images.error[p]);
+    }
     return status;
 }

@@ -10,9 +10,6 @@
 /* PATH with its extension replaced by `extension` (e.g. ".png"). */
 void replace_extension(const char *path, const char *extension, char *out, size_t size);
 
-/* The image named "mean", "mon" or "gmon". */
-const float *preview_image(const char *name, const float *mean, const float *mon, const float *gmon);
-
 /* Writes one output file: writer(temporary, data, ...) writes it under a
  * temporary name beside PATH (PATH.partial-PID), renamed to PATH once
  * complete, so that a failed or interrupted write never leaves a truncated
@@ -36,11 +33,17 @@ int write_render_files(const char *exr_path, const ExrImage *image, const float 
                        const char *preview_name);
 
 /* Estimates the set sums of `sums` (its accumulators, M, first sample and
- * sample count) on the host with the options' Gini mode, and writes `sums`
- * with the estimator layers the options ask for (its other layers and
- * metadata as they are; the sums themselves only with keep_sets) to
- * --outfile, else default_path, and the preview beside it. Returns 0, or 1
- * after printing the error. */
-int write_estimates(const Options *options, const ExrImage *sums, int keep_sets, const char *default_path);
+ * sample count) on the host with `settings` (its M and first sample from
+ * the file), and writes `sums` with those images instead of its own (its
+ * counters and metadata as they are; the sums themselves only with
+ * keep_sets) to --outfile, else default_path, and the options' preview
+ * beside it. Returns 0, or 1 after printing the error. */
+/* The options for re-estimating a file: as given, and without
+ * --estimators the estimators the file records (the default ones if it
+ * records none), with the preview checked. 0, or -1 with a message. */
+int options_for_file(const Options *options, const ExrImage *file, Options *chosen, char *error, size_t error_size);
+
+int write_estimates(const Options *options, const EstimatorSettings *settings, const ExrImage *sums, int keep_sets,
+                    const char *default_path);
 
 #endif

@@ -15,7 +15,7 @@
 #define ACCUMULATOR_WORDS 2 /* 64-bit words per set sum in memory */
 #define GRID_SET (-1)       /* the set of the grid channel, sets.grid */
 /* The grid word of files written before sets.grid existed: their sums
- * count units of 2^-56 (kernels/estimator_core.h, EST_GRID_BIAS). */
+ * count units of 2^-56 (kernels/accumulate.h, EST_GRID_BIAS). */
 #define LEGACY_GRID_WORD (1024u - 56u)
 #define NAME_CAPACITY 32 /* EXR short names: at most 31 bytes */
 #define METADATA_PREFIX "gmon."
@@ -25,94 +25,80 @@
  * ---------------------------------------------------------------------- */
 
 typedef enum {
-    LAYER_MEAN,
-    LAYER_MON,
-    LAYER_GMON,
-    LAYER_GINI,
-    LAYER_TRIM,
+    LAYER_RGB, /* one of the image's RGB layers */
     LAYER_NONFINITE,
     LAYER_ROUNDED,
     LAYER_SETS,
     LAYER_COUNT
 } Layer;
 
-static const char *const layer_names[LAYER_COUNT] = {"mean", "mon",       "gmon",    "gini",
-                                                     "trim", "nonfinite", "rounded", "sets"};
+static const char *const layer_names[LAYER_COUNT] = {"", "nonfinite", "rounded", "sets"};
 static const char channel_letters[RGB_CHANNELS] = {'R', 'G', 'B'};
 
 /* One EXR channel and where its values live in an ExrImage. */
 typedef struct {
     char name[NAME_CAPACITY];
     Layer layer;
+    int rgb;     /* LAYER_RGB: index in image->layers */
+    int is_int;  /* LAYER_RGB: int32 values */
     int set;     /* LAYER_SETS only; GRID_SET for the grid words */
     int channel; /* R, G, B = 0, 1, 2; 0 for the counters and the grid */
     int word;    /* LAYER_SETS only: 32-bit word, 0 the lowest */
 } ChannelSpec;
 
-static int layer_is_float(Layer layer)
+static exr_pixel_type_t spec_pixel_type(const ChannelSpec *spec)
 {
-    return layer == LAYER_MEAN || layer == LAYER_MON || layer == LAYER_GMON || layer == LAYER_GINI;
+    return spec->layer == LAYER_RGB && !spec->is_int ? EXR_PIXEL_FLOAT : EXR_PIXEL_UINT;
 }
 
-static int layer_is_counter(Layer layer)
+static ChannelSpec rgb_channel(const char *layer_name, int rgb, int is_int, int channel)
 {
-    return layer == LAYER_NONFINITE || layer == LAYER_ROUNDED;
-}
-
-static int layer_is_rgb(Layer layer)
-{
-    return !layer_is_counter(layer) && layer != LAYER_SETS;
-}
-
-static exr_pixel_type_t layer_pixel_type(Layer layer)
-{
-    return layer_is_float(layer) ? EXR_PIXEL_FLOAT : EXR_PIXEL_UINT;
-}
-
-static ChannelSpec rgb_channel(Layer layer, int channel)
-{
-    ChannelSpec spec = {{0}, layer, 0, channel, 0};
-    snprintf(spec.name, sizeof spec.name, "%s.%c", layer_names[layer], channel_letters[channel]);
+    ChannelSpec spec = {{0}, LAYER_RGB, rgb, is_int, 0, channel, 0};
+    snprintf(spec.name, sizeof spec.name, "%s.%c", layer_name, channel_letters[channel]);
     return spec;
 }
 
 static ChannelSpec set_channel(int set, int channel, int word)
 {
-    ChannelSpec spec = {{0}, LAYER_SETS, set, channel, word};
+    ChannelSpec spec = {{0}, LAYER_SETS, 0, 0, set, channel, word};
     snprintf(spec.name, sizeof spec.name, "%s.%d.%c.w%d", layer_names[LAYER_SETS], set, channel_letters[channel], word);
     return spec;
 }
 
 static ChannelSpec grid_channel(void)
 {
-    ChannelSpec spec = {{0}, LAYER_SETS, GRID_SET, 0, 0};
+    ChannelSpec spec = {{0}, LAYER_SETS, 0, 0, GRID_SET, 0, 0};
     snprintf(spec.name, sizeof spec.name, "%s.grid", layer_names[LAYER_SETS]);
     return spec;
 }
 
 static ChannelSpec counter_channel(Layer layer)
 {
-    ChannelSpec spec = {{0}, layer, 0, 0, 0};
+    ChannelSpec spec = {{0}, layer, 0, 0, 0, 0, 0};
     snprintf(spec.name, sizeof spec.name, "%s", layer_names[layer]);
     return spec;
 }
 
-/* The spec a channel name stands for; 0 if it is none of ours. Only the
- * canonical spelling matches ("sets.07.R.w0" does not). */
+/* A valid RGB layer name: 1..24 bytes, not one of the other layers. */
+static int rgb_layer_name_is_valid(const char *name, size_t length)
+{
+    if (length == 0 || length >= EXR_LAYER_NAME_CAPACITY)
+        return 0;
+    for (int layer = LAYER_NONFINITE; layer < LAYER_COUNT; ++layer)
+        if (strlen(layer_names[layer]) == length && strncmp(name, layer_names[layer], length) == 0)
+            return 0;
+    return 1;
+}
+
+/* The spec a channel name stands for; 0 if it is none of ours. RGB
+ * channels come back with rgb = -1 and their layer's name length in
+ * spec->word (the caller finds or adds the layer). Only the canonical
+ * spelling of set channels matches ("sets.07.R.w0" does not). */
 static int channel_from_name(const char *name, ChannelSpec *spec)
 {
-    for (int layer = 0; layer < LAYER_COUNT; ++layer) {
-        if (!layer_is_rgb((Layer)layer))
-            continue;
-        for (int c = 0; c < RGB_CHANNELS; ++c) {
-            *spec = rgb_channel((Layer)layer, c);
-            if (strcmp(name, spec->name) == 0)
-                return 1;
-        }
-    }
-    for (int layer = 0; layer < LAYER_COUNT; ++layer) {
+    for (int layer = LAYER_NONFINITE; layer <= LAYER_ROUNDED; ++layer) {
         *spec = counter_channel((Layer)layer);
-        if (layer_is_counter((Layer)layer) && strcmp(name, spec->name) == 0)
+        if (strcmp(name, spec->name) == 0)
             return 1;
     }
     *spec = grid_channel();
@@ -120,15 +106,43 @@ static int channel_from_name(const char *name, ChannelSpec *spec)
         return 1;
     int set, word, length = 0;
     char letter;
-    if (sscanf(name, "sets.%2d.%c.w%1d%n", &set, &letter, &word, &length) != 3 || name[length] != '\0')
+    if (strncmp(name, "sets.", 5) == 0) {
+        if (sscanf(name, "sets.%2d.%c.w%1d%n", &set, &letter, &word, &length) != 3 || name[length] != '\0')
+            return 0;
+        if (set < 0 || set >= EXR_IMAGE_MAX_SETS || word < 0 || word >= SUM_WORDS)
+            return 0;
+        const char *found = memchr(channel_letters, letter, RGB_CHANNELS);
+        if (!found)
+            return 0;
+        *spec = set_channel(set, (int)(found - channel_letters), word);
+        return strcmp(name, spec->name) == 0;
+    }
+    size_t total = strlen(name);
+    if (total < 3 || name[total - 2] != '.')
         return 0;
-    if (set < 0 || set >= EXR_IMAGE_MAX_SETS || word < 0 || word >= SUM_WORDS)
+    const char *found = memchr(channel_letters, name[total - 1], RGB_CHANNELS);
+    if (!found || !rgb_layer_name_is_valid(name, total - 2))
         return 0;
-    const char *found = memchr(channel_letters, letter, RGB_CHANNELS);
-    if (!found)
-        return 0;
-    *spec = set_channel(set, (int)(found - channel_letters), word);
-    return strcmp(name, spec->name) == 0;
+    *spec = rgb_channel("", -1, 0, (int)(found - channel_letters));
+    snprintf(spec->name, sizeof spec->name, "%s", name);
+    spec->word = (int)(total - 2);
+    return 1;
+}
+
+const ExrRgbLayer *exr_image_layer(const ExrImage *image, const char *name)
+{
+    for (int i = 0; i < image->layer_count; ++i)
+        if (strcmp(image->layers[i].name, name) == 0)
+            return &image->layers[i];
+    return NULL;
+}
+
+const char *exr_image_attribute(const ExrImage *image, const char *key)
+{
+    for (size_t i = 0; i < image->metadata.attribute_count; ++i)
+        if (strcmp(image->metadata.attributes[i].key, key) == 0)
+            return image->metadata.attributes[i].value;
+    return NULL;
 }
 
 /* ------------------------------------------------------------------------
@@ -200,12 +214,26 @@ static exr_context_initializer_t context_initializer(IoContext *io)
  * Metadata values
  * ---------------------------------------------------------------------- */
 
-static const char *const gini_mode_names[] = {"per_channel", "per_pixel", "sort_by_luminance"};
-#define GINI_MODE_COUNT ((int)(sizeof gini_mode_names / sizeof gini_mode_names[0]))
+/* The gmon.* attributes this module reads and writes itself; any other
+ * gmon.* string attribute is one of the film's. */
+static const char *const own_attributes[] = {METADATA_PREFIX "software",      METADATA_PREFIX "sets",
+                                             METADATA_PREFIX "samples",       METADATA_PREFIX "seed",
+                                             METADATA_PREFIX "firstSample",   METADATA_PREFIX "sceneFile",
+                                             METADATA_PREFIX "sceneHash",     METADATA_PREFIX "integrator",
+                                             METADATA_PREFIX "maxDepth",      METADATA_PREFIX "nonfiniteSamples",
+                                             METADATA_PREFIX "roundedSamples"};
 
-static int gini_mode_is_valid(GiniMode mode)
+static int attribute_is_own(const char *key)
 {
-    return mode == GINI_PER_CHANNEL || mode == GINI_PER_PIXEL || mode == SORT_BY_LUMINANCE;
+    for (size_t i = 0; i < sizeof own_attributes / sizeof own_attributes[0]; ++i)
+        if (strcmp(key, own_attributes[i]) == 0)
+            return 1;
+    return 0;
+}
+
+static int is_film_attribute(const char *key)
+{
+    return strncmp(key, METADATA_PREFIX, strlen(METADATA_PREFIX)) == 0 && !attribute_is_own(key);
 }
 
 /* Decimal digits only, no sign or spaces, at most UINT64_MAX. */
@@ -252,54 +280,23 @@ static int key_is_reserved(const char *key)
  * Writing
  * ---------------------------------------------------------------------- */
 
-static int image_has_layer(const ExrImage *image, Layer layer)
-{
-    switch (layer) {
-    case LAYER_MEAN:
-        return image->mean != NULL;
-    case LAYER_MON:
-        return image->mon != NULL;
-    case LAYER_GMON:
-        return image->gmon != NULL;
-    case LAYER_GINI:
-        return image->gini != NULL;
-    case LAYER_TRIM:
-        return image->trim != NULL;
-    case LAYER_NONFINITE:
-        return image->nonfinite != NULL;
-    case LAYER_ROUNDED:
-        return image->rounded != NULL;
-    case LAYER_SETS:
-        return image->accumulators != NULL;
-    default:
-        return 0;
-    }
-}
-
-static const float *float_layer(const ExrImage *image, Layer layer)
-{
-    switch (layer) {
-    case LAYER_MEAN:
-        return image->mean;
-    case LAYER_MON:
-        return image->mon;
-    case LAYER_GMON:
-        return image->gmon;
-    default:
-        return image->gini;
-    }
-}
-
 static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
 {
     if (!image)
         return fail(io, "no image given");
     if (image->width < 1 || image->height < 1)
         return fail(io, "image size %dx%d is empty", image->width, image->height);
-    int any = 0;
-    for (int layer = 0; layer < LAYER_COUNT; ++layer)
-        any |= image_has_layer(image, (Layer)layer);
-    if (!any)
+    if (image->layer_count < 0 || image->layer_count > EXR_MAX_RGB_LAYERS)
+        return fail(io, "%d RGB layers given, 0..%d supported", image->layer_count, EXR_MAX_RGB_LAYERS);
+    for (int i = 0; i < image->layer_count; ++i) {
+        const ExrRgbLayer *layer = &image->layers[i];
+        if (!layer->name || !rgb_layer_name_is_valid(layer->name, strlen(layer->name)) || !layer->data)
+            return fail(io, "RGB layer %d has no data or an invalid name '%s'", i, layer->name ? layer->name : "");
+        for (int j = 0; j < i; ++j)
+            if (strcmp(layer->name, image->layers[j].name) == 0)
+                return fail(io, "RGB layer '%s' is given twice", layer->name);
+    }
+    if (image->layer_count == 0 && !image->nonfinite && !image->rounded && !image->accumulators)
         return fail(io, "the image has no layer to write");
     const ExrMetadata *meta = &image->metadata;
     if (meta->set_count < 0 || meta->set_count > EXR_IMAGE_MAX_SETS)
@@ -310,8 +307,16 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
     size_t bytes_per_pixel = (1 + (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t);
     if (pixels > SIZE_MAX / bytes_per_pixel)
         return fail(io, "image size %dx%d is too large", image->width, image->height);
-    if (!gini_mode_is_valid(meta->gini_mode))
-        return fail(io, "unknown Gini mode %d", (int)meta->gini_mode);
+    if (meta->attribute_count > 0 && !meta->attributes)
+        return fail(io, "%zu attributes announced but none given", meta->attribute_count);
+    for (size_t i = 0; i < meta->attribute_count; ++i) {
+        const char *key = meta->attributes[i].key;
+        if (!key || !meta->attributes[i].value || strlen(key) >= NAME_CAPACITY || !is_film_attribute(key))
+            return fail(io,
+                        "attribute %zu ('%s') is not a film attribute (gmon.*, at most %d bytes, not one of "
+                        "this file's own)",
+                        i, key ? key : "", NAME_CAPACITY - 1);
+    }
     if (meta->extra_count > 0 && !meta->extras)
         return fail(io, "%zu extra attributes announced but none given", meta->extra_count);
     for (size_t i = 0; i < meta->extra_count; ++i) {
@@ -334,14 +339,13 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
 {
     int sets = image->accumulators ? image->metadata.set_count : 0;
     ChannelSpec *specs =
-        malloc(sizeof *specs * (size_t)(LAYER_COUNT * RGB_CHANNELS + 1 + sets * RGB_CHANNELS * SUM_WORDS));
+        malloc(sizeof *specs * (size_t)(image->layer_count * RGB_CHANNELS + 3 + sets * RGB_CHANNELS * SUM_WORDS));
     if (!specs)
         return NULL;
     int n = 0;
-    for (int layer = 0; layer < LAYER_COUNT; ++layer)
-        if (layer_is_rgb((Layer)layer) && image_has_layer(image, (Layer)layer))
-            for (int c = 0; c < RGB_CHANNELS; ++c)
-                specs[n++] = rgb_channel((Layer)layer, c);
+    for (int i = 0; i < image->layer_count; ++i)
+        for (int c = 0; c < RGB_CHANNELS; ++c)
+            specs[n++] = rgb_channel(image->layers[i].name, i, image->layers[i].is_int, c);
     if (image->nonfinite)
         specs[n++] = counter_channel(LAYER_NONFINITE);
     if (image->rounded)
@@ -356,7 +360,7 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
     return specs;
 }
 
-/* The layout of kernels/estimator_core.h: the grid plane, then
+/* The layout of kernels/accumulate.h: the grid plane, then
  * [set][channel][word] planes. */
 static size_t accumulator_word(int set, int channel, int word, size_t pixel, size_t pixel_count)
 {
@@ -376,8 +380,8 @@ static void gather_channel(const ExrImage *image, const ChannelSpec *spec, int f
         size_t p = first + i;
         size_t rgb = p * RGB_CHANNELS + (size_t)spec->channel;
         switch (spec->layer) {
-        case LAYER_TRIM:
-            memcpy(&out[i], &image->trim[rgb], sizeof out[i]);
+        case LAYER_RGB:
+            memcpy(&out[i], (const uint32_t *)image->layers[spec->rgb].data + rgb, sizeof out[i]);
             break;
         case LAYER_NONFINITE:
             out[i] = image->nonfinite[p];
@@ -392,7 +396,6 @@ static void gather_channel(const ExrImage *image, const ChannelSpec *spec, int f
             break;
         }
         default:
-            memcpy(&out[i], &float_layer(image, spec->layer)[rgb], sizeof out[i]);
             break;
         }
     }
@@ -451,10 +454,12 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
          EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "maxDepth", meta->max_depth),
                     "cannot set attribute " METADATA_PREFIX "maxDepth")))
         return IMAGE_IO_ERROR;
-    if (EXR_FAILED(io,
-                   exr_attr_set_string(ctxt, part, METADATA_PREFIX "giniMode", gini_mode_names[(int)meta->gini_mode]),
-                   "cannot set attribute " METADATA_PREFIX "giniMode"))
-        return IMAGE_IO_ERROR;
+    for (size_t i = 0; i < meta->attribute_count; ++i) {
+        char action[NAME_CAPACITY + 32];
+        snprintf(action, sizeof action, "cannot set attribute %s", meta->attributes[i].key);
+        if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, meta->attributes[i].key, meta->attributes[i].value), action))
+            return IMAGE_IO_ERROR;
+    }
     for (size_t i = 0; i < meta->extra_count; ++i) {
         char action[NAME_CAPACITY + 32];
         snprintf(action, sizeof action, "cannot set attribute %s", meta->extras[i].key);
@@ -533,7 +538,7 @@ static ImageIoStatus write_pixels(IoContext *io, exr_context_t ctxt, int part, c
             const ChannelSpec *spec = &specs[spec_of_channel[i]];
             uint32_t *values = scratch + plane * (size_t)i;
             gather_channel(image, spec, chunk.start_y, chunk.height, values);
-            channel->user_data_type = (uint16_t)layer_pixel_type(spec->layer);
+            channel->user_data_type = (uint16_t)spec_pixel_type(spec);
             channel->user_bytes_per_element = 4;
             channel->user_pixel_stride = 4;
             channel->user_line_stride = 4 * image->width;
@@ -594,7 +599,7 @@ ImageIoStatus exr_image_write(const char *path, const ExrImage *image, char *err
         char action[NAME_CAPACITY + 32];
         snprintf(action, sizeof action, "cannot add channel %s", specs[i].name);
         if (EXR_FAILED(&io,
-                       exr_add_channel(ctxt, part, specs[i].name, layer_pixel_type(specs[i].layer),
+                       exr_add_channel(ctxt, part, specs[i].name, spec_pixel_type(&specs[i]),
                                        EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1),
                        action))
             goto done;
@@ -732,51 +737,43 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
             return fail(io, "attribute " METADATA_PREFIX "maxDepth is of type %s, expected int", attribute->type_name);
         meta->max_depth = attribute->i;
     }
-    const char *mode = NULL;
-    int found = read_string_attribute(io, ctxt, image, METADATA_PREFIX "giniMode", &mode);
-    if (found < 0)
-        return IMAGE_IO_ERROR;
-    meta->gini_mode = GINI_PER_CHANNEL;
-    if (found) {
-        int m = 0;
-        while (m < GINI_MODE_COUNT && strcmp(mode, gini_mode_names[m]) != 0)
-            ++m;
-        if (m == GINI_MODE_COUNT)
-            return fail(io, "attribute " METADATA_PREFIX "giniMode = '%s' is not a known Gini mode", mode);
-        meta->gini_mode = (GiniMode)m;
-    }
-
-    /* Free key/value pairs: every other string attribute. */
+    /* The film's attributes (gmon.*, not ours) and the free key/value
+     * pairs: every other string attribute. */
     int32_t count = 0;
     if (EXR_FAILED(io, exr_get_attribute_count(ctxt, 0, &count), "cannot count the attributes"))
         return IMAGE_IO_ERROR;
     ExrKeyValue *extras = storage_alloc(image, sizeof *extras * (size_t)(count > 0 ? count : 1));
-    if (!extras)
+    ExrKeyValue *attributes = storage_alloc(image, sizeof *attributes * (size_t)(count > 0 ? count : 1));
+    if (!extras || !attributes)
         return fail(io, "out of memory");
-    size_t extra_count = 0;
+    size_t extra_count = 0, attribute_count = 0;
     for (int32_t i = 0; i < count; ++i) {
         if (EXR_FAILED(io, exr_get_attribute_by_index(ctxt, 0, EXR_ATTR_LIST_FILE_ORDER, i, &attribute),
                        "cannot read an attribute"))
             return IMAGE_IO_ERROR;
-        if (attribute->type != EXR_ATTR_STRING || !attribute->string || key_is_reserved(attribute->name))
+        if (attribute->type != EXR_ATTR_STRING || !attribute->string)
             continue;
+        int film = is_film_attribute(attribute->name);
+        if (!film && key_is_reserved(attribute->name))
+            continue;
+        ExrKeyValue *pair = film ? &attributes[attribute_count++] : &extras[extra_count++];
         const exr_attr_string_t *string = attribute->string;
-        extras[extra_count].key = storage_string(image, attribute->name, strlen(attribute->name));
-        extras[extra_count].value =
+        pair->key = storage_string(image, attribute->name, strlen(attribute->name));
+        pair->value =
             storage_string(image, string->str ? string->str : "", string->length > 0 ? (size_t)string->length : 0);
-        if (!extras[extra_count].key || !extras[extra_count].value)
+        if (!pair->key || !pair->value)
             return fail(io, "out of memory");
-        ++extra_count;
     }
     meta->extras = extra_count ? extras : NULL;
     meta->extra_count = extra_count;
+    meta->attributes = attribute_count ? attributes : NULL;
+    meta->attribute_count = attribute_count;
     return IMAGE_IO_OK;
 }
 
 /* The output arrays being filled, writable. */
 typedef struct {
-    float *rgb[LAYER_COUNT]; /* float layers */
-    int32_t *trim;
+    uint32_t *rgb[EXR_MAX_RGB_LAYERS];
     uint32_t *nonfinite;
     uint32_t *rounded;
     uint64_t *accumulators;
@@ -791,8 +788,8 @@ static void scatter_channel(const ReadTarget *target, const ChannelSpec *spec, s
         size_t p = first + i;
         size_t rgb = p * RGB_CHANNELS + (size_t)spec->channel;
         switch (spec->layer) {
-        case LAYER_TRIM:
-            memcpy(&target->trim[rgb], &values[i], sizeof values[i]);
+        case LAYER_RGB:
+            target->rgb[spec->rgb][rgb] = values[i];
             break;
         case LAYER_NONFINITE:
             target->nonfinite[p] = values[i];
@@ -807,7 +804,6 @@ static void scatter_channel(const ReadTarget *target, const ChannelSpec *spec, s
             break;
         }
         default:
-            memcpy(&target->rgb[spec->layer][rgb], &values[i], sizeof values[i]);
             break;
         }
     }
@@ -929,7 +925,7 @@ static ImageIoStatus read_pixels(IoContext *io, exr_const_context_t ctxt, const 
                 status = fail(io, "decoder channel %d is not %s", i, specs[i].name);
                 break;
             }
-            channel->user_data_type = (uint16_t)layer_pixel_type(specs[i].layer);
+            channel->user_data_type = (uint16_t)spec_pixel_type(&specs[i]);
             channel->user_bytes_per_element = 4;
             channel->user_pixel_stride = 4;
             channel->user_line_stride = 4 * width;
@@ -964,12 +960,45 @@ static ImageIoStatus read_pixels(IoContext *io, exr_const_context_t ctxt, const 
     return status;
 }
 
+/* Finds the RGB layer of channel `spec` (name length in spec->word, see
+ * channel_from_name) in the image, or adds it: its index, or -1 after
+ * recording an error. */
+static int rgb_layer_of(IoContext *io, ExrImage *image, const ChannelSpec *spec)
+{
+    size_t length = (size_t)spec->word;
+    for (int i = 0; i < image->layer_count; ++i)
+        if (strlen(image->layers[i].name) == length && strncmp(image->layers[i].name, spec->name, length) == 0) {
+            if (image->layers[i].is_int != spec->is_int) {
+                fail(io, "layer %s mixes UINT channels with FLOAT or HALF ones", image->layers[i].name);
+                return -1;
+            }
+            return i;
+        }
+    if (image->layer_count == EXR_MAX_RGB_LAYERS) {
+        fail(io, "the file has more than %d RGB layers", EXR_MAX_RGB_LAYERS);
+        return -1;
+    }
+    const char *name = storage_string(image, spec->name, length);
+    if (!name) {
+        fail(io, "out of memory");
+        return -1;
+    }
+    ExrRgbLayer *layer = &image->layers[image->layer_count];
+    layer->name = name;
+    layer->is_int = spec->is_int;
+    layer->data = NULL;
+    return image->layer_count++;
+}
+
 /* Checks the file's channels and maps each to a spec (layer LAYER_COUNT:
- * not ours). Sets found_layers and the number of sets found. */
-static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, ChannelSpec *specs,
+ * not ours), adding the RGB layers to the image. Sets found_layers and the
+ * number of sets found. */
+static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, ExrImage *image, ChannelSpec *specs,
                                   int found_layers[LAYER_COUNT], int *set_count, int *grid_found, int *wanted)
 {
-    int rgb_found[LAYER_COUNT][RGB_CHANNELS] = {{0}};
+    int counter_found[LAYER_COUNT] = {0};
+    int rgb_found[EXR_MAX_RGB_LAYERS][RGB_CHANNELS];
+    memset(rgb_found, 0, sizeof rgb_found);
     unsigned char words_found[EXR_IMAGE_MAX_SETS][RGB_CHANNELS][SUM_WORDS];
     memset(words_found, 0, sizeof words_found);
     int highest_set = -1;
@@ -985,34 +1014,38 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
         }
         if (entry->x_sampling != 1 || entry->y_sampling != 1)
             return fail(io, "channel %s is subsampled (%d, %d)", name, (int)entry->x_sampling, (int)entry->y_sampling);
-        int type_ok = layer_is_float(spec.layer)
-                          ? entry->pixel_type == EXR_PIXEL_FLOAT || entry->pixel_type == EXR_PIXEL_HALF
-                          : entry->pixel_type == EXR_PIXEL_UINT;
-        if (!type_ok)
-            return fail(io, "channel %s has pixel type %d, expected %s", name, (int)entry->pixel_type,
-                        layer_is_float(spec.layer) ? "FLOAT or HALF" : "UINT");
-        specs[i] = spec;
-        ++*wanted;
-        if (spec.layer == LAYER_SETS && spec.set == GRID_SET) {
+        int is_float = entry->pixel_type == EXR_PIXEL_FLOAT || entry->pixel_type == EXR_PIXEL_HALF;
+        if (spec.layer == LAYER_RGB) {
+            if (!is_float && entry->pixel_type != EXR_PIXEL_UINT)
+                return fail(io, "channel %s has pixel type %d, expected FLOAT, HALF or UINT", name,
+                            (int)entry->pixel_type);
+            spec.is_int = !is_float;
+            spec.rgb = rgb_layer_of(io, image, &spec);
+            if (spec.rgb < 0)
+                return IMAGE_IO_ERROR;
+            spec.word = 0;
+            rgb_found[spec.rgb][spec.channel] = 1;
+        } else if (entry->pixel_type != EXR_PIXEL_UINT) {
+            return fail(io, "channel %s has pixel type %d, expected UINT", name, (int)entry->pixel_type);
+        } else if (spec.layer == LAYER_SETS && spec.set == GRID_SET) {
             *grid_found = 1;
         } else if (spec.layer == LAYER_SETS) {
             words_found[spec.set][spec.channel][spec.word] = 1;
             highest_set = spec.set > highest_set ? spec.set : highest_set;
         } else {
-            rgb_found[spec.layer][spec.channel] = 1;
+            counter_found[spec.layer] = 1;
         }
+        specs[i] = spec;
+        ++*wanted;
     }
-    for (int layer = 0; layer < LAYER_COUNT; ++layer) {
-        found_layers[layer] = 0;
-        if (!layer_is_rgb((Layer)layer))
-            continue;
+    for (int layer = 0; layer < image->layer_count; ++layer) {
         int n = rgb_found[layer][0] + rgb_found[layer][1] + rgb_found[layer][2];
-        if (n != 0 && n != RGB_CHANNELS)
-            return fail(io, "layer %s has only %d of its 3 channels", layer_names[layer], n);
-        found_layers[layer] = n == RGB_CHANNELS;
+        if (n != RGB_CHANNELS)
+            return fail(io, "layer %s has only %d of its 3 channels", image->layers[layer].name, n);
     }
-    found_layers[LAYER_NONFINITE] = rgb_found[LAYER_NONFINITE][0];
-    found_layers[LAYER_ROUNDED] = rgb_found[LAYER_ROUNDED][0];
+    found_layers[LAYER_RGB] = image->layer_count > 0;
+    found_layers[LAYER_NONFINITE] = counter_found[LAYER_NONFINITE];
+    found_layers[LAYER_ROUNDED] = counter_found[LAYER_ROUNDED];
     *set_count = highest_set + 1;
     for (int j = 0; j < *set_count; ++j)
         for (int c = 0; c < RGB_CHANNELS; ++c)
@@ -1134,7 +1167,7 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
         return fail(io, "out of memory");
     int found[LAYER_COUNT];
     int set_count = 0, grid_found = 0, wanted = 0;
-    ImageIoStatus status = map_channels(io, list, specs, found, &set_count, &grid_found, &wanted);
+    ImageIoStatus status = map_channels(io, list, image, specs, found, &set_count, &grid_found, &wanted);
     if (status == IMAGE_IO_OK)
         status = check_size_against_file(io, compression, list, image);
     if (status == IMAGE_IO_OK && found[LAYER_SETS])
@@ -1154,23 +1187,25 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
 
     ReadTarget target;
     memset(&target, 0, sizeof target);
-    for (int layer = 0; layer < LAYER_COUNT && status == IMAGE_IO_OK; ++layer) {
+    for (int i = 0; i < image->layer_count && status == IMAGE_IO_OK; ++i) {
+        size_t bytes = pixels * RGB_CHANNELS * sizeof(uint32_t);
+        target.rgb[i] = storage_alloc(image, bytes);
+        image->layers[i].data = target.rgb[i];
+        if (!target.rgb[i])
+            status = fail(io, "out of memory for layer %s (%zu bytes)", image->layers[i].name, bytes);
+    }
+    for (int layer = LAYER_NONFINITE; layer < LAYER_COUNT && status == IMAGE_IO_OK; ++layer) {
         if (!found[layer])
             continue;
-        size_t bytes = layer_is_counter((Layer)layer) ? pixels * sizeof(uint32_t)
-                       : layer == LAYER_SETS
+        size_t bytes = layer == LAYER_SETS
                            ? pixels * (1 + (size_t)set_count * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t)
-                           : pixels * RGB_CHANNELS * sizeof(float);
+                           : pixels * sizeof(uint32_t);
         void *data = storage_alloc(image, bytes);
         if (!data) {
             status = fail(io, "out of memory for layer %s (%zu bytes)", layer_names[layer], bytes);
             break;
         }
         switch ((Layer)layer) {
-        case LAYER_TRIM:
-            target.trim = data;
-            image->trim = data;
-            break;
         case LAYER_NONFINITE:
             target.nonfinite = data;
             image->nonfinite = data;
@@ -1187,14 +1222,9 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
                 target.accumulators[p] = LEGACY_GRID_WORD;
             break;
         default:
-            target.rgb[layer] = data;
             break;
         }
     }
-    image->mean = target.rgb[LAYER_MEAN];
-    image->mon = target.rgb[LAYER_MON];
-    image->gmon = target.rgb[LAYER_GMON];
-    image->gini = target.rgb[LAYER_GINI];
 
     if (status == IMAGE_IO_OK && wanted > 0)
         status = read_pixels(io, ctxt, &window, specs, list->num_channels, wanted, &target);

@@ -1,20 +1,18 @@
-/* A render as one OpenEXR file (one scanline part, ZIP compression): the
- * estimator images, optional diagnostics, optional exact per-set sums from
- * which the render can be re-estimated or merged with another, and the
- * render's metadata.
+/* A render as one OpenEXR file (one scanline part, ZIP compression): RGB
+ * image layers, per-pixel counters, optional exact per-set sums from which
+ * the render can be re-estimated or merged with another, and metadata.
+ * This module knows EXR; which layers and attributes a render has, and
+ * what they mean, is the film's (host/film/film_file.h).
  *
  * Channels (EXR stores them sorted by name; readers match by name):
- *   mean.R mean.G mean.B     FLOAT   plain mean
- *   mon.R  mon.G  mon.B      FLOAT   median of means
- *   gmon.R gmon.G gmon.B     FLOAT   G-MoN
- *   gini.R gini.G gini.B     FLOAT   Gini coefficient used for the trim
- *   trim.R trim.G trim.B     UINT    sets trimmed at each end (c)
+ *   <layer>.R <layer>.G <layer>.B  FLOAT (or HALF, read as float), or UINT
+ *                                    holding int32 bits: an RGB layer
  *   nonfinite                UINT    non-finite samples (added as 0)
  *   rounded                  UINT    samples not added exactly (the pixel's
  *                                    values span more than its sums hold)
  *   sets.grid                UINT    the pixel's grid word: 0 (no nonzero
  *                                    sample) or E + 1024, the sums counting
- *                                    units of 2^E (kernels/estimator_core.h);
+ *                                    units of 2^E (kernels/accumulate.h);
  *                                    files without it: units of 2^-56
  *   sets.<j>.<R|G|B>.w<k>    UINT    set j's exact sum (signed 128-bit
  *                                    integer, below 2^126 in magnitude) as
@@ -33,28 +31,29 @@
  *                             seed, M), taken from the renderer's buffers
  *   gmon.integrator   string  path | bsdf
  *   gmon.maxDepth     int
- *   gmon.giniMode     string  per_channel | per_pixel | sort_by_luminance
  *   gmon.nonfiniteSamples string  non-finite samples, decimal uint64
  *   gmon.roundedSamples   string  samples not added exactly, decimal uint64
+ *   gmon.<other>      string  the film's attributes (`attributes`)
  *   <key>             string  free key/value pairs (keys not in "gmon.")
  * 64-bit numbers are decimal strings: EXR has no 64-bit integer attribute
  * and a double would lose values above 2^53. */
 #ifndef HOST_IO_EXR_IMAGE_H
 #define HOST_IO_EXR_IMAGE_H
 
-#include "estimator/estimator.h" /* GiniMode */
 #include "io/image_io.h"
 
 #include <stddef.h>
 #include <stdint.h>
 
 #define EXR_IMAGE_MAX_SETS 64
+#define EXR_MAX_RGB_LAYERS 64
+#define EXR_LAYER_NAME_CAPACITY 25 /* a layer name: at most 24 bytes */
 /* Grid words a valid file may hold besides 0: E + 1024 for E in -149..200. */
 #define EXR_GRID_WORD_MIN (1024u - 149u)
 #define EXR_GRID_WORD_MAX (1024u + 200u)
 
 typedef struct {
-    const char *key; /* not starting with "gmon."; at most 31 bytes */
+    const char *key; /* extras: not starting with "gmon."; attributes: starting with it; at most 31 bytes */
     const char *value;
 } ExrKeyValue;
 
@@ -63,34 +62,39 @@ typedef struct {
     int set_count;         /* M, 1..64; 0: unknown (only without sets) */
     uint64_t sample_count; /* n, samples per pixel */
     uint64_t seed;
-    uint64_t first_sample;  /* index of this render's first sample */
-    const char *scene_path; /* NULL: not written */
-    const char *scene_hash; /* NULL: not written */
-    const char *integrator; /* NULL: not written */
-    int max_depth;          /* written with the integrator */
-    GiniMode gini_mode;
+    uint64_t first_sample;      /* index of this render's first sample */
+    const char *scene_path;     /* NULL: not written */
+    const char *scene_hash;     /* NULL: not written */
+    const char *integrator;     /* NULL: not written */
+    int max_depth;              /* written with the integrator */
     uint64_t nonfinite_samples; /* totals over the image */
     uint64_t rounded_samples;
+    const ExrKeyValue *attributes; /* the film's gmon.* string attributes (none of the above) */
+    size_t attribute_count;
     const ExrKeyValue *extras;
     size_t extra_count;
 } ExrMetadata;
 
+/* An RGB layer: channels <name>.R, .G, .B, 3 values per pixel,
+ * interleaved. */
+typedef struct {
+    const char *name; /* not "sets", "nonfinite" or "rounded"; 1..24 bytes */
+    int is_int;       /* int32 values (UINT channels); else floats */
+    const void *data;
+} ExrRgbLayer;
+
 /* Pixels are row-major from the top left, pixel p = y * width + x. A NULL
- * layer is absent. RGB layers hold 3 values per pixel, interleaved (as the
- * estimators produce them). */
+ * layer is absent. */
 typedef struct {
     int width;
     int height;
-    const float *mean;
-    const float *mon;
-    const float *gmon;
-    const float *gini;
-    const int32_t *trim;
+    ExrRgbLayer layers[EXR_MAX_RGB_LAYERS]; /* read: in the file's (sorted) order */
+    int layer_count;
     const uint32_t *nonfinite;    /* one value per pixel */
     const uint32_t *rounded;      /* one value per pixel */
     const uint64_t *accumulators; /* metadata.set_count sets: the grid plane,
                                      then planes [set][channel][word][pixel],
-                                     as in kernels/estimator_core.h */
+                                     as in kernels/accumulate.h */
     ExrMetadata metadata;
     void *storage; /* memory owned by an image from exr_image_read */
 } ExrImage;
@@ -106,6 +110,12 @@ ImageIoStatus exr_image_write(const char *path, const ExrImage *image, char *err
  * Float layers may also be stored as HALF. Free the result with
  * exr_image_free, also after a failure. */
 ImageIoStatus exr_image_read(const char *path, ExrImage *image, char *error, size_t error_size);
+
+/* The RGB layer named `name`, or NULL. */
+const ExrRgbLayer *exr_image_layer(const ExrImage *image, const char *name);
+
+/* The film attribute (metadata.attributes) named `key`, or NULL. */
+const char *exr_image_attribute(const ExrImage *image, const char *key);
 
 /* Frees what exr_image_read allocated and clears the struct. */
 void exr_image_free(ExrImage *image);

@@ -3,10 +3,11 @@
 #ifndef HOST_RENDER_RENDER_EXR_H
 #define HOST_RENDER_RENDER_EXR_H
 
-#include "io/exr_image.h"
+#include "film/film_file.h"
 #include "render/renderer.h"
 
-/* The image points into `output`, which must outlive it. */
-ExrImage render_output_exr(const RenderOutput *output);
+/* Fills `file` (in place: see FilmFile); its image points into `output`,
+ * which must outlive it. */
+void render_output_file(FilmFile *file, const RenderOutput *output);
 
 #endif

@@ -46,8 +46,7 @@ void render_scene_set_camera(RenderScene *scene, const float position[3], const 
  * Returns 0, or -1 with a message. */
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
 
-/* The feature mask (kernels/feature_mask.h) of what rendering the scene uses,
- * with the ESTIMATOR_OUTPUT_* bits of `outputs`. */
-uint32_t render_scene_features(const RenderScene *scene, int outputs);
+/* The feature mask (kernels/feature_mask.h) of what rendering the scene uses. */
+uint32_t render_scene_features(const RenderScene *scene);
 
 #endif

@@ -4,8 +4,8 @@
 #include "render/memory_check.h"
 
 #include "cl/kernel_sources.h"
-#include "estimator/estimator_cl.h"
-#include "estimator_core.h"
+#include "film/film_cl.h"
+#include "estimators.h"
 #include "feature_mask.h"
 
 #include <stdio.h>
@@ -23,9 +23,7 @@ static double now_seconds(void)
 void render_settings_default(RenderSettings *s)
 {
     memset(s, 0, sizeof *s);
-    s->estimator.set_count = ESTIMATOR_DEFAULT_SETS;
-    s->estimator.gini_mode = GINI_PER_CHANNEL;
-    s->outputs = ESTIMATOR_OUTPUT_MEAN | ESTIMATOR_OUTPUT_MON | ESTIMATOR_OUTPUT_GMON;
+    estimator_settings_default(&s->estimator);
     s->sample_count = 64;
     s->seconds_per_pass = 0.5;
 }
@@ -34,12 +32,23 @@ void render_output_free(RenderOutput *o)
 {
     free(o->accumulators);
     free(o->rejected);
-    free(o->mean);
-    free(o->mon);
-    free(o->gmon);
-    free(o->gini);
-    free(o->trim);
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        free(o->pass[p]);
+        free(o->error[p]);
+    }
     memset(o, 0, sizeof *o);
+}
+
+EstimatorImages render_output_images(const RenderOutput *o)
+{
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        images.pass[p] = o->pass[p];
+        images.error[p] = o->error[p];
+    }
+    images.length = (size_t)o->width * o->height * EST_CHANNELS;
+    return images;
 }
 
 #define SCENE_BUFFERS 5 /* params, nodes, primitives, materials, emitters */
@@ -115,6 +124,7 @@ static void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t 
 typedef struct {
     const RenderScene *scene;
     const RenderSettings *settings;
+    EstimatorSettings estimator; /* as the workers estimate: M as rendered, the first sample */
     SceneUpload upload;
     int sets;      /* M as rendered */
     size_t pixels; /* of the image */
@@ -258,12 +268,7 @@ static int start_worker(Render *r, Worker *w, const char *options)
         drop_worker(r, w, "clCreateKernel(render_samples) failed");
         return -1;
     }
-    EstimatorSettings estimator = s->estimator;
-    estimator.set_count = r->sets;
-    estimator.first_sample = s->first_sample;
-    /* The estimator writes exactly the requested images (also with
-     * all_features, where the mask has every output bit). */
-    w->estimator = estimator_program_new(w->device, &estimator, s->outputs, s->kernel_dir);
+    w->estimator = estimator_program_new(w->device, &r->estimator, s->kernel_dir);
     if (!w->estimator) {
         drop_worker(r, w, "the estimator failed to build (build log above)");
         return -1;
@@ -484,19 +489,18 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
     return failures;
 }
 
-static int allocate_images(RenderOutput *out, int outputs, size_t pixels)
+static int allocate_images(RenderOutput *out, const EstimatorSettings *settings, size_t pixels)
 {
     const size_t bytes = pixels * EST_CHANNELS * sizeof(float);
-    if ((outputs & ESTIMATOR_OUTPUT_MEAN) && !out->mean && !(out->mean = malloc(bytes)))
-        return -1;
-    if ((outputs & ESTIMATOR_OUTPUT_MON) && !out->mon && !(out->mon = malloc(bytes)))
-        return -1;
-    if ((outputs & ESTIMATOR_OUTPUT_GMON) && !out->gmon && !(out->gmon = malloc(bytes)))
-        return -1;
-    if ((outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS) && !out->gini && !(out->gini = malloc(bytes)))
-        return -1;
-    if ((outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS) && !out->trim && !(out->trim = malloc(bytes)))
-        return -1;
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(settings->passes & PASS_BIT(p)))
+            continue;
+        if (!out->pass[p] && !(out->pass[p] = malloc(bytes)))
+            return -1;
+        if (settings->with_stderr && (PASSES_ESTIMATES & PASS_BIT(p)) && !out->error[p] &&
+            !(out->error[p] = malloc(bytes)))
+            return -1;
+    }
     return 0;
 }
 
@@ -504,36 +508,28 @@ static int allocate_images(RenderOutput *out, int outputs, size_t pixels)
  * into the output's images. Returns 0, or -1 after dropping a worker. */
 static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
 {
-    void *hosts[5] = {out->mean, out->mon, out->gmon, out->gini, out->trim};
+    EstimatorImages host = render_output_images(out);
     for (int i = 0; i < r->worker_count; ++i) {
         Worker *w = &r->workers[i];
         if (!w->live)
             continue;
-        const size_t bytes = w->count * EST_CHANNELS * sizeof(float);
-        cl_mem images[5] = {NULL};
+        const size_t bytes = estimator_program_image_bytes(w->estimator, w->count);
         cl_int err = CL_SUCCESS;
-        size_t allocated = 0;
-        for (int k = 0; k < 5 && err == CL_SUCCESS; ++k)
-            if (hosts[k]) {
-                images[k] = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
-                allocated += bytes;
-            }
+        cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
         cl_event done = NULL;
         if (err == CL_SUCCESS) {
-            track_peak(r, w, allocated);
-            done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images[0], images[1],
-                                             images[2], images[3], images[4]);
+            track_peak(r, w, bytes);
+            done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images);
             err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
         }
-        for (int k = 0; k < 5 && err == CL_SUCCESS; ++k)
-            if (images[k])
-                err = clEnqueueReadBuffer(w->device->queue, images[k], CL_TRUE, 0, bytes,
-                                          (char *)hosts[k] + w->first * EST_CHANNELS * sizeof(float), 0, NULL, NULL);
-        if (done)
+        if (err == CL_SUCCESS)
+            err = estimator_program_read(w->estimator, images, w->first, w->count, &host);
+        if (done) {
+            w->report->estimate_seconds += cl_event_seconds(done);
             clReleaseEvent(done);
-        for (int k = 0; k < 5; ++k)
-            if (images[k])
-                clReleaseMemObject(images[k]);
+        }
+        if (images)
+            clReleaseMemObject(images);
         if (err != CL_SUCCESS) {
             drop_on_cl_error(r, w, "the estimator failed");
             return -1;
@@ -546,11 +542,8 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
  * for when no device is left. */
 static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out)
 {
-    EstimatorSettings settings = r->settings->estimator;
-    settings.set_count = r->sets;
-    settings.first_sample = r->settings->first_sample;
-    EstimatorImages images = {out->mean, out->mon, out->gmon, out->gini, out->trim, r->pixels * EST_CHANNELS};
-    return estimator_from_accumulators(&settings, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
+    EstimatorImages images = render_output_images(out);
+    return estimator_from_accumulators(&r->estimator, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
                                        &images, NULL, 0) == ESTIMATOR_OK
                ? 0
                : -1;
@@ -612,14 +605,9 @@ static int host_copies(int device_count)
  * host its copies of the per-pixel state, the images, and what a CPU
  * device allocates (its memory is the host's); on each device its first
  * share of the state, its images and the scene. */
-static int check_memory(const Render *r, int outputs, ClDevice *devices, int device_count, char *error,
-                        size_t error_size)
+static int check_memory(const Render *r, ClDevice *devices, int device_count, char *error, size_t error_size)
 {
-    int images = 0;
-    for (int bit = ESTIMATOR_OUTPUT_MEAN; bit <= ESTIMATOR_OUTPUT_GMON; bit <<= 1)
-        images += (outputs & bit) != 0;
-    if (outputs & ESTIMATOR_OUTPUT_DIAGNOSTICS)
-        images += 2;
+    const int images = pass_image_count(r->estimator.passes, r->estimator.with_stderr);
     const uint64_t state = render_bytes_per_pixel((size_t)r->sets), image = EST_CHANNELS * sizeof(float) * images;
     uint64_t scene = 0;
     for (int i = 0; i < SCENE_BUFFERS; ++i)
@@ -676,10 +664,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
 {
     memset(out, 0, sizeof *out);
     const int m = s->estimator.set_count;
-    if (m < 1 || m > EST_MAX_SETS) {
-        snprintf(error, error_size, "set count M = %d is out of range 1..%d", m, EST_MAX_SETS);
+    if (estimator_settings_check(&s->estimator, error, error_size) != 0)
         return RENDER_FAILED;
-    }
     if (device_count < 1 || device_count > RENDER_MAX_DEVICES) {
         snprintf(error, error_size, "%d devices given, 1..%d supported", device_count, RENDER_MAX_DEVICES);
         return RENDER_FAILED;
@@ -690,7 +676,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     r.settings = s;
     scene_upload_init(&r.upload, scene, s);
     /* Only the mean needs no sets: one sum per pixel. */
-    r.sets = (s->outputs & ~ESTIMATOR_OUTPUT_MEAN) || s->keep_sets ? m : 1;
+    r.sets = (s->estimator.passes & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ? m : 1;
+    r.estimator = s->estimator;
+    r.estimator.set_count = r.sets;
+    r.estimator.first_sample = s->first_sample;
     r.pixels = (size_t)scene->params.width * scene->params.height;
     r.planes = accumulator_planes((uint32_t)r.sets);
     scene_upload_hash(&r.upload, r.sets, out->scene_hash, sizeof out->scene_hash);
@@ -700,18 +689,18 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     out->width = scene->params.width;
     out->height = scene->params.height;
     out->set_count = r.sets;
-    out->gini_mode = s->estimator.gini_mode;
+    out->estimator = r.estimator;
     out->seed = s->seed;
     out->first_sample = s->first_sample;
     out->device_count = device_count;
-    out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene, s->outputs);
+    out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene);
     RenderStatus status = RENDER_FAILED;
 
-    if (check_memory(&r, s->outputs, devices, device_count, error, error_size))
+    if (check_memory(&r, devices, device_count, error, error_size))
         goto done;
     if (allocate_state(&r.saved, r.planes, r.pixels) ||
         (host_copies(device_count) > 1 && allocate_state(&r.scratch, r.planes, r.pixels)) ||
-        allocate_images(out, s->outputs, r.pixels))
+        allocate_images(out, &r.estimator, r.pixels))
         goto out_of_memory;
 
     /* The path tracer needs no bit-exact agreement with the host (only its

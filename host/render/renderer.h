@@ -14,7 +14,7 @@
 #define HOST_RENDER_RENDERER_H
 
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
+#include "film/film.h"
 #include "render/render_scene.h"
 
 #include <signal.h>
@@ -31,8 +31,7 @@
 typedef struct RenderOutput RenderOutput;
 
 typedef struct {
-    EstimatorSettings estimator; /* M and the Gini mode (its first_sample is set from first_sample) */
-    int outputs;                 /* ESTIMATOR_OUTPUT_* mask */
+    EstimatorSettings estimator; /* M, Gini mode, passes, parameters (its first_sample is set from first_sample) */
     int keep_sets;               /* keep M sets even when only the mean is asked for (--write-sets) */
     int all_features;            /* build the all-features kernels instead of specializing */
     uint32_t seed;
@@ -55,28 +54,29 @@ typedef struct {
 
 typedef struct {
     char name[256];
-    int failed;           /* dropped: at build time or during the render */
-    char error[512];      /* why it was dropped */
-    uint64_t samples;     /* pixel samples it delivered to the image */
-    double busy_seconds;  /* its kernels' run time */
-    double build_seconds; /* its program builds */
-    size_t peak_bytes;    /* device memory allocated, at most */
+    int failed;              /* dropped: at build time or during the render */
+    char error[512];         /* why it was dropped */
+    uint64_t samples;        /* pixel samples it delivered to the image */
+    double busy_seconds;     /* its path tracer kernels' run time */
+    double estimate_seconds; /* its estimator kernels' run time, every estimation */
+    double build_seconds;    /* its program builds */
+    size_t peak_bytes;       /* device memory allocated, at most */
 } RenderDeviceReport;
 
 struct RenderOutput {
     unsigned width, height;
-    int set_count; /* M as rendered: 1 when only the mean was asked for */
-    GiniMode gini_mode;
+    int set_count;               /* M as rendered: 1 when only the mean was asked for */
+    EstimatorSettings estimator; /* as the images were estimated (set_count M as rendered) */
     uint32_t seed;
     uint64_t first_sample;
     uint64_t sample_count; /* samples per pixel actually rendered */
     char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
     uint32_t max_depth;
     const char *integrator;  /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
-    uint64_t *accumulators;  /* exact set sums, accumulator_planes(set_count) planes (estimator_core.h) */
+    uint64_t *accumulators;  /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
     uint32_t *rejected;      /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
     uint64_t rejected_total; /* non-finite samples (added as 0) */
-    uint64_t rounded_total;  /* samples not added exactly (see estimator_core.h), in ... */
+    uint64_t rounded_total;  /* samples not added exactly (see accumulate.h), in ... */
     uint64_t rounded_pixels; /* ... this many pixels */
     size_t bytes_per_pixel;  /* per-pixel state on the devices and in each host copy */
     uint64_t rays;
@@ -86,10 +86,14 @@ struct RenderOutput {
     int rebalances;       /* times pixels moved between devices */
     int device_count;
     RenderDeviceReport devices[RENDER_MAX_DEVICES];
-    /* Estimates (RGB per pixel); NULL where not requested. */
-    float *mean, *mon, *gmon, *gini;
-    int32_t *trim;
+    /* The images (RGB per pixel) by pass, as EstimatorImages; NULL where
+     * not requested. */
+    void *pass[PASS_COUNT];
+    float *error[PASS_COUNT];
 };
+
+/* The output's images as estimator arguments. */
+EstimatorImages render_output_images(const RenderOutput *output);
 
 /* Counters per pixel: non-finite samples, rounded samples. */
 #define REJECTED_PLANES 2

@@ -2,7 +2,7 @@
  * the reader of `gmonrt estimate` and `merge`. An image read without error
  * must own every layer it reports, at the size its header says. */
 #include "fuzz_input.h"
-#include "estimator_core.h" /* accumulator_planes */
+#include "accumulate.h" /* accumulator_planes */
 #include "io/exr_image.h"
 
 #include <string.h>
@@ -24,12 +24,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char error[1024];
     if (exr_image_read(exr_path, &image, error, sizeof error) == IMAGE_IO_OK) {
         size_t pixels = (size_t)image.width * (size_t)image.height;
-        const float *rgb_layers[] = {image.mean, image.mon, image.gmon, image.gini};
-        for (size_t i = 0; i < sizeof rgb_layers / sizeof rgb_layers[0]; ++i)
-            if (rgb_layers[i])
-                fuzz_touch(rgb_layers[i], 3 * pixels * sizeof(float));
-        if (image.trim)
-            fuzz_touch(image.trim, 3 * pixels * sizeof *image.trim);
+        for (int i = 0; i < image.layer_count; ++i) {
+            fuzz_touch(image.layers[i].name, strlen(image.layers[i].name) + 1);
+            fuzz_touch(image.layers[i].data, 3 * pixels * sizeof(float));
+        }
         if (image.nonfinite)
             fuzz_touch(image.nonfinite, pixels * sizeof *image.nonfinite);
         if (image.rounded)
@@ -42,6 +40,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         for (size_t i = 0; i < sizeof strings / sizeof strings[0]; ++i)
             if (strings[i])
                 fuzz_touch(strings[i], strlen(strings[i]) + 1);
+        for (size_t i = 0; i < meta->attribute_count; ++i) {
+            fuzz_touch(meta->attributes[i].key, strlen(meta->attributes[i].key) + 1);
+            fuzz_touch(meta->attributes[i].value, strlen(meta->attributes[i].value) + 1);
+        }
         for (size_t i = 0; i < meta->extra_count; ++i) {
             fuzz_touch(meta->extras[i].key, strlen(meta->extras[i].key) + 1);
             fuzz_touch(meta->extras[i].value, strlen(meta->extras[i].value) + 1);

@@ -1,7 +1,7 @@
 /* Writes the EXR harness's seeds into a directory with the project's own
  * writer: small renders with every layer and two sets, and with the mean
  * alone. Usage: make_exr_seeds DIR */
-#include "estimator_core.h" /* accumulator_planes */
+#include "accumulate.h" /* accumulator_planes */
 #include "io/exr_image.h"
 
 #include <stdint.h>
@@ -45,14 +45,12 @@ int main(int argc, char **argv)
     for (size_t i = PIXELS; i < words; ++i)
         sums[i] = (uint64_t)i << 40;
     const ExrKeyValue extras[] = {{"render.device", "fuzz seed"}};
+    const ExrKeyValue attributes[] = {{"gmon.giniMode", "per_pixel"}, {"gmon.estimators", "mean,mon,gmon,gini,trim"}};
     ExrImage full = {
         .width = WIDTH,
         .height = HEIGHT,
-        .mean = rgb,
-        .mon = rgb,
-        .gmon = rgb,
-        .gini = rgb,
-        .trim = trim,
+        .layers = {{"mean", 0, rgb}, {"mon", 0, rgb}, {"gmon", 0, rgb}, {"gmon.stderr", 0, rgb}, {"trim", 1, trim}},
+        .layer_count = 5,
         .nonfinite = nonfinite,
         .rounded = rounded,
         .accumulators = sums,
@@ -63,13 +61,15 @@ int main(int argc, char **argv)
                      .first_sample = 0,
                      .scene_path = "scene.pbrt",
                      .scene_hash = "0123456789abcdef",
-                     .gini_mode = GINI_PER_PIXEL,
+                     .attributes = attributes,
+                     .attribute_count = 2,
                      .nonfinite_samples = 15,
                      .rounded_samples = 3,
                      .extras = extras,
                      .extra_count = 1},
     };
-    ExrImage mean_only = {.width = 2, .height = 1, .mean = rgb, .metadata = {.sample_count = 1}};
+    ExrImage mean_only = {
+        .width = 2, .height = 1, .layers = {{"mean", 0, rgb}}, .layer_count = 1, .metadata = {.sample_count = 1}};
     int failed = write_seed(argv[1], "full.exr", &full) || write_seed(argv[1], "mean-only.exr", &mean_only);
     free(sums);
     return failed;

@@ -1,6 +1,6 @@
 #include "estimator_cases.h"
 
-#include "estimator_core.h"
+#include "estimators.h"
 #include "sample_streams.h"
 
 #include <float.h>

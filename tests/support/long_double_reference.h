@@ -11,7 +11,7 @@
 #ifndef TESTS_SUPPORT_LONG_DOUBLE_REFERENCE_H
 #define TESTS_SUPPORT_LONG_DOUBLE_REFERENCE_H
 
-#include "estimator/estimator.h" /* GiniMode */
+#include "film/film.h" /* GiniMode */
 
 #include <stddef.h>
 #include <stdint.h>

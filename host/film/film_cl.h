@@ -3,14 +3,14 @@
 #define HOST_ESTIMATOR_ESTIMATOR_CL_H
 
 #include "cl/cl_device.h"
-#include "estimator/estimator.h"
+#include "film/film.h"
 
 typedef struct EstimatorProgram EstimatorProgram;
 
-/* Builds the estimator program for M, the Gini mode and the outputs. Returns
- * NULL after printing the reason. kernel_dir: see kernel_sources.h. */
-EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, int outputs,
-                                        const char *kernel_dir);
+/* Builds the estimator program for the settings (M, Gini mode, passes,
+ * standard errors; the parameters go with each run). Returns NULL after
+ * printing the reason. kernel_dir: see kernel_sources.h. */
+EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, const char *kernel_dir);
 void estimator_program_destroy(EstimatorProgram *program);
 
 /* How the estimator kernels run; chosen per device by
@@ -31,13 +31,22 @@ typedef struct {
 
 EstimatorLaunch estimator_program_launch(const EstimatorProgram *program);
 
-/* Enqueues the estimator on device buffers. `input` holds float set sums or,
- * with from_accumulators, exact accumulators; outputs not in the program's
- * mask may be NULL. Returns the kernel's event (caller releases), or NULL on
- * error. */
+/* Bytes of the images of pixel_count pixels: one buffer of RGB planes, in
+ * the order of pass_slot and stderr_slot (passes.h). */
+size_t estimator_program_image_bytes(const EstimatorProgram *program, size_t pixel_count);
+
+/* Enqueues the estimator on device buffers: `input` holds float set sums
+ * or, with from_accumulators, exact accumulators; `images` is
+ * estimator_program_image_bytes large. Returns the kernel's event (caller
+ * releases), or NULL on error. */
 cl_event estimator_program_enqueue(EstimatorProgram *program, cl_mem input, int from_accumulators, size_t pixel_count,
-                                   uint64_t sample_count, cl_mem mean, cl_mem mon, cl_mem gmon, cl_mem gini,
-                                   cl_mem trim);
+                                   uint64_t sample_count, cl_mem images);
+
+/* Reads the images of pixels [first, first + pixel_count) from `images`
+ * (as enqueued for pixel_count pixels) into host images, at those pixels;
+ * blocking. Returns a CL error code. */
+cl_int estimator_program_read(EstimatorProgram *program, cl_mem images, size_t first, size_t pixel_count,
+                              EstimatorImages *host);
 
 /* Convenience for tests: uploads host input, runs, downloads into `images`
  * (buffers not in the mask are left alone). Returns 0 on success. */

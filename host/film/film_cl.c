@@ -1,6 +1,6 @@
-#include "estimator/estimator_cl.h"
+#include "film/film_cl.h"
 
-#include "estimator_core.h"
+#include "estimators.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,7 +8,6 @@
 struct EstimatorProgram {
     ClDevice *device;
     EstimatorSettings settings;
-    int outputs;
     EstimatorLaunch launch;
     cl_program program;
     cl_kernel from_sums;
@@ -57,11 +56,11 @@ static int choose_launch(const ClDevice *device, EstimatorLaunch *launch)
     return 0;
 }
 
-EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, int outputs,
-                                        const char *kernel_dir)
+EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, const char *kernel_dir)
 {
-    if (settings->set_count < 1 || settings->set_count > EST_MAX_SETS) {
-        fprintf(stderr, "estimator: set count M = %d is out of range 1..%d\n", settings->set_count, EST_MAX_SETS);
+    char message[256];
+    if (estimator_settings_check(settings, message, sizeof message) != 0) {
+        fprintf(stderr, "estimator: %s\n", message);
         return NULL;
     }
     EstimatorProgram *p = calloc(1, sizeof *p);
@@ -69,15 +68,15 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
         return NULL;
     p->device = device;
     p->settings = *settings;
-    p->outputs = outputs;
     if (choose_launch(device, &p->launch) != 0)
         goto fail;
     char options[256];
     snprintf(options, sizeof options,
-             "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DGMON_FEATURES=%d -DEST_VECTOR_WIDTH=%d "
-             "-DEST_PREFETCH=%d",
+             "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DEST_PASSES=0x%x -DEST_STDERR=%d "
+             "-DEST_VECTOR_WIDTH=%d -DEST_PREFETCH=%d",
              settings->set_count, (int)(settings->first_sample % (uint64_t)settings->set_count),
-             (int)settings->gini_mode, outputs, p->launch.vector_width, p->launch.prefetch);
+             (int)settings->gini_mode, (unsigned)settings->passes, settings->with_stderr ? 1 : 0,
+             p->launch.vector_width, p->launch.prefetch);
     p->program = cl_program_build(device, "estimator", options, kernel_dir);
     if (!p->program)
         goto fail;
@@ -110,19 +109,23 @@ void estimator_program_destroy(EstimatorProgram *p)
     free(p);
 }
 
+size_t estimator_program_image_bytes(const EstimatorProgram *p, size_t pixel_count)
+{
+    return (size_t)pass_image_count(p->settings.passes, p->settings.with_stderr) * pixel_count * EST_CHANNELS *
+           sizeof(float);
+}
+
 cl_event estimator_program_enqueue(EstimatorProgram *p, cl_mem input, int from_accumulators, size_t pixel_count,
-                                   uint64_t sample_count, cl_mem mean, cl_mem mon, cl_mem gmon, cl_mem gini,
-                                   cl_mem trim)
+                                   uint64_t sample_count, cl_mem images)
 {
     cl_kernel k = from_accumulators ? p->from_accumulators : p->from_sums;
     cl_ulong pixels = pixel_count, samples = sample_count;
-    cl_mem outputs[5] = {mean, mon, gmon, gini, trim};
     cl_event event = NULL;
     CL_CHECK(clSetKernelArg(k, 0, sizeof input, &input), fail);
     CL_CHECK(clSetKernelArg(k, 1, sizeof pixels, &pixels), fail);
     CL_CHECK(clSetKernelArg(k, 2, sizeof samples, &samples), fail);
-    for (cl_uint i = 0; i < 5; ++i)
-        CL_CHECK(clSetKernelArg(k, 3 + i, sizeof(cl_mem), outputs[i] ? &outputs[i] : NULL), fail);
+    CL_CHECK(clSetKernelArg(k, 3, sizeof p->settings.params, &p->settings.params), fail);
+    CL_CHECK(clSetKernelArg(k, 4, sizeof images, &images), fail);
     /* A work item per vector_width pixels, rounded up to whole work groups
      * (the kernels skip items past the end). */
     size_t global = (pixel_count + (size_t)p->launch.vector_width - 1) / (size_t)p->launch.vector_width;
@@ -136,45 +139,53 @@ fail:
     return NULL;
 }
 
+cl_int estimator_program_read(EstimatorProgram *p, cl_mem images, size_t first, size_t pixel_count,
+                              EstimatorImages *host)
+{
+    const uint32_t passes = p->settings.passes;
+    const size_t plane = pixel_count * EST_CHANNELS * sizeof(float), offset = first * EST_CHANNELS * sizeof(float);
+    for (int pass = 0; pass < PASS_COUNT; ++pass) {
+        if (!(passes & PASS_BIT(pass)))
+            continue;
+        cl_int err = CL_SUCCESS;
+        if (host->pass[pass])
+            err = clEnqueueReadBuffer(p->device->queue, images, CL_TRUE, (size_t)pass_slot(passes, pass) * plane, plane,
+                                      (char *)host->pass[pass] + offset, 0, NULL, NULL);
+        if (err == CL_SUCCESS && p->settings.with_stderr && (PASSES_ESTIMATES & PASS_BIT(pass)) && host->error[pass])
+            err = clEnqueueReadBuffer(p->device->queue, images, CL_TRUE, (size_t)stderr_slot(passes, pass) * plane,
+                                      plane, (char *)host->error[pass] + offset, 0, NULL, NULL);
+        if (err != CL_SUCCESS)
+            return err;
+    }
+    return CL_SUCCESS;
+}
+
 int estimator_program_run(EstimatorProgram *p, const void *input, int from_accumulators, size_t pixel_count,
                           uint64_t sample_count, EstimatorImages *images)
 {
     cl_context ctx = p->device->context;
-    cl_command_queue queue = p->device->queue;
     size_t values = (size_t)p->settings.set_count * EST_CHANNELS * pixel_count;
     size_t input_bytes = from_accumulators
                              ? accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t)
                              : values * sizeof(float);
-    size_t image_bytes = pixel_count * EST_CHANNELS * sizeof(float);
-    void *hosts[5] = {images->mean, images->mon, images->gmon, images->gini, images->trim};
-    const int bits[5] = {ESTIMATOR_OUTPUT_MEAN, ESTIMATOR_OUTPUT_MON, ESTIMATOR_OUTPUT_GMON,
-                         ESTIMATOR_OUTPUT_DIAGNOSTICS, ESTIMATOR_OUTPUT_DIAGNOSTICS};
-    cl_mem buffers[5] = {0};
     cl_event event = NULL;
+    cl_mem out = NULL;
     int status = -1;
     cl_int err = CL_SUCCESS;
     cl_mem in = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, input_bytes, (void *)input, &err);
     CL_CHECK(err, done);
-    for (int i = 0; i < 5; ++i) {
-        if (!(p->outputs & bits[i]) || !hosts[i])
-            continue;
-        buffers[i] = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes, NULL, &err);
-        CL_CHECK(err, done);
-    }
-    event = estimator_program_enqueue(p, in, from_accumulators, pixel_count, sample_count, buffers[0], buffers[1],
-                                      buffers[2], buffers[3], buffers[4]);
+    out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, estimator_program_image_bytes(p, pixel_count), NULL, &err);
+    CL_CHECK(err, done);
+    event = estimator_program_enqueue(p, in, from_accumulators, pixel_count, sample_count, out);
     if (!event)
         goto done;
-    for (int i = 0; i < 5; ++i)
-        if (buffers[i])
-            CL_CHECK(clEnqueueReadBuffer(queue, buffers[i], CL_TRUE, 0, image_bytes, hosts[i], 0, NULL, NULL), done);
+    CL_CHECK(estimator_program_read(p, out, 0, pixel_count, images), done);
     status = 0;
 done:
     if (event)
         clReleaseEvent(event);
-    for (int i = 0; i < 5; ++i)
-        if (buffers[i])
-            clReleaseMemObject(buffers[i]);
+    if (out)
+        clReleaseMemObject(out);
     if (in)
         clReleaseMemObject(in);
     return status;

@@ -1,0 +1,978 @@
+/* The per-pixel estimators of shared/ESTIMATORS.md, from the set sums:
+ * mean, MoN, G-MoN and the estimator family (passes.h lists them), with
+ * their diagnostics and standard errors.
+ *
+ * Valid C11 and OpenCL C 1.2. The host reference (host/film) and the
+ * estimator kernel (kernels/estimator.cl) compile this one file, so they
+ * agree bit for bit.
+ *
+ * In a kernel, EST_SETS (M) is a compile-time constant and sizes the private
+ * arrays; the host compiles it with the maximum and passes M at run time.
+ * The estimators work on lanes (lanes.h): one pixel on the host, and
+ * EST_VECTOR_WIDTH pixels per work item in a vector kernel. */
+#ifndef KERNELS_ESTIMATORS_H
+#define KERNELS_ESTIMATORS_H
+
+#include "accumulate.h"
+#include "estimator_numerics.h"
+#include "estimator_sort.h"
+#include "passes.h"
+
+/* How G-MoN picks its trim count (ESTIMATORS.md, "Variants"). */
+#define EST_GINI_PER_CHANNEL 0  /* default: one G and c per channel */
+#define EST_GINI_PER_PIXEL 1    /* G = mean of the three channel G's */
+#define EST_SORT_BY_LUMINANCE 2 /* order and trim whole RGB sets by luminance */
+
+/* ------------------------------------------------------------------------
+ * Per-pixel estimators.
+ *
+ * Numerically stable form (ESTIMATORS.md). Set means t_j = S_j / n_j are
+ * kept as they are (a single scale for all sets would flush means 2^126
+ * below the largest to zero, and 1e-30 and 1e30 can share a pixel). Each
+ * sum instead scales the values it adds by the power of two that brings the
+ * largest of them into [1, 2): exact, so nothing overflows even at FLT_MAX,
+ * and results scale exactly with their inputs. Averages are computed as
+ * base + mean(value - base) with a compensated sum, so equal means give that
+ * value exactly; Gini's numerator pairs t_{m+1-j} - t_j, which never cancel.
+ * With equal set counts the sums themselves are sorted and averaged and only
+ * the results are divided by the count (SetCounts).
+ *
+ * Written once for lanes (lanes.h): the host runs it on one pixel at a time,
+ * a vector kernel on EST_VECTOR_WIDTH pixels at once, with the same
+ * operations in the same order, so both give the same bits. It is branch
+ * free per lane: sets are sorted by a fixed sorting network
+ * (sorting_networks.h), and G-MoN's trimmed mean, whose range differs per
+ * lane, visits every set and adds exact zeros for the trimmed ones. Branches
+ * and loop bounds depend only on M, the sample count and the Gini mode,
+ * which every lane shares; in a kernel M and the Gini mode are compile-time
+ * constants, so the loops unroll and the arrays live in registers.
+ * ---------------------------------------------------------------------- */
+
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+
+/* The estimates of EST_VECTOR_WIDTH pixels, one per lane, by pass
+ * (passes.h); only the requested ones are computed. */
+typedef struct {
+    est_float value[PASS_COUNT][EST_CHANNELS]; /* PASS_TRIM: the trim count c, exactly */
+    est_float error[PASS_COUNT][EST_CHANNELS]; /* standard errors of the estimates */
+} LaneEstimates;
+
+/* Estimates computed on sums in grid units, scaled to the pixel's values. */
+EST_INLINE void estimates_to_grid(LaneEstimates *out, uint32_t passes, est_int grid_exponent)
+{
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if (passes & PASSES_ESTIMATES & PASS_BIT(p)) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                out->value[p][c] = scale_by_grid(out->value[p][c], grid_exponent);
+                out->error[p][c] = scale_by_grid(out->error[p][c], grid_exponent);
+            }
+        }
+}
+
+/* Gini coefficient of m ascending values t, clamped to [0, 1]. G is scale
+ * invariant: values are scaled by `down` (from sorted_range_exponent(t, 0,
+ * m - 1)) so the largest magnitude lies in [1, 2); lowest = t[0] * down and
+ * differences = sum_of_differences(t, 0, m - 1, down, lowest, 1), which the
+ * mean shares. Negative values shift everything by -t_1, which changes only
+ * the denominator (sum_j (t_j - shift) = differences + m (t_1 - shift)),
+ * since the numerator is built from differences. offset: added to every
+ * value, scaled (the authors' 1e-11; 0 for the paper's G). */
+EST_INLINE est_float gini_sorted_offset(const est_float *t, int m, est_float down, est_float lowest,
+                                        est_float differences, est_float offset)
+{
+    if (m < 2)
+        return EST_FLOATS(0.0f);
+    est_float shift = EST_SELECT(lowest < 0.0f, lowest, EST_FLOATS(0.0f));
+    est_float numerator = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 0; j < m / 2; ++j)
+        numerator += (float)(m - 1 - 2 * j) * (scaled(t[m - 1 - j], down) - scaled(t[j], down));
+    est_float total = differences + (float)m * (lowest - shift + offset);
+    est_float denominator = (float)m * total;
+    est_float g = numerator / denominator;
+    g = EST_SELECT(g < 0.0f, EST_FLOATS(0.0f), EST_SELECT(g > 1.0f, EST_FLOATS(1.0f), g));
+    return EST_SELECT((denominator > 0.0f) & (denominator < INFINITY), g, EST_FLOATS(0.0f));
+}
+
+/* The paper's G: no offset. */
+EST_INLINE est_float gini_sorted(const est_float *t, int m, est_float down, est_float lowest, est_float differences)
+{
+    return gini_sorted_offset(t, m, down, lowest, differences, EST_FLOATS(0.0f));
+}
+
+/* gini_sorted on its own. */
+EST_INLINE est_float gini_of_sorted(const est_float *t, int m)
+{
+    est_float down = power_of_two(-sorted_range_exponent(t, 0, m - 1));
+    est_float lowest = scaled(t[0], down);
+    return gini_sorted(t, m, down, lowest, sum_of_differences(t, 0, m - 1, down, lowest, 1));
+}
+
+/* c = floor(G * floor(m/2)), clamped so at least one set remains. */
+EST_INLINE est_int trim_count(est_float g, int m)
+{
+    est_int c = EST_INT_FROM_FLOAT(g * (float)(m / 2));
+    int most = (m - 1) / 2;
+    return EST_SELECT(c < 0, EST_INTS(0), EST_SELECT(c > most, EST_INTS(most), c));
+}
+
+/* Averages of values lie within them; the clamp removes the last ulp that
+ * rounding could add. Then the division by the set count (SetCounts). */
+EST_INLINE est_float finish_value(est_float x, est_float lo, est_float hi, float divisor)
+{
+    return clamp_lanes(x, lo, hi) / divisor;
+}
+
+/* Clamps the channel's mean and MoN and computes its G-MoN (with the trim
+ * already in out) from its set means v[0..m-1] (ascending: sorted), then
+ * divides all three by divisor (see SetCounts). */
+EST_INLINE void finish_channel(LaneEstimates *out, int c, const est_float *v, int m, int ascending, float divisor)
+{
+    est_float lo = v[0], hi = v[m - 1];
+    if (!ascending) {
+        hi = v[0];
+        EST_UNROLL
+        for (int j = 1; j < m; ++j) {
+            lo = EST_SELECT(v[j] < lo, v[j], lo);
+            hi = EST_SELECT(v[j] > hi, v[j], hi);
+        }
+    }
+    est_int trim = EST_INT_FROM_FLOAT(out->value[PASS_TRIM][c]);
+    out->value[PASS_MEAN][c] = finish_value(out->value[PASS_MEAN][c], lo, hi, divisor);
+    out->value[PASS_MON][c] = finish_value(out->value[PASS_MON][c], lo, hi, divisor);
+    out->value[PASS_GMON][c] = finish_value(trimmed_average(v, m, trim, ascending), lo, hi, divisor);
+}
+
+#define EST_SORT_STEP(i, j) compare_exchange(v, i, j);
+#define EST_LUMINANCE_STEP(i, j) compare_exchange_luminance(luma, sorted, i, j);
+
+/* What every lane shares: the set counts. */
+typedef struct {
+    uint64_t sample_count;
+    int set_count;    /* M */
+    int m;            /* non-empty sets, min(sample_count, M) */
+    int most;         /* largest trim, (m - 1) / 2 */
+    int with_extra;   /* sets j < with_extra hold `more` samples, the others `fewer` */
+    int equal_counts; /* every non-empty set holds `fewer` samples */
+    float more;
+    float fewer;
+    /* With equal counts n_j = q the set means are the sums over q: the sums
+     * are sorted and averaged as they are, and only the results are divided
+     * by q (once, correctly rounded), which orders and weighs exactly as the
+     * means would. With unequal counts every sum is divided by its count
+     * (divisor 1). */
+    float divisor;
+} SetCounts;
+
+/* m: min(sample_count, set_count) (a parameter so that a kernel can make it
+ * a constant). */
+EST_INLINE SetCounts est_set_counts(uint64_t sample_count, int set_count, int m)
+{
+    SetCounts k;
+    k.sample_count = sample_count;
+    k.set_count = set_count;
+    k.m = m;
+    k.most = (m - 1) / 2;
+    const int few_samples = m < set_count; /* one sample in each non-empty set */
+    const uint64_t per_set = sample_count / (uint64_t)set_count;
+    k.with_extra = (int)(sample_count % (uint64_t)set_count);
+    k.equal_counts = few_samples || k.with_extra == 0;
+    k.more = few_samples ? 1.0f : (float)(per_set + 1u);
+    k.fewer = few_samples ? 1.0f : (float)per_set;
+    k.divisor = k.equal_counts ? k.fewer : 1.0f;
+    return k;
+}
+
+/* The first part of one channel: from its sums (sums[j], j < M) the set
+ * means by set, t (t[j] = +inf for the empty sets j >= m), the same sorted,
+ * v, and the channel's mean, MoN, G and trim in out (mean and MoN before
+ * finish_channel; with equal counts t and v hold sums, see SetCounts).
+ * finite: 1 if the caller knows every sum is finite (converted accumulators
+ * are), which skips a check that changes nothing then; non-finite sums
+ * (possible only in hand-made input) are read as 0. */
+EST_INLINE void estimate_channel(const SetCounts *k, const est_float *sums, int finite, est_float *t, est_float *v,
+                                 LaneEstimates *out, int c)
+{
+    const int m = k->m;
+    EST_UNROLL
+    for (int j = 0; j < k->set_count; ++j) {
+        est_float sum = sums[j];
+        if (!finite)
+            sum = EST_SELECT((EST_FLOAT_BITS(sum) & 0x7f800000u) == 0x7f800000u, EST_FLOATS(0.0f), sum);
+        t[j] = j < m ? sum : EST_FLOATS(INFINITY);
+    }
+    if (!k->equal_counts) {
+        /* The weighted mean, in set order, first: the means by set are then
+         * not needed past the sort (but in luminance mode). */
+        EST_UNROLL
+        for (int j = 0; j < m; ++j)
+            t[j] = t[j] / (j < k->with_extra ? k->more : k->fewer);
+        est_float lo = t[0], hi = t[0];
+        EST_UNROLL
+        for (int j = 1; j < m; ++j) {
+            lo = EST_SELECT(t[j] < lo, t[j], lo);
+            hi = EST_SELECT(t[j] > hi, t[j], hi);
+        }
+        out->value[PASS_MEAN][c] =
+            weighted_average(t, m, k->with_extra, k->more, k->fewer, (float)k->sample_count, lo, hi);
+    }
+    EST_UNROLL
+    for (int j = 0; j < k->set_count; ++j)
+        v[j] = t[j];
+    EST_SORTING_NETWORK(k->set_count, EST_SORT_STEP)
+
+    /* The mean (average_range(v, 0, m - 1, 1) with equal counts) and G share
+     * the scaled differences. */
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float lowest = scaled(v[0], down);
+    est_float differences = sum_of_differences(v, 0, m - 1, down, lowest, 1);
+    if (k->equal_counts)
+        out->value[PASS_MEAN][c] = scaled(lowest + differences / (float)m, power_of_two(e));
+    out->value[PASS_MON][c] = average_range(v, k->most, m - 1 - k->most, 1);
+    out->value[PASS_GINI][c] = gini_sorted(v, m, down, lowest, differences);
+    out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(out->value[PASS_GINI][c], m));
+}
+
+/* One channel in the default mode (EST_GINI_PER_CHANNEL), start to end; m
+ * >= 1. */
+EST_INLINE void estimate_channel_alone(const SetCounts *k, const est_float *sums, int finite, LaneEstimates *out, int c)
+{
+    est_float t[EST_CAPACITY], v[EST_CAPACITY];
+    estimate_channel(k, sums, finite, t, v, out, c);
+    finish_channel(out, c, v, k->m, 1, k->divisor);
+}
+
+EST_INLINE void clear_estimates(LaneEstimates *out)
+{
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            out->value[p][c] = EST_FLOATS(0.0f);
+            out->error[p][c] = EST_FLOATS(0.0f);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------
+ * The estimator family (ESTIMATORS.md, "From the set sums alone").
+ *
+ * Most of them are weighted means of the sorted set means: each is a
+ * choice of weights, and weighted_sorted_average computes them all the same
+ * way, so equal weights give equal bits (amon(1), trimmed(0),
+ * winsorized(0) and the mean of the set means agree exactly).
+ * ---------------------------------------------------------------------- */
+
+/* sum_j w[j] v[j] / sum_j w[j] over ascending v[0..m-1] (weights >= 0, one
+ * at least > 0), as base + sum_j w[j] (v[j] - base) / sum_j w[j] with base
+ * v[(m - 1) / 2], on values scaled so the largest lies in [1, 2): the
+ * terms are added compensated, and equal values give that value exactly. */
+EST_INLINE est_float weighted_sorted_average(const est_float *v, int m, const est_float *w)
+{
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float base = scaled(v[(m - 1) / 2], down);
+    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
+    est_float total = EST_FLOATS(0.0f), total_compensation = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 0; j < m; ++j) {
+        compensated_add(&sum, &compensation, w[j] * (scaled(v[j], down) - base));
+        compensated_add(&total, &total_compensation, w[j]);
+    }
+    return clamp_lanes(scaled(base + (sum + compensation) / (total + total_compensation), power_of_two(e)), v[0],
+                       v[m - 1]);
+}
+
+/* amon's weights: alpha^d at distance d from the centre of m sorted values
+ * (odd m: the median, d = |j - k|; even m: the middle pair, each at 1/2,
+ * then d = 1.. outwards), 0 past distance `reach`. alpha^0 = 1. */
+EST_INLINE void centre_weights(est_float alpha, est_int reach, int m, est_float *w)
+{
+    const int k = m / 2;
+    est_float power = EST_FLOATS(1.0f);
+    if (m % 2) {
+        w[k] = EST_FLOATS(1.0f);
+        EST_UNROLL
+        for (int d = 1; d <= k; ++d) {
+            power = power * alpha;
+            est_float x = EST_SELECT(d <= reach, power, EST_FLOATS(0.0f));
+            w[k - d] = x;
+            w[k + d] = x;
+        }
+    } else {
+        w[k - 1] = EST_FLOATS(0.5f);
+        w[k] = EST_FLOATS(0.5f);
+        EST_UNROLL
+        for (int d = 1; d < k; ++d) {
+            power = power * alpha;
+            est_float x = EST_SELECT(d <= reach, power, EST_FLOATS(0.0f));
+            w[k - 1 - d] = x;
+            w[k + d] = x;
+        }
+    }
+}
+
+/* admon's weights: odd m, 1 within distance u of the median, else 0; even
+ * m (the authors' rule, u unused): every set at 1, the middle pair at 1/2. */
+EST_INLINE void band_weights(est_int u, int m, est_float *w)
+{
+    const int k = m / 2;
+    EST_UNROLL
+    for (int j = 0; j < m; ++j) {
+        int d = j < k ? k - j : j - k;
+        if (m % 2)
+            w[j] = EST_SELECT(d <= u, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
+        else
+            w[j] = EST_FLOATS(j == k - 1 || j == k ? 0.5f : 1.0f);
+    }
+}
+
+/* Weight 1 on v[c .. m-1-c], 0 outside (a trimmed mean). */
+EST_INLINE void trim_weights(est_int c, int m, est_float *w)
+{
+    EST_UNROLL
+    for (int j = 0; j < m; ++j)
+        w[j] = EST_SELECT((c <= j) & (c <= m - 1 - j), EST_FLOATS(1.0f), EST_FLOATS(0.0f));
+}
+
+/* The winsorized mean's weights: v[c] and v[m-1-c] also stand for the c
+ * values beyond them. */
+EST_INLINE void winsor_weights(int c, int m, est_float *w)
+{
+    EST_UNROLL
+    for (int j = 0; j < m; ++j)
+        w[j] = EST_FLOATS((j == c ? c : 0) + (j == m - 1 - c ? c : 0) + (j >= c && j <= m - 1 - c ? 1 : 0));
+}
+
+/* A set count parameter: c >= 0 as given, -1 for floor(m / 4), clamped so
+ * that one set at least remains. */
+EST_INLINE int sets_to_trim(int32_t c, int m)
+{
+    int wanted = c < 0 ? m / 4 : c;
+    return wanted > (m - 1) / 2 ? (m - 1) / 2 : wanted;
+}
+
+EST_INLINE est_float amon_of_sorted(const est_float *v, int m, est_float alpha)
+{
+    est_float w[EST_CAPACITY];
+    centre_weights(alpha, EST_INTS(m), m, w);
+    return weighted_sorted_average(v, m, w);
+}
+
+EST_INLINE est_float admon_of_sorted(const est_float *v, int m, est_float alpha)
+{
+    est_int u = EST_INT_FROM_FLOAT(alpha * (float)(m / 2));
+    est_float w[EST_CAPACITY];
+    band_weights(EST_SELECT(u < 0, EST_INTS(0), u), m, w);
+    return weighted_sorted_average(v, m, w);
+}
+
+/* The mean of the set means (every weight 1). */
+EST_INLINE est_float mean_of_sorted(const est_float *v, int m)
+{
+    est_float w[EST_CAPACITY];
+    trim_weights(EST_INTS(0), m, w);
+    return weighted_sorted_average(v, m, w);
+}
+
+/* ln x for a normal x > 0, with + - * / only, so that every device gives
+ * the same bits: x = 2^e f with f in [sqrt(1/2), sqrt(2)), and ln f =
+ * 2 atanh(s), s = (f - 1) / (f + 1), |s| < 0.172, by its series to s^15
+ * (truncation below 1e-13; the result is within a few float ulps). */
+EST_INLINE est_float natural_log(est_float x)
+{
+    est_uint bits = EST_FLOAT_BITS(x);
+    est_int e = EST_INT_FROM_UINT(bits >> 23) - 127;
+    est_float f = EST_FLOAT_FROM_BITS((bits & 0x7fffffu) | 0x3f800000u);
+    est_mask high = f > 1.41421356f;
+    f = EST_SELECT(high, f * 0.5f, f);
+    e = EST_SELECT(high, e + 1, e);
+    est_float s = (f - 1.0f) / (f + 1.0f), s2 = s * s;
+    est_float series = EST_FLOATS(1.0f / 15.0f);
+    series = series * s2 + 1.0f / 13.0f;
+    series = series * s2 + 1.0f / 11.0f;
+    series = series * s2 + 1.0f / 9.0f;
+    series = series * s2 + 1.0f / 7.0f;
+    series = series * s2 + 1.0f / 5.0f;
+    series = series * s2 + 1.0f / 3.0f;
+    series = series * s2 + 1.0f;
+    /* ln 2 as a float and the rest, so that e ln 2 keeps its precision */
+    est_float ef = EST_FLOAT_FROM_INT(e);
+    return ef * 0.693145752f + (2.0f * s * series + ef * 1.42860677e-06f);
+}
+
+/* 1 / sqrt(x) for x in [1, 4): the bit-level estimate and four Newton
+ * steps (multiplications only: the same bits everywhere). */
+EST_INLINE est_float inverse_root_reduced(est_float x)
+{
+    est_float y = EST_FLOAT_FROM_BITS(0x5f3759dfu - (EST_FLOAT_BITS(x) >> 1));
+    EST_UNROLL
+    for (int i = 0; i < 4; ++i)
+        y = y * (1.5f - 0.5f * x * y * y);
+    return y;
+}
+
+/* sqrt(x) (inverse: 1 / sqrt(x)) for finite x >= 0 within about an ulp,
+ * without library sqrt: x = 4^h f with f in [1, 4). 0 gives 0 (inverse:
+ * 0, the Weiszfeld weight of a point at the current estimate). */
+EST_INLINE est_float root_of(est_float x, int inverse)
+{
+    est_mask tiny = x < 1.17549435e-38f; /* denormal: scaled up by 2^64 first */
+    est_float y = EST_SELECT(tiny, x * 18446744073709551616.0f, x);
+    est_int e = EST_INT_FROM_UINT(EST_FLOAT_BITS(y) >> 23) - 127;
+    est_int h = (e - EST_SELECT(e < 0, EST_INTS(1), EST_INTS(0))) / 2; /* floor(e / 2) */
+    est_float f = y * power_of_two(-2 * h);
+    est_float r = inverse_root_reduced(f);
+    est_int shift = EST_SELECT(tiny, h - 32, h);
+    est_float result = inverse ? r * power_of_two(-shift) : f * r * power_of_two(shift);
+    return EST_SELECT(x > 0.0f, result, EST_FLOATS(0.0f));
+}
+
+/* pakmon's entropy H of a channel's sorted values v[0..m-1]: the growth
+ * of their squared deviations from the mean, d_j = sum_{i<j} (v_i - mean)^2
+ * / (j + 1), j = 2..m-1, as a distribution p_j = d_j^2 / sum d^2, and H =
+ * -sum p ln p / ln(m - 2) in [0, 1]; 0 for m <= 3 or equal values. */
+EST_INLINE est_float pakmon_entropy(const est_float *v, int m)
+{
+    if (m <= 3)
+        return EST_FLOATS(0.0f);
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float lowest = scaled(v[0], down);
+    est_float mean = lowest + sum_of_differences(v, 0, m - 1, down, lowest, 1) / (float)m;
+    est_float d[EST_CAPACITY];
+    est_float squares = EST_FLOATS(0.0f), largest = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 1; j < m; ++j) {
+        est_float deviation = scaled(v[j - 1], down) - mean;
+        squares += deviation * deviation;
+        if (j >= 2) {
+            d[j] = squares / (float)(j + 1);
+            largest = EST_SELECT(d[j] > largest, d[j], largest);
+        }
+    }
+    /* d relative to the largest, so that the squares below neither
+     * underflow nor overflow */
+    est_float unit = EST_SELECT(largest > 0.0f, 1.0f / largest, EST_FLOATS(0.0f));
+    est_float total = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 2; j < m; ++j) {
+        d[j] = d[j] * unit;
+        d[j] = d[j] * d[j];
+        total += d[j];
+    }
+    est_float inverse_total = EST_SELECT(total > 0.0f, 1.0f / total, EST_FLOATS(0.0f));
+    est_float entropy = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 2; j < m; ++j) {
+        est_float p = d[j] * inverse_total;
+        est_mask normal = p >= 1.17549435e-38f; /* smaller p add below 1e-36 */
+        entropy -= EST_SELECT(normal, p * natural_log(EST_SELECT(normal, p, EST_FLOATS(1.0f))), EST_FLOATS(0.0f));
+    }
+    est_float h = entropy / natural_log(EST_FLOATS((float)(m - 2)));
+    return EST_SELECT(h < 0.0f, EST_FLOATS(0.0f), EST_SELECT(h > 1.0f, EST_FLOATS(1.0f), h));
+}
+
+EST_INLINE est_float pakmon_of_sorted(const est_float *v, int m)
+{
+    est_float h = pakmon_entropy(v, m);
+    const int k = m / 2, farthest = m % 2 ? k : k - 1;
+    est_int rho = EST_INT_FROM_FLOAT(h * (float)k) - (int)(0.15f * (float)m);
+    rho = EST_SELECT(rho < 0, EST_INTS(0), EST_SELECT(rho > farthest, EST_INTS(farthest), rho));
+    est_float w[EST_CAPACITY];
+    centre_weights(h, rho, m, w);
+    return weighted_sorted_average(v, m, w);
+}
+
+/* x * 2^e for any e (clamped to +-378, past which every float result is 0
+ * or infinite), in three exact steps. */
+EST_INLINE est_float scale_by_power(est_float x, est_int e)
+{
+    e = EST_SELECT(e < -378, EST_INTS(-378), EST_SELECT(e > 378, EST_INTS(378), e));
+    est_int first = EST_SELECT(e < -126, EST_INTS(-126), EST_SELECT(e > 126, EST_INTS(126), e));
+    est_int rest = e - first;
+    est_int second = EST_SELECT(rest < -126, EST_INTS(-126), EST_SELECT(rest > 126, EST_INTS(126), rest));
+    return x * power_of_two(first) * power_of_two(second) * power_of_two(rest - second);
+}
+
+/* The authors' G of one channel (gini-dmon): on the means plus 1e-11, in
+ * the pixel's units (`epsilon`: 1e-11 in the units of v). */
+EST_INLINE est_float gini_authors(const est_float *v, int m, est_float epsilon)
+{
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float lowest = scaled(v[0], down);
+    return gini_sorted_offset(v, m, down, lowest, sum_of_differences(v, 0, m - 1, down, lowest, 1),
+                              scale_by_power(epsilon, -e));
+}
+
+/* The geometric median of the m RGB points (t[0][j], t[1][j], t[2][j]):
+ * `iterations` Weiszfeld steps from z (updated in place). Each channel is
+ * kept on its own scale (z[c] in units of 2^e_c, down[c] = 2^-e_c), since
+ * a step moves each coordinate to a weighted mean of that channel's
+ * values; only the distances, which weigh the points, are on one scale
+ * common to the channels (`ratio[c]` = 2^(e_c - e), e the largest e_c),
+ * each difference rescaled by a power of two so that no square underflows.
+ * At one or more of the points (eta of them) the plain step is undefined:
+ * there Vardi and Zhang's step (2000) moves only by (1 - eta / |R|)^+ of
+ * the step toward the others' weighted mean (R the sum of the unit vectors
+ * from z to them), and stays where that point is the median (|R| <= eta),
+ * as it is of a majority of equal points. */
+EST_INLINE void weiszfeld(const est_float (*t)[EST_CAPACITY], int m, const est_float *down, const est_float *ratio,
+                          int iterations, est_float *z)
+{
+    for (int step = 0; step < iterations; ++step) {
+        est_float shift[EST_CHANNELS] = {EST_FLOATS(0.0f), EST_FLOATS(0.0f), EST_FLOATS(0.0f)};
+        est_float pull[EST_CHANNELS] = {EST_FLOATS(0.0f), EST_FLOATS(0.0f), EST_FLOATS(0.0f)};
+        est_float total = EST_FLOATS(0.0f), at_z = EST_FLOATS(0.0f);
+        EST_UNROLL
+        for (int j = 0; j < m; ++j) {
+            est_float d[EST_CHANNELS], common[EST_CHANNELS], largest = EST_FLOATS(0.0f);
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                d[c] = scaled(t[c][j], down[c]) - z[c];
+                common[c] = d[c] * ratio[c];
+                largest = larger_magnitude(largest, common[c]);
+            }
+            /* (a point within 2^-100 of z, on the largest channel's scale,
+             * counts as at z: its weight would overflow) */
+            est_mask here = largest < 7.88860905e-31f; /* 2^-100 */
+            est_int e = scale_exponent(largest);
+            est_float unit = power_of_two(-EST_SELECT(here, EST_INTS(0), e)), square = EST_FLOATS(0.0f);
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                common[c] = common[c] * unit;
+                square += common[c] * common[c];
+            }
+            est_float r = EST_SELECT(here, EST_FLOATS(0.0f), root_of(square, 1));
+            est_float w = r * unit; /* 1 / distance */
+            total += w;
+            at_z += EST_SELECT(here, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                shift[c] += w * d[c];
+                pull[c] += r * common[c];
+            }
+        }
+        est_float norm = root_of(pull[0] * pull[0] + pull[1] * pull[1] + pull[2] * pull[2], 0);
+        est_float part = EST_SELECT(at_z > 0.0f, 1.0f - at_z / norm, EST_FLOATS(1.0f));
+        part = EST_SELECT((part > 0.0f) & (total > 0.0f), part, EST_FLOATS(0.0f));
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            z[c] = z[c] + part * (shift[c] / EST_SELECT(total > 0.0f, total, EST_FLOATS(1.0f)));
+    }
+}
+
+/* What the family shares in a pixel: the channels' G (the paper's, before
+ * any Gini mode), the scale of the RGB points, the units of 1e-11. */
+typedef struct {
+    est_float gbar;                /* mean of the channels' G */
+    est_float authors_gbar;        /* the same with the authors' G */
+    est_float down[EST_CHANNELS];  /* 2^-e_c, e_c a channel's scale exponent */
+    est_float ratio[EST_CHANNELS]; /* 2^(e_c - e), e the largest e_c */
+} FamilyShared;
+
+/* The family's estimates of one pixel from its sorted values v[c][0..m-1]
+ * and its values by set t[c][0..m-1], into value[pass][c] for the passes of
+ * `passes` beyond mean, MoN, G-MoN and the diagnostics, unclamped and in
+ * the units of v (before the division by the set count). gmedian starts
+ * from z (its start on entry, each channel scaled by shared->down: the
+ * channels' MoN)
+ * and leaves its result there. */
+EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_float (*t)[EST_CAPACITY], int m,
+                                uint32_t passes, const EstimatorParams *params, const FamilyShared *shared,
+                                int iterations, est_float *z, est_float (*value)[EST_CHANNELS])
+{
+    const int k = m / 2;
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        const est_float *s = v[c];
+        if (passes & PASS_BIT(PASS_AMON))
+            value[PASS_AMON][c] = amon_of_sorted(s, m, EST_FLOATS(params->amon_alpha));
+        if (passes & PASS_BIT(PASS_ADMON))
+            value[PASS_ADMON][c] = admon_of_sorted(s, m, EST_FLOATS(params->admon_alpha));
+        if (passes & PASS_BIT(PASS_GGMON))
+            value[PASS_GGMON][c] = amon_of_sorted(s, m, 1.0f - shared->gbar);
+        if (passes & PASS_BIT(PASS_GMON_BINARY))
+            value[PASS_GMON_BINARY][c] = EST_SELECT(shared->gbar < params->gmon_binary_threshold, mean_of_sorted(s, m),
+                                                    average_range(s, (m - 1) / 2, m / 2, 1));
+        if (passes & PASS_BIT(PASS_GMON_PARTIAL))
+            value[PASS_GMON_PARTIAL][c] =
+                EST_SELECT(shared->gbar < params->gmon_partial_threshold, amon_of_sorted(s, m, EST_FLOATS(1.0f)),
+                           amon_of_sorted(s, m, EST_FLOATS(params->gmon_partial_alpha)));
+        if (passes & PASS_BIT(PASS_DMON_PARTIAL))
+            value[PASS_DMON_PARTIAL][c] =
+                EST_SELECT(shared->gbar < params->dmon_partial_threshold, admon_of_sorted(s, m, EST_FLOATS(1.0f)),
+                           admon_of_sorted(s, m, EST_FLOATS(params->dmon_partial_alpha)));
+        if (passes & PASS_BIT(PASS_GMON_AUTHORS)) {
+            /* odd m: ceil(k G') sets off each end; even m: no trim */
+            est_float x = shared->authors_gbar * (float)k;
+            est_int c_floor = EST_INT_FROM_FLOAT(x);
+            est_int trim = c_floor + EST_SELECT(EST_FLOAT_FROM_INT(c_floor) < x, EST_INTS(1), EST_INTS(0));
+            trim = EST_SELECT(trim > k, EST_INTS(k), trim);
+            est_float w[EST_CAPACITY];
+            trim_weights(m % 2 ? trim : EST_INTS(0), m, w);
+            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, w);
+        }
+        if (passes & PASS_BIT(PASS_PAKMON))
+            value[PASS_PAKMON][c] = pakmon_of_sorted(s, m);
+        if (passes & PASS_BIT(PASS_TRIMMED)) {
+            est_float w[EST_CAPACITY];
+            trim_weights(EST_INTS(sets_to_trim(params->trimmed_c, m)), m, w);
+            value[PASS_TRIMMED][c] = weighted_sorted_average(s, m, w);
+        }
+        if (passes & PASS_BIT(PASS_WINSORIZED)) {
+            est_float w[EST_CAPACITY];
+            winsor_weights(sets_to_trim(params->winsorized_c, m), m, w);
+            value[PASS_WINSORIZED][c] = weighted_sorted_average(s, m, w);
+        }
+    }
+    if (passes & PASS_BIT(PASS_GMEDIAN)) {
+        weiszfeld(t, m, shared->down, shared->ratio, iterations, z);
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) /* 1 / down: exact, a power of two */
+            value[PASS_GMEDIAN][c] = clamp_lanes(z[c] * (1.0f / shared->down[c]), v[c][0], v[c][m - 1]);
+    }
+}
+
+/* The G and MoN the family needs besides v and t, on m sets. */
+EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m, uint32_t passes, est_float epsilon,
+                                      est_float *gini, est_float *z)
+{
+    FamilyShared shared;
+    shared.gbar = (gini[0] + gini[1] + gini[2]) / 3.0f;
+    shared.authors_gbar = EST_FLOATS(0.0f);
+    if (passes & PASS_BIT(PASS_GMON_AUTHORS))
+        shared.authors_gbar =
+            (gini_authors(v[0], m, epsilon) + gini_authors(v[1], m, epsilon) + gini_authors(v[2], m, epsilon)) / 3.0f;
+    est_int e[EST_CHANNELS], largest = EST_INTS(-126);
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        e[c] = sorted_range_exponent(v[c], 0, m - 1);
+        largest = EST_SELECT(e[c] > largest, e[c], largest);
+    }
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        shared.down[c] = power_of_two(-e[c]);
+        shared.ratio[c] = scale_by_power(EST_FLOATS(1.0f), e[c] - largest); /* 0 far below the largest */
+        z[c] = scaled(average_range(v[c], (m - 1) / 2, m / 2, 1), shared.down[c]);
+    }
+    return shared;
+}
+
+/* The paper's G of each channel of m sorted sets. */
+EST_INLINE void channel_ginis(const est_float (*v)[EST_CAPACITY], int m, est_float *gini)
+{
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        gini[c] = gini_of_sorted(v[c], m);
+}
+
+/* MoN and G-MoN (Gini per channel or per pixel) of m sorted sets, for the
+ * jackknife. */
+EST_INLINE void mon_and_gmon(const est_float (*v)[EST_CAPACITY], int m, int gini_mode, const est_float *gini,
+                             est_float (*value)[EST_CHANNELS])
+{
+    est_float gbar = (gini[0] + gini[1] + gini[2]) / 3.0f;
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        value[PASS_MON][c] = average_range(v[c], (m - 1) / 2, m / 2, 1);
+        est_float g = gini_mode == EST_GINI_PER_PIXEL ? gbar : gini[c];
+        value[PASS_GMON][c] = trimmed_average(v[c], m, trim_count(g, m), 1);
+    }
+}
+
+/* Fewer than two sets: no error can be estimated (NaN). */
+EST_INLINE void set_unknown_errors(LaneEstimates *out)
+{
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            out->error[p][c] = EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(EST_INTS(0x7fc00000)));
+    }
+}
+
+/* Standard errors (ESTIMATORS.md, "Per-pixel uncertainty") of the
+ * estimates in `passes` of a pixel of m >= 2 sets, sorted v, by set t, into
+ * out->error, in the units of v (before the division by the set count).
+ * The mean's: from the set means and counts. The others: the jackknife
+ * over sets, each set left out in turn (its place in each channel's order
+ * found by counting, so every lane follows the same steps), scaled by the
+ * channel's power of two (no overflow). gmedian restarts from the full
+ * estimate (gmedian_z, on the scales of `full`), with a quarter of the
+ * iterations. */
+EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAPACITY],
+                                const est_float (*t)[EST_CAPACITY], int m, uint32_t passes, int gini_mode,
+                                const EstimatorParams *params, est_float epsilon, const FamilyShared *full,
+                                const est_float *gmedian_z, LaneEstimates *out)
+{
+    est_float down[EST_CHANNELS];
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        down[c] = power_of_two(-sorted_range_exponent(v[c], 0, m - 1));
+    if (passes & PASS_BIT(PASS_MEAN)) {
+        /* m / (m - 1) sum_j (n_j (t_j - mean))^2 / n^2, the set means by
+         * set in t (with equal counts t holds sums, n_j = 1 and n = m in
+         * its units) */
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            est_float mean = scaled(out->value[PASS_MEAN][c], down[c]);
+            est_float squares = EST_FLOATS(0.0f);
+            EST_UNROLL
+            for (int j = 0; j < m; ++j) {
+                float n_j = k->equal_counts ? 1.0f : (j < k->with_extra ? k->more : k->fewer);
+                est_float deviation = n_j * (scaled(t[c][j], down[c]) - mean);
+                squares += deviation * deviation;
+            }
+            float n = k->equal_counts ? (float)m : (float)k->sample_count;
+            out->error[PASS_MEAN][c] = root_of(squares * ((float)m / (float)(m - 1)), 0) / n * (1.0f / down[c]);
+        }
+    }
+    const uint32_t jackknifed = passes & PASSES_ESTIMATES & ~PASS_BIT(PASS_MEAN);
+    if (!jackknifed)
+        return;
+    /* The spread of the leave-one-out estimates, accumulated as differences
+     * to the first of them (which lies among them: the estimate from all
+     * sets may not, e.g. admon's rule changes between even and odd m). */
+    est_float sum[PASS_COUNT][EST_CHANNELS], squares[PASS_COUNT][EST_CHANNELS], origin[PASS_COUNT][EST_CHANNELS];
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            sum[p][c] = EST_FLOATS(0.0f);
+            squares[p][c] = EST_FLOATS(0.0f);
+            origin[p][c] = EST_FLOATS(0.0f);
+        }
+    }
+    const int iterations = params->gmedian_iterations / 4 > 1 ? params->gmedian_iterations / 4 : 1;
+    KERNEL_NO_UNROLL
+    for (int left_out = 0; left_out < m; ++left_out) {
+        est_float rest_v[EST_CHANNELS][EST_CAPACITY], rest_t[EST_CHANNELS][EST_CAPACITY];
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            est_float x = t[c][0];
+            EST_UNROLL
+            for (int j = 1; j < m; ++j)
+                x = EST_SELECT(j == left_out, t[c][j], x);
+            /* its rank: the sets below it, and the equal ones before it */
+            est_int rank = EST_INTS(0);
+            EST_UNROLL
+            for (int j = 0; j < m; ++j)
+                rank += EST_SELECT(j < left_out ? t[c][j] <= x : t[c][j] < x, EST_INTS(1), EST_INTS(0));
+            EST_UNROLL
+            for (int j = 0; j < m - 1; ++j) {
+                rest_v[c][j] = EST_SELECT(j < rank, v[c][j], v[c][j + 1]);
+                rest_t[c][j] = j < left_out ? t[c][j] : t[c][j + 1];
+            }
+        }
+        est_float value[PASS_COUNT][EST_CHANNELS];
+        est_float gini[EST_CHANNELS], z[EST_CHANNELS];
+        channel_ginis((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini);
+        if (jackknifed & (PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON)))
+            mon_and_gmon((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini_mode, gini, value);
+        FamilyShared shared =
+            family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1, jackknifed, epsilon, gini, z);
+        /* gmedian on the full estimate's scales: its start need not lie
+         * among the other sets, so it may not fit on theirs */
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            shared.down[c] = full->down[c];
+            shared.ratio[c] = full->ratio[c];
+            z[c] = gmedian_z[c];
+        }
+        estimate_family((const est_float(*)[EST_CAPACITY])rest_v, (const est_float(*)[EST_CAPACITY])rest_t, m - 1,
+                        jackknifed, params, &shared, iterations, z, value);
+        EST_UNROLL
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (jackknifed & PASS_BIT(p)) {
+                EST_UNROLL
+                for (int c = 0; c < EST_CHANNELS; ++c) {
+                    est_float x = scaled(value[p][c], down[c]);
+                    if (left_out == 0)
+                        origin[p][c] = x;
+                    est_float d = x - origin[p][c];
+                    sum[p][c] += d;
+                    squares[p][c] += d * d;
+                }
+            }
+    }
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if (jackknifed & PASS_BIT(p)) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                est_float spread = squares[p][c] - sum[p][c] * sum[p][c] / (float)m;
+                spread = EST_SELECT(spread > 0.0f, spread, EST_FLOATS(0.0f));
+                out->error[p][c] = root_of(spread * ((float)(m - 1) / (float)m), 0) * (1.0f / down[c]);
+            }
+        }
+}
+
+/* The passes of the family (beyond mean, MoN, G-MoN, diagnostics). */
+EST_INLINE uint32_t family_passes(uint32_t passes)
+{
+    return passes & PASSES_ESTIMATES & ~(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON));
+}
+
+/* Whether an estimation needs a pixel's three channels at once: else each
+ * channel is estimated alone (estimate_channel_alone). */
+EST_INLINE int channels_together(uint32_t passes, int with_stderr, int gini_mode)
+{
+    return gini_mode != EST_GINI_PER_CHANNEL || family_passes(passes) != 0 || with_stderr;
+}
+
+/* Estimates EST_VECTOR_WIDTH pixels, one per lane.
+ *   sums[c][j]    : sum of channel c over set j, j < set_count (any float)
+ *   sample_count  : samples of each pixel; set j holds ceil((n - j) / M)
+ *   set_count     : M, 1..EST_CAPACITY (in a kernel: EST_SETS)
+ *   m             : min(sample_count, M), the non-empty sets (a parameter so
+ *                   that a kernel can make it a constant: estimate_pixel
+ *                   computes it)
+ *   passes        : the passes to compute (passes.h)
+ *   with_stderr   : also their standard errors (not with
+ *                   EST_SORT_BY_LUMINANCE)
+ *   gini_mode     : EST_GINI_PER_CHANNEL, EST_GINI_PER_PIXEL or
+ *                   EST_SORT_BY_LUMINANCE (G-MoN and the diagnostics)
+ *   params        : the family's parameters
+ *   grid_exponent : the sums count units of 2^grid_exponent (0 for plain
+ *                   float sums); only the authors' 1e-11 depends on it
+ *   finite        : see estimate_channel
+ * Results are in the units of the sums (estimates_to_grid scales them).
+ * With only mean, MoN, G-MoN and diagnostics, in the default mode, a
+ * channel needs only its own sums: a caller may run estimate_channel_alone
+ * per channel instead (the same operations). */
+EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count, int m,
+                               uint32_t passes, int with_stderr, int gini_mode, const EstimatorParams *params,
+                               est_int grid_exponent, int finite, LaneEstimates *out)
+{
+    clear_estimates(out);
+    if (m == 0) {
+        if (with_stderr)
+            set_unknown_errors(out);
+        return;
+    }
+    const SetCounts k = est_set_counts(sample_count, set_count, m);
+    const uint32_t family = family_passes(passes);
+    if (!channels_together(passes, with_stderr, gini_mode)) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            estimate_channel_alone(&k, sums[c], finite, out, c);
+        return;
+    }
+
+    est_float t[EST_CHANNELS][EST_CAPACITY];      /* set means by set */
+    est_float sorted[EST_CHANNELS][EST_CAPACITY]; /* the same, ascending */
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        estimate_channel(&k, sums[c], finite, t[c], sorted[c], out, c);
+    est_float paper_gini[EST_CHANNELS];
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        paper_gini[c] = out->value[PASS_GINI][c];
+    /* The family and the errors work on the sorted sets, before G-MoN's
+     * modes reorder them. 1e-11 in the units of the sums: */
+    const est_float epsilon = scale_by_power(EST_FLOATS(1e-11f * k.divisor), -grid_exponent);
+    est_float z[EST_CHANNELS];
+    FamilyShared shared = family_shared((const est_float(*)[EST_CAPACITY])sorted, m, family, epsilon, paper_gini, z);
+    estimate_family((const est_float(*)[EST_CAPACITY])sorted, (const est_float(*)[EST_CAPACITY])t, m, family, params,
+                    &shared, params->gmedian_iterations, z, out->value);
+    if (with_stderr) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            out->value[PASS_GMON][c] = trimmed_average(
+                sorted[c], m, trim_count(gini_mode == EST_GINI_PER_PIXEL ? shared.gbar : paper_gini[c], m), 1);
+        }
+        if (m >= 2) {
+            standard_errors(&k, (const est_float(*)[EST_CAPACITY])sorted, (const est_float(*)[EST_CAPACITY])t, m,
+                            passes & PASSES_ESTIMATES, gini_mode, params, epsilon, &shared, z, out);
+        } else {
+            set_unknown_errors(out);
+        }
+        EST_UNROLL
+        for (int p = 0; p < PASS_COUNT; ++p) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                out->error[p][c] = out->error[p][c] / k.divisor;
+        }
+    }
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if (family & PASS_BIT(p)) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                out->value[p][c] = finish_value(out->value[p][c], sorted[c][0], sorted[c][m - 1], k.divisor);
+        }
+
+    if (gini_mode == EST_GINI_PER_CHANNEL) {
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            finish_channel(out, c, sorted[c], m, 1, k.divisor);
+    } else if (gini_mode == EST_GINI_PER_PIXEL) {
+        est_float g = shared.gbar;
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            out->value[PASS_GINI][c] = g;
+            out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(g, m));
+            finish_channel(out, c, sorted[c], m, 1, k.divisor);
+        }
+    } else if (gini_mode == EST_SORT_BY_LUMINANCE) {
+        /* Luminance (Rec. 709) of each set, on one scale common to the
+         * channels; sets are then ordered and trimmed whole. */
+        est_int common = EST_INTS(0);
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            est_int e = sorted_range_exponent(sorted[c], 0, m - 1);
+            common = c == 0 ? e : EST_SELECT(e > common, e, common);
+        }
+        est_float down = power_of_two(-common);
+        est_float luma[EST_CAPACITY];
+        EST_UNROLL
+        for (int j = 0; j < set_count; ++j) {
+            if (j < m) {
+                luma[j] = EST_FLOATS(0.0f);
+                luma[j] += 0.2126f * scaled(t[0][j], down);
+                luma[j] += 0.7152f * scaled(t[1][j], down);
+                luma[j] += 0.0722f * scaled(t[2][j], down);
+            } else {
+                luma[j] = EST_FLOATS(INFINITY);
+            }
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                sorted[c][j] = t[c][j];
+        }
+        EST_SORTING_NETWORK(set_count, EST_LUMINANCE_STEP)
+        est_float g = gini_of_sorted(luma, m);
+        /* Per channel the values now follow luminance order (not
+         * ascending); the averages below accept any order. */
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            out->value[PASS_GINI][c] = g;
+            out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(g, m));
+            out->value[PASS_MON][c] = average_range(sorted[c], k.most, m - 1 - k.most, 0);
+            finish_channel(out, c, sorted[c], m, 0, k.divisor);
+        }
+    }
+}
+
+#if EST_VECTOR_WIDTH == 1
+/* The estimates of one pixel. */
+typedef LaneEstimates PixelEstimates;
+
+/* Estimates one pixel (estimate_lanes with one lane, from float sums). */
+EST_INLINE PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count,
+                                         uint32_t passes, int with_stderr, int gini_mode, const EstimatorParams *params)
+{
+    PixelEstimates out;
+    int m = sample_count < (uint64_t)set_count ? (int)sample_count : set_count;
+    estimate_lanes(sums, sample_count, set_count, m, passes, with_stderr, gini_mode, params, 0, 0, &out);
+    return out;
+}
+#endif
+
+#endif /* host, or a kernel with EST_SETS */
+
+#endif /* KERNELS_ESTIMATORS_H */

@@ -1,0 +1,108 @@
+/* The film's passes: every per-pixel image an estimation can produce, in
+ * one list shared by the host and the kernels. The pass ids, their bits in
+ * an output mask, the EXR layer names, the command-line names and the
+ * checkpoint columns all come from it: adding an estimator is one row here
+ * and one function in estimators.h.
+ *
+ * PASS(id, name, type, kind)
+ *   id    PASS_<id> in the enum below, bit PASS_BIT(PASS_<id>)
+ *   name  as users select it (--estimators), and the EXR layer <name>.R/G/B
+ *   type  PASS_FLOAT or PASS_INT (values per pixel: EST_CHANNELS, RGB)
+ *   kind  PASS_ESTIMATE: an estimator of the pixel value, from the set sums
+ *         (it has a <name>.stderr image on request); PASS_DIAGNOSTIC: what
+ *         G-MoN decided (--diagnostics)
+ * Valid C11 and OpenCL C. */
+#ifndef KERNELS_PASSES_H
+#define KERNELS_PASSES_H
+
+#include "compat.h"
+
+#define PASS_FLOAT 0
+#define PASS_INT 1
+#define PASS_ESTIMATE 0
+#define PASS_DIAGNOSTIC 1
+
+#define GMON_PASSES(PASS)                                                                                              \
+    PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
+    PASS(MON, "mon", PASS_FLOAT, PASS_ESTIMATE)                                                                        \
+    PASS(GMON, "gmon", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
+    PASS(AMON, "amon", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
+    PASS(ADMON, "admon", PASS_FLOAT, PASS_ESTIMATE)                                                                    \
+    PASS(GGMON, "ggmon", PASS_FLOAT, PASS_ESTIMATE)                                                                    \
+    PASS(GMON_BINARY, "gmon-binary", PASS_FLOAT, PASS_ESTIMATE)                                                        \
+    PASS(GMON_PARTIAL, "gmon-partial", PASS_FLOAT, PASS_ESTIMATE)                                                      \
+    PASS(DMON_PARTIAL, "dmon-partial", PASS_FLOAT, PASS_ESTIMATE)                                                      \
+    PASS(GMON_AUTHORS, "gmon-authors", PASS_FLOAT, PASS_ESTIMATE)                                                      \
+    PASS(PAKMON, "pakmon", PASS_FLOAT, PASS_ESTIMATE)                                                                  \
+    PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE)                                                                \
+    PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE)                                                          \
+    PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE)                                                                \
+    PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC)                                                                    \
+    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC)
+
+#define PASS_ENUM_(id, name, type, kind) PASS_##id,
+enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
+#undef PASS_ENUM_
+
+#define PASS_BIT(pass) (1u << (pass))
+#define PASS_BIT_IF_(id, name, type, kind, wanted) ((kind) == (wanted) ? PASS_BIT(PASS_##id) : 0u) |
+#define PASS_ESTIMATE_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_ESTIMATE)
+#define PASS_DIAGNOSTIC_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_DIAGNOSTIC)
+/* Every estimator, and the diagnostics. */
+#define PASSES_ESTIMATES (GMON_PASSES(PASS_ESTIMATE_BIT_) 0u)
+#define PASSES_DIAGNOSTICS (GMON_PASSES(PASS_DIAGNOSTIC_BIT_) 0u)
+#define PASSES_ALL (PASSES_ESTIMATES | PASSES_DIAGNOSTICS)
+/* What a render computes unless asked otherwise. */
+#define PASSES_DEFAULT (PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON))
+
+/* Passes that need the three channels of a pixel together: the mean Gini
+ * Gbar, or the RGB set means. */
+#define PASSES_PER_PIXEL                                                                                               \
+    (PASS_BIT(PASS_GGMON) | PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL) |   \
+     PASS_BIT(PASS_GMON_AUTHORS) | PASS_BIT(PASS_GMEDIAN))
+
+/* The estimators' parameters (ESTIMATORS.md, "The estimator family"):
+ * PARAM(type, field, name, default, lowest, highest), set per render as
+ * --estimator-param <name>=<value> and written to the EXR metadata. An
+ * integer c of -1 means floor(m / 4) sets. */
+#define GMON_ESTIMATOR_PARAMS(PARAM)                                                                                   \
+    PARAM(float, amon_alpha, "amon.alpha", 0.5f, 0, 1)                                                                 \
+    PARAM(float, admon_alpha, "admon.alpha", 0.5f, 0, 1)                                                               \
+    PARAM(float, gmon_binary_threshold, "gmon-binary.threshold", 0.25f, 0, 1)                                          \
+    PARAM(float, gmon_partial_threshold, "gmon-partial.threshold", 0.25f, 0, 1)                                        \
+    PARAM(float, gmon_partial_alpha, "gmon-partial.alpha", 0.5f, 0, 1)                                                 \
+    PARAM(float, dmon_partial_threshold, "dmon-partial.threshold", 0.25f, 0, 1)                                        \
+    PARAM(float, dmon_partial_alpha, "dmon-partial.alpha", 0.5f, 0, 1)                                                 \
+    PARAM(int32_t, trimmed_c, "trimmed.c", -1, -1, 31)                                                                 \
+    PARAM(int32_t, winsorized_c, "winsorized.c", -1, -1, 31)                                                           \
+    PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)
+
+#define PARAM_FIELD_(type, field, name, value, lowest, highest) type field;
+/* Plain 4-byte fields: the same layout as a kernel argument on every
+ * device. */
+typedef struct {
+    GMON_ESTIMATOR_PARAMS(PARAM_FIELD_)
+} EstimatorParams;
+#undef PARAM_FIELD_
+
+/* The images of an estimation, one buffer of RGB planes: the passes in
+ * `passes` by id, then (with_stderr) the standard error of each estimate
+ * among them, by id. */
+KERNEL_FN int pass_image_count(uint32_t passes, int with_stderr)
+{
+    return count_bits32(passes) + (with_stderr ? count_bits32(passes & PASSES_ESTIMATES) : 0);
+}
+
+/* The plane of pass `pass` (in `passes`). */
+KERNEL_FN int pass_slot(uint32_t passes, int pass)
+{
+    return count_bits32(passes & (PASS_BIT(pass) - 1u));
+}
+
+/* The plane of the standard error of estimate `pass` (in `passes`). */
+KERNEL_FN int stderr_slot(uint32_t passes, int pass)
+{
+    return count_bits32(passes) + count_bits32(passes & PASSES_ESTIMATES & (PASS_BIT(pass) - 1u));
+}
+
+#endif /* KERNELS_PASSES_H */
