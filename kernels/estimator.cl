@@ -6,7 +6,8 @@
  * Compile-time constants (build options):
  *   EST_SETS          M, 1..64
  *   EST_GINI_MODE     EST_GINI_PER_CHANNEL (default), _PER_PIXEL, EST_SORT_BY_LUMINANCE
- *   EST_PASSES        the passes computed (a mask of PASS_BIT, passes.h)
+ *   EST_PASSES        the passes computed (a mask of PASS_BIT, passes.h;
+ *                     default none)
  *   EST_STDERR        1: also the standard errors of its estimates
  *   EST_FIRST_SET     (first sample index) mod M of a render of a sample
  *                     range: logical set j is stored set (j + EST_FIRST_SET)
@@ -31,7 +32,7 @@
 #endif
 
 #ifndef EST_PASSES
-#error "build with -DEST_PASSES=<mask>"
+#define EST_PASSES 0u /* no image: for accumulate_stream alone (tests) */
 #endif
 #ifndef EST_STDERR
 #define EST_STDERR 0

@@ -61,6 +61,10 @@ static void test_kernel_equals_host_on_all_cases(void **state)
     int compared = 0;
     for (int mi = 0; mi < SET_COUNTS; ++mi) {
         for (int vi = 0; vi < VARIANTS; ++vi) {
+            /* Every M with every pass and error; the other kernels (each
+             * takes seconds to compile) at an even and an odd M. */
+            if (vi > 0 && set_counts[mi] != 4 && set_counts[mi] != ESTIMATOR_DEFAULT_SETS)
+                continue;
             EstimatorSettings settings = variant_settings(set_counts[mi], &variants[vi]);
             EstimatorProgram *program = estimator_program_new(&test_device, &settings, NULL);
             assert_non_null(program);

@@ -308,8 +308,9 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
             return fail(error, size, "--first-sample: '%s' is not a non-negative integer", value);
         o->first_sample = number;
     } else if (strcmp(flag, "--sets") == 0) {
-        if (parse_u64(value, 64, &number) || number < 1)
-            return fail(error, size, "--sets: '%s' is not in 1..64", value);
+        char message[128];
+        if (parse_u64(value, 1000, &number) || film_check_set_count((int)number, message, sizeof message))
+            return fail(error, size, "--sets: '%s': %s", value, message);
         o->estimator.set_count = (int)number;
     } else if (strcmp(flag, "--estimators") == 0) {
         char message[640];

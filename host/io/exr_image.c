@@ -1,5 +1,7 @@
 #include "io/exr_image.h"
 
+#include "accumulate.h" /* kernels/: the sums' layout in memory */
+
 #include <openexr.h>
 
 #include <errno.h>
@@ -11,9 +13,8 @@
 #include <sys/stat.h>
 
 #define RGB_CHANNELS 3
-#define SUM_WORDS 4         /* 32-bit channels per 128-bit set sum */
-#define ACCUMULATOR_WORDS 2 /* 64-bit words per set sum in memory */
-#define GRID_SET (-1)       /* the set of the grid channel, sets.grid */
+#define SUM_WORDS 4   /* 32-bit channels per 128-bit set sum */
+#define GRID_SET (-1) /* the set of the grid channel, sets.grid */
 /* The grid word of files written before sets.grid existed: their sums
  * count units of 2^-56 (kernels/accumulate.h, EST_GRID_BIAS). */
 #define LEGACY_GRID_WORD (1024u - 56u)
@@ -109,7 +110,7 @@ static int channel_from_name(const char *name, ChannelSpec *spec)
     if (strncmp(name, "sets.", 5) == 0) {
         if (sscanf(name, "sets.%2d.%c.w%1d%n", &set, &letter, &word, &length) != 3 || name[length] != '\0')
             return 0;
-        if (set < 0 || set >= EXR_IMAGE_MAX_SETS || word < 0 || word >= SUM_WORDS)
+        if (set < 0 || set >= EST_MAX_SETS || word < 0 || word >= SUM_WORDS)
             return 0;
         const char *found = memchr(channel_letters, letter, RGB_CHANNELS);
         if (!found)
@@ -299,12 +300,12 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
     if (image->layer_count == 0 && !image->nonfinite && !image->rounded && !image->accumulators)
         return fail(io, "the image has no layer to write");
     const ExrMetadata *meta = &image->metadata;
-    if (meta->set_count < 0 || meta->set_count > EXR_IMAGE_MAX_SETS)
-        return fail(io, "set count M = %d is out of range 1..%d", meta->set_count, EXR_IMAGE_MAX_SETS);
+    if (meta->set_count < 0 || meta->set_count > EST_MAX_SETS)
+        return fail(io, "set count M = %d is out of range 1..%d", meta->set_count, EST_MAX_SETS);
     if (image->accumulators && meta->set_count == 0)
         return fail(io, "accumulators given without a set count M");
     size_t pixels = (size_t)image->width * (size_t)image->height;
-    size_t bytes_per_pixel = (1 + (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t);
+    size_t bytes_per_pixel = accumulator_planes(EST_MAX_SETS) * sizeof(uint64_t);
     if (pixels > SIZE_MAX / bytes_per_pixel)
         return fail(io, "image size %dx%d is too large", image->width, image->height);
     if (meta->attribute_count > 0 && !meta->attributes)
@@ -360,13 +361,12 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
     return specs;
 }
 
-/* The layout of kernels/accumulate.h: the grid plane, then
- * [set][channel][word] planes. */
+/* A word of the sums in memory, in the layout of kernels/accumulate.h. */
 static size_t accumulator_word(int set, int channel, int word, size_t pixel, size_t pixel_count)
 {
     if (set == GRID_SET)
-        return pixel;
-    return ((size_t)(set * RGB_CHANNELS + channel) * ACCUMULATOR_WORDS + (size_t)word + 1) * pixel_count + pixel;
+        return (size_t)grid_index(pixel);
+    return (size_t)accumulator_index((uint32_t)set, (uint32_t)channel, (uint32_t)word, pixel, pixel_count);
 }
 
 /* Copies rows [first_row, first_row + rows) of one channel into `out`. */
@@ -714,9 +714,9 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
             return IMAGE_IO_ERROR;
         if (attribute->type != EXR_ATTR_INT)
             return fail(io, "attribute " METADATA_PREFIX "sets is of type %s, expected int", attribute->type_name);
-        if (attribute->i < 1 || attribute->i > EXR_IMAGE_MAX_SETS)
+        if (attribute->i < 1 || attribute->i > EST_MAX_SETS)
             return fail(io, "attribute " METADATA_PREFIX "sets = %d is out of range 1..%d", (int)attribute->i,
-                        EXR_IMAGE_MAX_SETS);
+                        EST_MAX_SETS);
         meta->set_count = attribute->i;
     }
     if (read_string_attribute(io, ctxt, image, METADATA_PREFIX "software", &meta->software) < 0 ||
@@ -999,7 +999,7 @@ static ImageIoStatus map_channels(IoContext *io, const exr_attr_chlist_t *list, 
     int counter_found[LAYER_COUNT] = {0};
     int rgb_found[EXR_MAX_RGB_LAYERS][RGB_CHANNELS];
     memset(rgb_found, 0, sizeof rgb_found);
-    unsigned char words_found[EXR_IMAGE_MAX_SETS][RGB_CHANNELS][SUM_WORDS];
+    unsigned char words_found[EST_MAX_SETS][RGB_CHANNELS][SUM_WORDS];
     memset(words_found, 0, sizeof words_found);
     int highest_set = -1;
     *wanted = 0;
@@ -1181,7 +1181,7 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     }
 
     size_t pixels = (size_t)image->width * (size_t)image->height;
-    size_t most = (1 + (size_t)EXR_IMAGE_MAX_SETS * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t);
+    size_t most = accumulator_planes(EST_MAX_SETS) * sizeof(uint64_t);
     if (status == IMAGE_IO_OK && pixels > SIZE_MAX / most)
         status = fail(io, "image size %dx%d is too large", image->width, image->height);
 
@@ -1197,9 +1197,8 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
     for (int layer = LAYER_NONFINITE; layer < LAYER_COUNT && status == IMAGE_IO_OK; ++layer) {
         if (!found[layer])
             continue;
-        size_t bytes = layer == LAYER_SETS
-                           ? pixels * (1 + (size_t)set_count * RGB_CHANNELS * ACCUMULATOR_WORDS) * sizeof(uint64_t)
-                           : pixels * sizeof(uint32_t);
+        size_t bytes = layer == LAYER_SETS ? pixels * accumulator_planes((uint32_t)set_count) * sizeof(uint64_t)
+                                           : pixels * sizeof(uint32_t);
         void *data = storage_alloc(image, bytes);
         if (!data) {
             status = fail(io, "out of memory for layer %s (%zu bytes)", layer_names[layer], bytes);

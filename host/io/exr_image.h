@@ -45,7 +45,6 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#define EXR_IMAGE_MAX_SETS 64
 #define EXR_MAX_RGB_LAYERS 64
 #define EXR_LAYER_NAME_CAPACITY 25 /* a layer name: at most 24 bytes */
 /* Grid words a valid file may hold besides 0: E + 1024 for E in -149..200. */
