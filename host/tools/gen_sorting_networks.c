@@ -15,7 +15,7 @@
 /* The 0-1 check of n = 24 takes a fraction of a second; each n more doubles it. */
 #define FULL_CHECK_MAX 24
 #define RANDOM_TRIALS 2000
-#define MAX_COMPARATORS 2048 /* n = 64 needs 543 */
+#define MAX_COMPARATORS 543 /* the network for n = 64 */
 
 typedef struct {
     int count;
@@ -36,6 +36,10 @@ static void merge_exchange(int n, Network *network)
         for (;;) {
             for (int i = 0; i < n - d; ++i)
                 if ((i & p) == r) {
+                    if (network->count == MAX_COMPARATORS) {
+                        fprintf(stderr, "gen_sorting_networks: n = %d needs over %d comparators\n", n, MAX_COMPARATORS);
+                        exit(1);
+                    }
                     network->pairs[network->count][0] = (unsigned char)i;
                     network->pairs[network->count][1] = (unsigned char)(i + d);
                     ++network->count;
@@ -132,6 +136,15 @@ static int checks_reject_a_broken_network(void)
     return 1;
 }
 
+/* Macro bodies: per_line items to a line, continued with backslashes. */
+static void put_separator(FILE *out, int item, int per_line, int commas)
+{
+    if (item == 0)
+        fputs("    ", out);
+    else
+        fprintf(out, "%s%s", commas ? "," : "", item % per_line ? " " : " \\\n    ");
+}
+
 static void write_header(FILE *out, const Network *networks)
 {
     fputs("/* Sorting networks for the estimator: Batcher's merge-exchange networks\n"
@@ -153,23 +166,25 @@ static void write_header(FILE *out, const Network *networks)
         total += network->count;
         fprintf(out, "/* n = %d: %d comparators */\n#define EST_NETWORK_%d(CE)%s\n", n, network->count, n,
                 network->count ? " \\" : "");
-        for (int k = 0; k < network->count; ++k)
-            fprintf(out, "%sCE(%d, %d)%s", k % 10 == 0 ? "    " : " ", network->pairs[k][0], network->pairs[k][1],
-                    k + 1 == network->count ? "\n"
-                    : k % 10 == 9           ? " \\\n"
-                                            : "");
+        for (int k = 0; k < network->count; ++k) {
+            put_separator(out, k, 10, 0);
+            fprintf(out, "CE(%d, %d)", network->pairs[k][0], network->pairs[k][1]);
+        }
+        if (network->count)
+            fputs("\n", out);
     }
     start[MAX_N] = total;
     fprintf(out, "\n/* All 64 networks end to end: %d comparators. */\n#define EST_ALL_NETWORKS(CE) \\\n", total);
-    for (int n = 1; n <= MAX_N; ++n)
-        fprintf(out, "%sEST_NETWORK_%d(CE)%s", n % 8 == 1 ? "    " : " ", n,
-                n == MAX_N   ? "\n"
-                : n % 8 == 0 ? " \\\n"
-                             : "");
-    fputs("#define EST_NETWORK_START \\\n", out);
-    for (int n = 0; n <= MAX_N; ++n)
-        fprintf(out, "%s%d%s", n % 13 == 0 ? "    " : ", ", start[n], n == MAX_N ? "\n" : n % 13 == 12 ? ", \\\n" : "");
-    fputs("\n#endif /* KERNELS_SORTING_NETWORKS_H */\n", out);
+    for (int n = 1; n <= MAX_N; ++n) {
+        put_separator(out, n - 1, 8, 0);
+        fprintf(out, "EST_NETWORK_%d(CE)", n);
+    }
+    fputs("\n#define EST_NETWORK_START \\\n", out);
+    for (int n = 0; n <= MAX_N; ++n) {
+        put_separator(out, n, 13, 1);
+        fprintf(out, "%d", start[n]);
+    }
+    fputs("\n\n#endif /* KERNELS_SORTING_NETWORKS_H */\n", out);
 }
 
 int main(int argc, char **argv)
