@@ -90,6 +90,9 @@ static void test_embedded_source_has_line_markers(void **state)
     assert_null(include_dir);
     assert_non_null(strstr(source, "#line 1 \"kernels/estimators.h\""));
     assert_non_null(strstr(source, "#line 1 \"kernels/compat.h\""));
+    /* The sorting networks the build generated, under their include name. */
+    assert_non_null(strstr(source, "#line 1 \"kernels/sorting_networks.h\""));
+    assert_non_null(strstr(source, "#define EST_NETWORK_64(CE)"));
     assert_non_null(strstr(source, "\"kernels/estimator.cl\""));
     assert_null(strstr(source, "#include \"estimators.h\""));
     free(source);

@@ -115,16 +115,20 @@ cl_program cl_program_build(ClDevice *device, const char *name, const char *opti
         return NULL;
     }
     /* Correctly rounded division keeps devices that default to approximate
-     * division (GPUs) bit-identical with the host. */
-    size_t length = strlen(options) + (include_dir ? strlen(include_dir) : 0) + 128;
+     * division (GPUs) bit-identical with the host. Sources read from a
+     * directory include its headers, then the ones the build generated. */
+    const char *generated_dir = kernel_source_generated_dir();
+    size_t length = strlen(options) + (include_dir ? strlen(include_dir) + strlen(generated_dir) : 0) + 128;
     char *all_options = malloc(length);
     if (!all_options) {
         free(source);
         return NULL;
     }
-    snprintf(all_options, length, "-cl-std=CL1.2%s%s%s %s",
-             device->info.correctly_rounded_divide ? " -cl-fp32-correctly-rounded-divide-sqrt" : "",
-             include_dir ? " -I " : "", include_dir ? include_dir : "", options);
+    int used = snprintf(all_options, length, "-cl-std=CL1.2%s",
+                        device->info.correctly_rounded_divide ? " -cl-fp32-correctly-rounded-divide-sqrt" : "");
+    if (include_dir)
+        used += snprintf(all_options + used, length - (size_t)used, " -I %s -I %s", include_dir, generated_dir);
+    snprintf(all_options + used, length - (size_t)used, " %s", options);
 
     cl_int err = CL_SUCCESS;
     const char *sources[] = {source};

@@ -58,3 +58,8 @@ char *kernel_source_load(const char *name, const char *kernel_dir, const char **
     *include_dir = kernel_dir;
     return text;
 }
+
+const char *kernel_source_generated_dir(void)
+{
+    return GMON_GENERATED_KERNEL_DIR;
+}

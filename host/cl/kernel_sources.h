@@ -24,4 +24,10 @@ const EmbeddedKernel *kernel_source_embedded(const char *name);
 char *kernel_source_load(const char *name, const char *kernel_dir, const char **include_dir, char *error,
                          int error_size);
 
+/* The directory of the kernel headers this build generated (its
+ * generated/kernels: sorting_networks.h), which a kernels/ directory does
+ * not hold: a program read from a directory is built with -I for it after
+ * the kernel directory's own. */
+const char *kernel_source_generated_dir(void);
+
 #endif

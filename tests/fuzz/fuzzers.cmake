@@ -29,7 +29,8 @@ add_library(fuzz_code STATIC
   host/render/bvh.c
   host/io/exr_image.c
   tests/fuzz/fuzz_input.c)
-target_include_directories(fuzz_code PUBLIC host kernels tests/fuzz)
+target_include_directories(fuzz_code PUBLIC host kernels ${GMON_GENERATED_DIR}/kernels tests/fuzz)
+add_dependencies(fuzz_code sorting_networks)
 target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM OpenEXR::OpenEXRCore ${MATH_LIBRARY})
 
 foreach(harness scene ply exr)
