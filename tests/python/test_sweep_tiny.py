@@ -1,6 +1,7 @@
 """The sweep end to end on a tiny case (CTest sweep_tiny): a 32x32 reference
 of the diffuse Cornell box, a sweep to 64 spp for M = 5 and 21 with the real
-renderer, and a results page from it. Environment: GMONRT (the renderer), WORK_DIR (scratch).
+renderer, and a results page from it; a sweep with an extra estimator.
+Environment: GMONRT (the renderer), WORK_DIR (scratch).
 Without an OpenCL device: exit 77 (skipped), or a failure under CI=true."""
 
 import os
@@ -75,11 +76,32 @@ class TinySweep(unittest.TestCase):
         docs = WORK / "docs"
         results.main([str(SCENE), "--no-render", "--sweeps", str(WORK / "sweeps"), "--docs", str(docs)])
         page = (docs / "results.md").read_text()
+        self.assertIn("# Results: error of mean, MoN and G-MoN against time and samples", page)
         self.assertIn("| 21 | G-MoN |", page)
+        self.assertIn("| crop | mean | MoN | G-MoN |", page)
         self.assertIn("| cornell-diffuse | 1024 | 32x32 | 1000 |", page)
         self.assertIn("results/cornell-diffuse-error-vs-time.png", page)
         for name in ("cornell-diffuse.csv", "cornell-diffuse-error-vs-spp.png", "cornell-diffuse-crops.png"):
             self.assertTrue((docs / "results" / name).is_file(), name)
+
+    def test_an_extra_estimator_is_swept_and_listed(self):
+        """--estimators with trimmed: its rows, plots and place on the results
+        page come from the renderer's files, not from a fixed list."""
+        sweeps = WORK / "sweeps-trimmed"
+        out = sweeps / "cornell-diffuse"
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5",
+                    "--estimators", "mean,mon,gmon,trimmed", "--out", str(out), "--gmonrt", str(GMONRT)])
+        rows = sweep.read_csv(out / "sweep.csv")
+        self.assertEqual(list(dict.fromkeys(r["estimator"] for r in rows)), ["mean", "mon", "gmon", "trimmed"])
+        docs = WORK / "docs-trimmed"
+        results.main([str(SCENE), "--no-render", "--sweeps", str(sweeps), "--docs", str(docs)])
+        page = (docs / "results.md").read_text()
+        self.assertIn("# Results: error of mean, MoN, G-MoN and trimmed against time and samples", page)
+        self.assertIn("| 5 | trimmed |", page)
+        self.assertIn("| crop | mean | MoN | G-MoN | trimmed |", page)
+        self.assertIn("the same for the 4 estimators of one render", page)
+        with open(docs / "results" / "cornell-diffuse-crops.png", "rb") as f:
+            self.assertEqual(f.read(8), PNG_SIGNATURE)
 
     def test_a_time_budget_stops_early(self):
         out = WORK / "sweep-timed"
