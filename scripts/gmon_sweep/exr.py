@@ -1,6 +1,7 @@
 """gmonrt's EXR files (layout: host/io/exr_image.h) through OpenEXR's Python
 bindings: RGB layers as height x width x 3 float64 arrays, and references
-written as a lone float `mean` layer."""
+written as a lone float `mean` layer. A render names its estimators in the
+attribute gmon.estimators (host/film/film_file.c)."""
 
 import numpy as np
 import OpenEXR
@@ -30,12 +31,28 @@ def read_layer(path, layer):
     return layers[layer]
 
 
-def write_mean(path, image, attributes):
-    """Writes `image` (height x width x 3) as the float layer `mean` with ZIP
-    compression, and `attributes` (name -> string) as string metadata."""
+def estimators(header):
+    """The estimators a render holds, in its order, from gmon.estimators."""
+    listed = header.get("gmon.estimators")
+    if not listed:
+        raise ValueError("the file has no gmon.estimators attribute (not a gmonrt render)")
+    return str(listed).split(",")
+
+
+def write_layers(path, layers, attributes):
+    """Writes `layers` (name -> height x width x 3 image) as float RGB layers
+    with ZIP compression, and `attributes` (name -> string) as string
+    metadata."""
     header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
     header.update({key: str(value) for key, value in attributes.items()})
-    pixels = np.asarray(image, dtype=np.float32)
-    channels = {f"mean.{c}": np.ascontiguousarray(pixels[..., i]) for i, c in enumerate(CHANNELS)}
+    channels = {}
+    for name, image in layers.items():
+        pixels = np.asarray(image, dtype=np.float32)
+        channels.update({f"{name}.{c}": np.ascontiguousarray(pixels[..., i]) for i, c in enumerate(CHANNELS)})
     with OpenEXR.File(header, channels) as exr:
         exr.write(str(path))
+
+
+def write_mean(path, image, attributes):
+    """A reference: `image` as the lone layer `mean` (write_layers)."""
+    write_layers(path, {"mean": image}, attributes)

@@ -15,9 +15,9 @@ import sys
 from pathlib import Path
 
 from . import crops, renderer, sweep
+from .plots import estimators_of, label
 
 ROOT = renderer.ROOT
-NAMES = {"mean": "mean", "mon": "MoN", "gmon": "G-MoN"}
 FIGURES = ("error-vs-spp.png", "error-vs-time.png", "crops.png")
 
 
@@ -50,6 +50,11 @@ def reach_ratio(rows, sets, key):
     return f"{seconds / mean[-1]['seconds']:.2f}"
 
 
+def listing(words):
+    """"mean, MoN and G-MoN" for ["mean", "MoN", "G-MoN"]."""
+    return " and ".join(words) if len(words) < 3 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
 def error(row, key):
     """A row's "rmse" or "relmse" as text, marked † when at the reference's floor."""
     text = f"{row[key]:.4g}"
@@ -60,33 +65,35 @@ def error(row, key):
 def scene_section(scene, rows, settings):
     all_sets = sorted({r["sets"] for r in rows})
     final_spp = max(r["spp"] for r in rows)
-    record = settings["reference_record"]
+    estimators = estimators_of(rows)
+    count = {2: "two", 3: "three"}.get(len(estimators), str(len(estimators)))
     out = [f"## {scene}", ""]
     out += [f"Whole image at {final_spp} spp (the last checkpoint of each render; seconds are render and "
-            "estimator time to that checkpoint, the same for the three estimators of one render; † marks a "
+            f"estimator time to that checkpoint, the same for the {count} estimators of one render; † marks a "
             "value at the reference's floor):", ""]
     out += ["| M | estimator | RMSE | relMSE | SSIM | FLIP | bias vs reference | bias vs mean | seconds |",
             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for sets in all_sets:
         mean_bias = line(rows, sets, "mean")[-1]["rel_bias"]
-        for estimator in ("mean", "mon", "gmon"):
+        for estimator in estimators:
             r = line(rows, sets, estimator)[-1]
-            out.append(f"| {sets} | {NAMES[estimator]} | {error(r, 'rmse')} | {error(r, 'relmse')} | "
+            out.append(f"| {sets} | {label(estimator)} | {error(r, 'rmse')} | {error(r, 'relmse')} | "
                        f"{r['ssim']:.4f} | {r['flip']:.4f} | "
                        f"{r['rel_bias']:+.2%} | {r['rel_bias'] - mean_bias:+.3%} | {r['seconds']:.1f} |")
-    out += ["", "Time for G-MoN to reach the mean's error at the last checkpoint, as a fraction of the mean's time "
-            "(below 1: G-MoN gets there sooner):", "",
-            "| M | by RMSE | by relMSE |", "| --- | --- | --- |"]
-    for sets in all_sets:
-        out.append(f"| {sets} | {reach_ratio(rows, sets, 'rmse')} | {reach_ratio(rows, sets, 'relmse')} |")
+    if "gmon" in estimators:
+        out += ["", "Time for G-MoN to reach the mean's error at the last checkpoint, as a fraction of the mean's "
+                "time (below 1: G-MoN gets there sooner):", "",
+                "| M | by RMSE | by relMSE |", "| --- | --- | --- |"]
+        for sets in all_sets:
+            out.append(f"| {sets} | {reach_ratio(rows, sets, 'rmse')} | {reach_ratio(rows, sets, 'relmse')} |")
     shown_sets = sweep.figure_sets(all_sets)
     regions = [name for name in dict.fromkeys(r["region"] for r in rows) if name != "image"]
     if regions:
         out += ["", f"Crops at {final_spp} spp, M = {shown_sets} (relMSE / FLIP; † at the reference's floor):", "",
-                "| crop | mean | MoN | G-MoN |", "| --- | --- | --- | --- |"]
+                f"| crop | {' | '.join(map(label, estimators))} |", "| --- " * (len(estimators) + 1) + "|"]
         for region in regions:
             cells = []
-            for estimator in ("mean", "mon", "gmon"):
+            for estimator in estimators:
                 r = line(rows, shown_sets, estimator, region)[-1]
                 cells.append(f"{error(r, 'relmse')} / {r['flip']:.3f}")
             out.append(f"| {region} | {' | '.join(cells)} |")
@@ -120,19 +127,24 @@ def summary(all_rows):
     out = ["## Summary (computed from the tables below)", ""]
     for scene, rows in all_rows.items():
         for sets in sorted({r["sets"] for r in rows}):
-            finals = {e: line(rows, sets, e)[-1] for e in ("mean", "mon", "gmon")}
+            finals = {e: line(rows, sets, e)[-1] for e in estimators_of(rows)}
             best = {key: min(finals, key=lambda e: finals[e][key]) for key in ("rmse", "relmse", "flip")}
             flags = " (some at the reference's floor)" if any(f["at_floor"] for f in finals.values()) else ""
-            gmon_bias = finals["gmon"]["rel_bias"] - finals["mean"]["rel_bias"]
-            out.append(f"- {scene}, M = {sets}, {finals['mean']['spp']} spp: lowest RMSE {NAMES[best['rmse']]}, "
-                       f"relMSE {NAMES[best['relmse']]}, FLIP {NAMES[best['flip']]}; G-MoN's bias against the mean "
-                       f"of the same samples {gmon_bias:+.3%}{flags}.")
+            gmon_bias = ""
+            if "gmon" in finals:
+                bias = finals["gmon"]["rel_bias"] - finals["mean"]["rel_bias"]
+                gmon_bias = f"; G-MoN's bias against the mean of the same samples {bias:+.3%}"
+            out.append(f"- {scene}, M = {sets}, {finals['mean']['spp']} spp: lowest RMSE {label(best['rmse'])}, "
+                       f"relMSE {label(best['relmse'])}, FLIP {label(best['flip'])}{gmon_bias}{flags}.")
     return out + [""]
 
 
 def page(all_rows, all_settings, arguments, docs):
     first = next(iter(all_settings.values()))
-    out = ["# Results: error of mean, MoN and G-MoN against time and samples", "",
+    estimators = list(dict.fromkeys(e for rows in all_rows.values() for e in estimators_of(rows)))
+    others = [label(e) for e in estimators if e != "mean"]
+    owners = listing([f"{name}'s" for name in others])
+    out = [f"# Results: error of {listing(list(map(label, estimators)))} against time and samples", "",
            "Generated by `scripts/results.sh` (do not edit by hand). Every number comes from the CSVs in "
            "`docs/results/`; the definitions of the metrics are in `scripts/gmon_sweep/metrics.py`, the sweep's "
            "design in `scripts/gmon_sweep/sweep.py`.", "",
@@ -144,7 +156,7 @@ def page(all_rows, all_settings, arguments, docs):
            f"Each scene: one progressive render per M in {{{', '.join(map(str, first['sets']))}}} with checkpoints at "
            f"every power of two up to {first['max_spp']} spp, {first['resolution']}, seed {first['seed']}, "
            f"integrator {first['integrator']} (the references use seed 1000 and next-event estimation). The mean "
-           "is the same for every M up to float rounding; the sets only change MoN and G-MoN. Times are "
+           f"is the same for every M up to float rounding; the sets only change {listing(others)}. Times are "
            "wall-clock seconds on the machine that ran the command (PoCL on CPU; shared, so noisy), render and "
            "estimators included.", "",
            "Reference floor: the reference's own RMSE and relMSE, estimated from its two independent halves "
@@ -154,8 +166,8 @@ def page(all_rows, all_settings, arguments, docs):
            "Bias vs reference: (average of the estimate - average of the reference) / average of the reference "
            "over the whole image; for the mean it is noise (of the render and the reference). Bias vs mean: the "
            "same for the estimate minus the mean of the same samples, (average of the estimate - average of the "
-           "mean) / average of the reference: the noise of the samples cancels, so this measures MoN's and "
-           "G-MoN's own bias, e.g. the darkening others report for G-MoN on a firefly-free scene such as "
+           "mean) / average of the reference: the noise of the samples cancels, so this measures "
+           f"{owners} own bias, e.g. the darkening others report for G-MoN on a firefly-free scene such as "
            "`cornell-diffuse`.", ""]
     if (docs / "results-discussion.md").exists():
         out += ["What these numbers say against the paper's expectations, written by hand: "
@@ -172,6 +184,8 @@ def main(argv=None):
     p.add_argument("scenes", nargs="*", type=Path, help="default: every scenes/*.pbrt with a reference")
     p.add_argument("--sets", type=sweep.positive_list, default=[5, 11, 21, 25], help="default 5,11,21,25")
     p.add_argument("--max-spp", type=int, default=1024, help="last checkpoint of every render (default 1024)")
+    p.add_argument("--estimators", type=sweep.estimator_list,
+                   help="gmonrt's --estimators, mean among them (default gmonrt's: mean,mon,gmon)")
     p.add_argument("--integrator", choices=("nee", "bsdf"), default="nee", help="default nee")
     p.add_argument("--docs", type=Path, default=ROOT / "docs", help="where results.md and results/ go (default docs/)")
     p.add_argument("--sweeps", type=Path, default=ROOT / "build" / "results",
@@ -191,7 +205,8 @@ def main(argv=None):
         if not args.no_render:
             sweep.main([str(scene_path), "--sets", ",".join(map(str, args.sets)), "--max-spp", str(args.max_spp),
                         "--integrator", args.integrator, "--out", str(out), "--gmonrt", str(args.gmonrt),
-                        "--figure-spp", f"{min(64, args.max_spp)},{args.max_spp}"])
+                        "--figure-spp", f"{min(64, args.max_spp)},{args.max_spp}",
+                        *(["--estimators", args.estimators] if args.estimators else [])])
         all_rows[scene] = sweep.read_csv(out / "sweep.csv")
         all_settings[scene] = json.loads((out / "sweep.json").read_text())
         shutil.copy(out / "sweep.csv", figures_dir / f"{scene}.csv")

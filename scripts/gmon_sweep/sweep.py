@@ -1,9 +1,10 @@
 """Convergence sweep of one scene: error against samples per pixel and
-wall-clock time, for the mean, MoN and G-MoN of the same samples.
+wall-clock time, for the mean and the other estimators of the same samples
+(--estimators; default gmonrt's: mean, MoN and G-MoN).
 
 Design: one progressive render per M (`gmonrt --checkpoints`). The renderer
 stops at every power of two up to --max-spp (and at --max-spp itself), writes
-the three estimates of the samples so far and records its wall-clock time to
+the estimates of the samples so far and records its wall-clock time to
 that point (estimators included, file writing excluded) and, given the
 reference, each estimator's RMSE and relMSE. Nothing is rendered twice for
 one M; the mean is the same for every M up to float rounding (the samples do
@@ -11,7 +12,8 @@ not depend on M), only its time differs. This script then measures every
 checkpoint image on the whole image and on the scene's named crops (RMSE,
 relMSE, SSIM, FLIP, relative bias), checks its whole-image RMSE against the
 renderer's, flags errors the reference's own residual error could account
-for, and draws the plots.
+for, and draws the plots. The estimators measured are those the renderer
+wrote: the rows of its checkpoints.csv, and a checkpoint's gmon.estimators.
 
 Outputs in --out: sweep.csv (one row per M, checkpoint, estimator and
 region), sweep.json (settings, reference, commands), error-vs-spp.png,
@@ -38,11 +40,14 @@ def checkpoint_path(run_dir, spp):
     return Path(run_dir) / f"spp-{spp:06d}.exr"
 
 
-def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget):
+def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget, estimators):
     """One progressive render with checkpoints; returns the command line run.
     A 1-spp render with the same settings first builds the OpenCL programs
-    into PoCL's cache: gmonrt's `seconds` would otherwise include that build."""
+    into PoCL's cache: gmonrt's `seconds` would otherwise include that build.
+    `estimators`: a --estimators list, or None for gmonrt's default."""
     settings = ["--sets", sets, "--resolution", resolution, "--seed", seed, "--integrator", integrator, "--quiet"]
+    if estimators:
+        settings += ["--estimators", estimators]
     renderer.run(gmonrt, [scene, "--spp", 1, *settings, "--outfile", Path(run_dir) / "warm-up.exr"])
     arguments = [scene, "--spp", max_spp, "--checkpoints", run_dir, "--reference", reference, *settings,
                  "--outfile", Path(run_dir) / "final.exr"]
@@ -148,7 +153,7 @@ def sweep(args):
         for old in [*run_dir.glob("spp-*.exr"), run_dir / "checkpoints.csv"]:
             old.unlink(missing_ok=True)
         commands.append(render(args.gmonrt, args.scene, run_dir, args.max_spp, sets, reference_path, resolution,
-                               args.seed, args.integrator, args.time))
+                               args.seed, args.integrator, args.time, args.estimators))
         rows += measure_run(run_dir, scene, sets, reference, regions, floors)
         print(f"{scene}: M = {sets} done", file=sys.stderr)
     write_csv(rows, out / "sweep.csv")
@@ -163,9 +168,11 @@ def sweep(args):
     shown_sets = figure_sets(args.sets)
     run_spps = sorted({r["spp"] for r in rows if r["sets"] == shown_sets})
     figure_spps = [s for s in (args.figure_spp or []) if s in run_spps] or [run_spps[-1]]
-    images = {spp: exr.read(checkpoint_path(out / f"M{shown_sets}", spp))[0] for spp in figure_spps}
+    files = {spp: exr.read(checkpoint_path(out / f"M{shown_sets}", spp)) for spp in figure_spps}
+    images = {spp: layers for spp, (layers, _) in files.items()}
+    estimators = exr.estimators(files[figure_spps[-1]][1])
     plots.crops_figure(images, reference, {n: r for n, r in regions.items() if r}, out / "crops.png",
-                       f"{scene}, M = {shown_sets}")
+                       f"{scene}, M = {shown_sets}", estimators)
     return out, rows
 
 
@@ -176,6 +183,14 @@ def positive_list(text):
     return values
 
 
+def estimator_list(text):
+    """--estimators: gmonrt's list (it checks the names); the mean among them,
+    as the sweep compares every estimator with the mean of the same samples."""
+    if "mean" not in text.split(",") and text != "all":
+        raise argparse.ArgumentTypeError(f"'{text}' lacks mean: the sweep compares every estimator with the mean")
+    return text
+
+
 def parser():
     p = argparse.ArgumentParser(prog="sweep.sh", description=__doc__.split("\n\n")[0])
     p.add_argument("scene", type=Path, help="scene file, e.g. scenes/cornell-glass.pbrt")
@@ -184,6 +199,8 @@ def parser():
                    help="time budget per render in seconds: gmonrt stops after the pass that reaches it, keeping "
                         "the checkpoints written by then")
     p.add_argument("--sets", type=positive_list, default=[21], help="list of M, e.g. 5,11,21,25 (default 21)")
+    p.add_argument("--estimators", type=estimator_list,
+                   help="gmonrt's --estimators, mean among them (default gmonrt's: mean,mon,gmon)")
     p.add_argument("--reference", type=Path, help="reference EXR (default references/<scene>.exr)")
     p.add_argument("--resolution", help="WIDTHxHEIGHT; must be the reference's (default: the reference's)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0; not the reference's)")

@@ -1,6 +1,7 @@
 """The sweep's metric code on pairs with known answers (run by CTest as
 test_metrics, with the scripts' virtual environment)."""
 
+import argparse
 import sys
 import tempfile
 import unittest
@@ -123,6 +124,18 @@ class Crops(unittest.TestCase):
             self.assertGreater(len(named), 1, scene.name)
 
 
+class SweepEstimators(unittest.TestCase):
+    def test_the_mean_is_required(self):
+        self.assertEqual(sweep.estimator_list("mean,trimmed"), "mean,trimmed")
+        self.assertEqual(sweep.estimator_list("all"), "all")
+        with self.assertRaises(argparse.ArgumentTypeError):
+            sweep.estimator_list("gmon,trimmed")
+
+    def test_listing(self):
+        self.assertEqual(results.listing(["MoN", "G-MoN"]), "MoN and G-MoN")
+        self.assertEqual(results.listing(["mean", "MoN", "G-MoN"]), "mean, MoN and G-MoN")
+
+
 class Files(unittest.TestCase):
     def test_reference_exr_round_trip(self):
         image = smooth_image().astype(np.float32)
@@ -134,6 +147,18 @@ class Files(unittest.TestCase):
         np.testing.assert_array_equal(layers["mean"], image)
         self.assertEqual(header["gmon.samples"], "64")
         self.assertEqual(header["residualRmse"], "0.5")
+
+    def test_layers_and_estimators_round_trip(self):
+        image = smooth_image().astype(np.float32)
+        with tempfile.TemporaryDirectory() as directory:
+            path = Path(directory) / "r.exr"
+            exr.write_layers(path, {"mean": image, "trimmed": 2 * image}, {"gmon.estimators": "mean,trimmed"})
+            layers, header = exr.read(path)
+        self.assertEqual(sorted(layers), ["mean", "trimmed"])
+        np.testing.assert_array_equal(layers["trimmed"], 2 * image)
+        self.assertEqual(exr.estimators(header), ["mean", "trimmed"])
+        with self.assertRaises(ValueError):
+            exr.estimators({})
 
     def test_csv_round_trip(self):
         row = {"scene": "s", "sets": 21, "estimator": "gmon", "spp": 64, "seconds": 1.5, "region": "image",

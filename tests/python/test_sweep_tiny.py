@@ -1,8 +1,12 @@
 """The sweep end to end on a tiny case (CTest sweep_tiny): a 32x32 reference
 of the diffuse Cornell box, a sweep to 64 spp for M = 5 and 21 with the real
-renderer, and a results page from it. Environment: GMONRT (the renderer), WORK_DIR (scratch).
+renderer, and a results page from it; a sweep with an extra estimator; the
+standard errors' calibration in its quick mode.
+Environment: GMONRT (the renderer), WORK_DIR (scratch).
 Without an OpenCL device: exit 77 (skipped), or a failure under CI=true."""
 
+import contextlib
+import io
 import os
 import sys
 import unittest
@@ -10,7 +14,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
-from gmon_sweep import references, renderer, results, sweep  # noqa: E402
+from gmon_sweep import calibration, references, renderer, results, sweep  # noqa: E402
 
 GMONRT = Path(os.environ.get("GMONRT", ROOT / "build" / "gmonrt"))
 WORK = Path(os.environ.get("WORK_DIR", ROOT / "build")) / "sweep-tiny"
@@ -75,11 +79,51 @@ class TinySweep(unittest.TestCase):
         docs = WORK / "docs"
         results.main([str(SCENE), "--no-render", "--sweeps", str(WORK / "sweeps"), "--docs", str(docs)])
         page = (docs / "results.md").read_text()
+        self.assertIn("# Results: error of mean, MoN and G-MoN against time and samples", page)
         self.assertIn("| 21 | G-MoN |", page)
+        self.assertIn("| crop | mean | MoN | G-MoN |", page)
         self.assertIn("| cornell-diffuse | 1024 | 32x32 | 1000 |", page)
         self.assertIn("results/cornell-diffuse-error-vs-time.png", page)
         for name in ("cornell-diffuse.csv", "cornell-diffuse-error-vs-spp.png", "cornell-diffuse-crops.png"):
             self.assertTrue((docs / "results" / name).is_file(), name)
+
+    def test_an_extra_estimator_is_swept_and_listed(self):
+        """--estimators with trimmed: its rows, plots and place on the results
+        page come from the renderer's files, not from a fixed list."""
+        sweeps = WORK / "sweeps-trimmed"
+        out = sweeps / "cornell-diffuse"
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5",
+                    "--estimators", "mean,mon,gmon,trimmed", "--out", str(out), "--gmonrt", str(GMONRT)])
+        rows = sweep.read_csv(out / "sweep.csv")
+        self.assertEqual(list(dict.fromkeys(r["estimator"] for r in rows)), ["mean", "mon", "gmon", "trimmed"])
+        docs = WORK / "docs-trimmed"
+        results.main([str(SCENE), "--no-render", "--sweeps", str(sweeps), "--docs", str(docs)])
+        page = (docs / "results.md").read_text()
+        self.assertIn("# Results: error of mean, MoN, G-MoN and trimmed against time and samples", page)
+        self.assertIn("| 5 | trimmed |", page)
+        self.assertIn("| crop | mean | MoN | G-MoN | trimmed |", page)
+        self.assertIn("the same for the 4 estimators of one render", page)
+        with open(docs / "results" / "cornell-diffuse-crops.png", "rb") as f:
+            self.assertEqual(f.read(8), PNG_SIGNATURE)
+
+    def test_calibration_quick(self):
+        """Every estimator's standard error at 32 and 64 spp against the tiny
+        reference: the mean's covers about as t_20 says (0.935), the
+        robust estimators' less (their bias is not in the stderr)."""
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            rows = calibration.main([str(SCENE), "--quick", "--references", str(self.reference.parent),
+                                     "--out", str(WORK / "calibration"), "--gmonrt", str(GMONRT)])
+        self.assertEqual(len(rows), 2 * 14)
+        self.assertEqual({r["spp"] for r in rows}, {32, 64})
+        mean = {r["spp"]: r for r in rows if r["estimator"] == "mean"}
+        for r in mean.values():
+            self.assertGreater(r["coverage"], 0.8)
+            self.assertLess(r["coverage"], 0.97)
+            self.assertEqual(r["nan_stderr"], 0.0)
+        mon = next(r for r in rows if r["estimator"] == "mon" and r["spp"] == 64)
+        self.assertLess(mon["coverage"], mean[64]["coverage"])
+        self.assertIn("| cornell-diffuse | 64 | 21 | 1024 | ", printed.getvalue())
 
     def test_a_time_budget_stops_early(self):
         out = WORK / "sweep-timed"
