@@ -157,12 +157,13 @@ static void compare_pixel(Tally *tally, const EstimatorCase *c, const EstimatorI
             long double error_relative =
                 isnan(want_error[ch]) ? (isnan(got_error) ? 0.0L : INFINITY)
                                       : fabsl((long double)got_error - want_error[ch]) / fmaxl(largest, denormal);
-            if (relative > tally->worst[pass][0]) {
+            int unreachable = pass == PASS_GMEDIAN && (c->kind == CASE_WIDE_MAGNITUDES || c->kind == CASE_DENORMALS);
+            if (!unreachable && relative > tally->worst[pass][0]) {
                 tally->worst[pass][0] = relative;
                 snprintf(tally->where[pass], sizeof tally->where[pass], "M=%d '%s' px %zu ch %d: %.9g vs %.9Lg",
                          c->set_count, c->name, p, ch, (double)got, want[ch]);
             }
-            if (error_relative > tally->worst[pass][1]) {
+            if (!unreachable && error_relative > tally->worst[pass][1]) {
                 tally->worst[pass][1] = error_relative;
                 snprintf(tally->where_error[pass], sizeof tally->where_error[pass],
                          "M=%d '%s' px %zu ch %d: %.9g vs %.9Lg", c->set_count, c->name, p, ch, (double)got_error,
@@ -177,7 +178,6 @@ static void compare_pixel(Tally *tally, const EstimatorCase *c, const EstimatorI
              * below another (set means spread over 1e-30..1e30), nor
              * resolve denormal means to 1e-6. */
             long double error_tolerance = pass == PASS_PAKMON ? 1e-3L : 1e-6L;
-            int unreachable = pass == PASS_GMEDIAN && (c->kind == CASE_WIDE_MAGNITUDES || c->kind == CASE_DENORMALS);
             /* gmedian's leave-one-out estimates take a few Weiszfeld steps
              * from a start on a set mean or within a float ulp of it,
              * where the step is most sensitive: its stderr is reported. */
@@ -221,6 +221,7 @@ static void test_family_matches_long_double_reference(void **state)
     printf("%d pixels, every case and M in {1, 2, 3, 4, 5, 20, 21, 64}: worst error against the long-double "
            "reference\n",
            pixels);
+    printf("(gmedian: without the denormal and 1e-30..1e30 cases, which it cannot resolve)\n");
     printf("| %-13s | %-10s | %-10s |\n", "estimator", "estimate", "stderr");
     for (int pass = 0; pass < PASS_COUNT; ++pass)
         if (PASSES_ESTIMATES & PASS_BIT(pass))
