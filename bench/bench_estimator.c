@@ -1,10 +1,16 @@
-/* bench_estimator: throughput of the estimator kernel against a plain copy.
+/* bench_estimator: the estimator kernel, each estimator and the whole
+ * family, against a plain copy and against a render.
  *
  * The estimator is a streaming kernel: each pixel reads its M set sums per
  * channel once and writes a few RGB images. Its practical limit is memory
  * bandwidth, measured here by the copy kernel (kernels/bench_copy.cl) moving
- * the same input bytes. The goal is an estimator bandwidth of at least 50% of
- * the copy's.
+ * the same input bytes. Timed, each a program of its own (builds timed
+ * apart): every estimate alone, the default set (mean, MoN, G-MoN), all
+ * estimates, and all estimates with their standard errors. The goals: the
+ * default set reaches 50% of the copy's bandwidth, and the whole family with
+ * standard errors costs under 10% of a 64 spp render of
+ * scenes/cornell-glass.pbrt at the same resolution (timed in the same run,
+ * without its program builds).
  *
  * Bandwidth is reported two ways, for both kernels:
  *   - (bytes read + bytes written) / time: like for like, each kernel
@@ -12,7 +18,9 @@
  *   - bytes read / time: how fast the set sums are consumed.
  * GB = 10^9 bytes. Times are medians over the timed repeats, taken from the
  * kernels' profiling events and, separately, by the wall clock from the
- * first enqueue to the return of clFinish.
+ * first enqueue to the return of clFinish. The copy runs alternate with the
+ * estimator runs of every variant (slow drifts such as clock or thermal
+ * changes hit both alike); its median is over all of them.
  *
  * Inputs larger than the device's maximum allocation are split into tiles of
  * whole pixels (each tile a separate buffer and launch, with its own
@@ -23,6 +31,8 @@
 #include "cl/cl_device.h"
 #include "film/film.h"
 #include "film/film_cl.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
 #include "estimators.h"
 
 #include <errno.h>
@@ -35,11 +45,13 @@
 #include <time.h>
 
 #define MAX_DEVICES 32
-#define GOAL_RATIO 0.5
+#define GOAL_RATIO 0.5           /* the default set's bandwidth over the copy's */
+#define GOAL_RENDER_FRACTION 0.1 /* the family with standard errors over the render */
+#define RENDER_SCENE GMON_SOURCE_DIR "/scenes/cornell-glass.pbrt"
+#define RENDER_SPP 64
 #define CHECK_PIXELS 64 /* pixels compared with the host reference */
-#define OUTPUT_MASK PASSES_DEFAULT
-#define OUTPUT_IMAGES 3
-#define COPY_ALIGN 16 /* the copy kernel moves float4s */
+#define COPY_ALIGN 16   /* the copy kernel moves float4s */
+#define MAX_VARIANTS (2 * PASS_COUNT + 3)
 
 typedef struct {
     long width;
@@ -49,32 +61,43 @@ typedef struct {
     long repeats;
     long device;
     int from_accumulators;
+    int each_with_stderr; /* also time every estimate alone with its standard error */
+    int render;           /* time the render the family is compared with */
 } Options;
 
 static void print_usage(FILE *out)
 {
     fprintf(out,
             "usage: bench_estimator [--width W] [--height H] [--sets M] [--samples N] [--repeats R]\n"
-            "                       [--device I] [--from-accumulators] [--help]\n"
+            "                       [--device I] [--from-accumulators | --from-sums] [--each-with-stderr]\n"
+            "                       [--no-render] [--help]\n"
             "\n"
-            "Times the estimator kernel (mean, MoN and G-MoN images) against a copy kernel\n"
-            "that reads and writes as many bytes as the estimator reads, and reports whether\n"
-            "the estimator reaches %.0f%% of the copy's bandwidth.\n"
+            "Times the estimator kernel, each estimate alone, the default set (mean, MoN,\n"
+            "G-MoN), all estimates and all estimates with standard errors, against a copy\n"
+            "kernel that reads and writes as many bytes as the estimator reads, checks each\n"
+            "against the host estimation, and times a %d spp render of cornell-glass.pbrt at\n"
+            "the same resolution. Goals: the default set reaches %.0f%% of the copy's\n"
+            "bandwidth; all estimates with standard errors take under %.0f%% of the render.\n"
             "\n"
-            "  --width W            image width in pixels (default 1920)\n"
-            "  --height H           image height in pixels (default 1080)\n"
+            "  --width W            image width in pixels, estimators and render (default 1920)\n"
+            "  --height H           image height in pixels, estimators and render (default 1080)\n"
             "  --sets M             sets per pixel, 1..%d (default %d)\n"
             "  --samples N          samples per pixel n (default 64*M); the set sums stay those\n"
             "                       of 64 samples a set, only the counts change: N not a\n"
             "                       multiple of M times unequal counts, N < M few samples\n"
-            "  --repeats R          timed runs after one warm-up, median reported (default 7)\n"
+            "  --repeats R          timed runs of each variant after one warm-up, median\n"
+            "                       reported (default 7)\n"
             "  --device I           OpenCL device index over all platforms (default 0)\n"
-            "  --from-accumulators  time estimate_from_accumulators: exact 128-bit set\n"
-            "                       accumulators as input (4x the bytes of float set sums)\n"
+            "  --from-accumulators  input: exact 128-bit set accumulators, as a render\n"
+            "                       estimates from (estimate_from_accumulators; the default)\n"
+            "  --from-sums          input: float set sums, 1/4 of the bytes (estimate_from_sums)\n"
+            "  --each-with-stderr   also time each estimate alone with its standard error\n"
+            "  --no-render          skip the render (about two minutes at 1920x1080 on 2 cores)\n"
             "  --help               show this help\n"
             "\n"
-            "PoCL needs POCL_CACHE_DIR set to a writable directory.\n",
-            GOAL_RATIO * 100.0, EST_MAX_SETS, ESTIMATOR_DEFAULT_SETS);
+            "Exits 1 when a device image differs from the host reference; missed goals are\n"
+            "reported, not an error. PoCL needs POCL_CACHE_DIR set to a writable directory.\n",
+            RENDER_SPP, GOAL_RATIO * 100.0, GOAL_RENDER_FRACTION * 100.0, EST_MAX_SETS, ESTIMATOR_DEFAULT_SETS);
 }
 
 /* Parses a decimal integer in [lo, hi]. Returns 0 on success. */
@@ -100,7 +123,9 @@ static int parse_options(int argc, char **argv, Options *o)
     o->samples = 0;
     o->repeats = 7;
     o->device = 0;
-    o->from_accumulators = 0;
+    o->from_accumulators = 1;
+    o->each_with_stderr = 0;
+    o->render = 1;
     for (int i = 1; i < argc; ++i) {
         const char *flag = argv[i];
         long *target = NULL;
@@ -108,8 +133,14 @@ static int parse_options(int argc, char **argv, Options *o)
         if (strcmp(flag, "--help") == 0 || strcmp(flag, "-h") == 0) {
             print_usage(stdout);
             return 1;
-        } else if (strcmp(flag, "--from-accumulators") == 0) {
-            o->from_accumulators = 1;
+        } else if (strcmp(flag, "--from-accumulators") == 0 || strcmp(flag, "--from-sums") == 0) {
+            o->from_accumulators = strcmp(flag, "--from-accumulators") == 0;
+            continue;
+        } else if (strcmp(flag, "--each-with-stderr") == 0) {
+            o->each_with_stderr = 1;
+            continue;
+        } else if (strcmp(flag, "--no-render") == 0) {
+            o->render = 0;
             continue;
         } else if (strcmp(flag, "--width") == 0) {
             target = &o->width;
@@ -240,32 +271,43 @@ static int compare_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-static double median(const double *values, int count)
+/* Sorts `values` in place. */
+static double median(double *values, int count)
 {
-    double sorted[1000];
-    memcpy(sorted, values, (size_t)count * sizeof *sorted);
-    qsort(sorted, (size_t)count, sizeof *sorted, compare_double);
-    return count % 2 ? sorted[count / 2] : 0.5 * (sorted[count / 2 - 1] + sorted[count / 2]);
+    qsort(values, (size_t)count, sizeof *values, compare_double);
+    return count % 2 ? values[count / 2] : 0.5 * (values[count / 2 - 1] + values[count / 2]);
 }
 
 typedef struct {
-    double event_seconds[1000]; /* per timed run, summed over tiles */
-    double wall_seconds[1000];
+    double *event_seconds; /* per timed run, summed over tiles */
+    double *wall_seconds;
+    int count; /* runs recorded */
     double event_median;
     double event_min;
     double event_max;
     double wall_median;
 } Timings;
 
-static void summarize(Timings *t, int count)
+static int timings_alloc(Timings *t, int capacity)
 {
-    t->event_median = median(t->event_seconds, count);
-    t->wall_median = median(t->wall_seconds, count);
-    t->event_min = t->event_max = t->event_seconds[0];
-    for (int i = 1; i < count; ++i) {
-        t->event_min = t->event_seconds[i] < t->event_min ? t->event_seconds[i] : t->event_min;
-        t->event_max = t->event_seconds[i] > t->event_max ? t->event_seconds[i] : t->event_max;
-    }
+    memset(t, 0, sizeof *t);
+    t->event_seconds = malloc((size_t)capacity * sizeof(double));
+    t->wall_seconds = malloc((size_t)capacity * sizeof(double));
+    return t->event_seconds && t->wall_seconds ? 0 : -1;
+}
+
+static void timings_free(Timings *t)
+{
+    free(t->event_seconds);
+    free(t->wall_seconds);
+}
+
+static void summarize(Timings *t)
+{
+    t->event_median = median(t->event_seconds, t->count);
+    t->wall_median = median(t->wall_seconds, t->count);
+    t->event_min = t->event_seconds[0]; /* median() sorted them */
+    t->event_max = t->event_seconds[t->count - 1];
 }
 
 /* ------------------------------------------------------------------------
@@ -283,44 +325,95 @@ typedef struct {
 typedef struct {
     ClDevice device;
     int device_open;
-    EstimatorProgram *estimator;
+    EstimatorProgram *estimator; /* the variant being timed */
+    EstimatorLaunch launch;      /* the estimator's (the same for every variant) */
     cl_program copy_program;
     cl_kernel copy_kernel;
     Tile *tiles;
     size_t tile_count;
     cl_mem copy_output;
-    cl_mem images; /* every tile's images, one after another (pass_slot) */
+    cl_mem images; /* the images of one tile (pass_slot and stderr_slot order), each tile's run overwriting them */
     void *host_tile;
 } Bench;
 
-static void bench_release(Bench *b)
+/* An estimator program to time: its passes, with or without standard
+ * errors. */
+typedef struct {
+    char name[32];
+    uint32_t passes;
+    int with_stderr;
+    double build_seconds;
+    Timings timings;
+    int mismatches; /* sampled values that differ from the host reference */
+    int checked;    /* sampled values compared */
+} Variant;
+
+/* The device buffers and programs (the device stays open). */
+static void bench_release_buffers(Bench *b)
 {
     for (size_t t = 0; b->tiles && t < b->tile_count; ++t)
         if (b->tiles[t].input)
             clReleaseMemObject(b->tiles[t].input);
     free(b->tiles);
+    b->tiles = NULL;
     if (b->images)
         clReleaseMemObject(b->images);
+    b->images = NULL;
     if (b->copy_output)
         clReleaseMemObject(b->copy_output);
+    b->copy_output = NULL;
     if (b->copy_kernel)
         clReleaseKernel(b->copy_kernel);
+    b->copy_kernel = NULL;
     if (b->copy_program)
         clReleaseProgram(b->copy_program);
+    b->copy_program = NULL;
     estimator_program_destroy(b->estimator);
+    b->estimator = NULL;
     free(b->host_tile);
+    b->host_tile = NULL;
+}
+
+static void bench_release(Bench *b)
+{
+    bench_release_buffers(b);
     if (b->device_open)
         cl_device_close(&b->device);
 }
 
-/* M sets, the default passes (mean, MoN, G-MoN). */
-static EstimatorSettings default_settings(int sets)
+/* M sets and the variant's passes, the parameters' defaults. */
+static EstimatorSettings variant_settings(const Variant *v, int sets)
 {
     EstimatorSettings settings;
     estimator_settings_default(&settings);
     settings.set_count = sets;
-    settings.passes = OUTPUT_MASK;
+    settings.passes = v->passes;
+    settings.with_stderr = v->with_stderr;
     return settings;
+}
+
+/* Every estimate alone (and, with each_with_stderr, with its standard
+ * error), the default set, all estimates, all estimates with standard
+ * errors. Returns the number of variants. */
+static int list_variants(int each_with_stderr, Variant *variants)
+{
+    int count = 0;
+    for (int pass = 0; pass < PASS_COUNT; ++pass) {
+        if (!(PASSES_ESTIMATES & PASS_BIT(pass)))
+            continue;
+        for (int with_stderr = 0; with_stderr <= each_with_stderr; ++with_stderr) {
+            Variant *v = &variants[count++];
+            snprintf(v->name, sizeof v->name, "%s%s", pass_name(pass), with_stderr ? "+stderr" : "");
+            v->passes = PASS_BIT(pass);
+            v->with_stderr = with_stderr;
+        }
+    }
+    const Variant sets[] = {{.name = "default set", .passes = PASSES_DEFAULT},
+                            {.name = "all", .passes = PASSES_ESTIMATES},
+                            {.name = "all+stderr", .passes = PASSES_ESTIMATES, .with_stderr = 1}};
+    for (size_t i = 0; i < sizeof sets / sizeof sets[0]; ++i)
+        variants[count++] = sets[i];
+    return count;
 }
 
 /* One run of the estimator over all tiles: returns 0 and the summed event
@@ -380,42 +473,62 @@ done:
     return status;
 }
 
+/* The name of image plane `plane` of a variant's images: "<pass>" or
+ * "<pass>.stderr". */
+static void plane_name(const Variant *v, int plane, char *name, size_t size)
+{
+    snprintf(name, size, "plane %d", plane);
+    for (int pass = 0; pass < PASS_COUNT; ++pass) {
+        if (!(v->passes & PASS_BIT(pass)))
+            continue;
+        if (pass_slot(v->passes, pass) == plane)
+            snprintf(name, size, "%s", pass_name(pass));
+        else if (v->with_stderr && (PASSES_ESTIMATES & PASS_BIT(pass)) && stderr_slot(v->passes, pass) == plane)
+            snprintf(name, size, "%s.stderr", pass_name(pass));
+    }
+}
+
 /* Compares CHECK_PIXELS pixels spread over the last tile (the output images
- * hold its results after a run) with the host reference, bit for bit.
- * Returns the number of mismatching values, or -1 on an error. */
-static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
+ * hold its results after a run) with the host reference, bit for bit, in
+ * every image of the variant (its estimates, then their standard errors).
+ * Sets v->mismatches and v->checked; returns 0, or -1 on an error. */
+static int check_against_host(Bench *b, const Options *o, uint64_t sample_count, Variant *v)
 {
     const int sets = (int)o->sets;
-    EstimatorSettings settings = default_settings(sets);
-    int mismatches = 0;
+    EstimatorSettings settings = variant_settings(v, sets);
+    const int planes = pass_image_count(v->passes, v->with_stderr);
     const Tile *last = &b->tiles[b->tile_count - 1];
-    size_t samples = last->count < CHECK_PIXELS ? last->count : CHECK_PIXELS;
-    size_t image_floats = last->count * EST_CHANNELS;
-    float *device_images = malloc(OUTPUT_IMAGES * image_floats * sizeof(float));
+    const size_t samples = last->count < CHECK_PIXELS ? last->count : CHECK_PIXELS;
+    const size_t image_floats = last->count * EST_CHANNELS, sample_floats = samples * EST_CHANNELS;
+    int status = -1;
+    float *device_images = malloc((size_t)planes * image_floats * sizeof(float));
     uint64_t *accumulators = malloc(accumulator_planes((uint32_t)sets) * samples * sizeof(uint64_t));
     float *sums = malloc((size_t)sets * EST_CHANNELS * samples * sizeof(float));
-    float *host_images = malloc(OUTPUT_IMAGES * samples * EST_CHANNELS * sizeof(float));
+    float *host_images = malloc((size_t)planes * sample_floats * sizeof(float));
     if (!device_images || !accumulators || !sums || !host_images) {
         fprintf(stderr, "bench_estimator: out of host memory for the check\n");
-        mismatches = -1;
         goto done;
     }
-    CL_CHECK(clEnqueueReadBuffer(b->device.queue, b->images, CL_TRUE, 0, OUTPUT_IMAGES * image_floats * sizeof(float),
+    CL_CHECK(clEnqueueReadBuffer(b->device.queue, b->images, CL_TRUE, 0, (size_t)planes * image_floats * sizeof(float),
                                  device_images, 0, NULL, NULL),
-             fail);
+             done);
     for (size_t s = 0; s < samples; ++s) {
         size_t p = samples > 1 ? s * (last->count - 1) / (samples - 1) : 0; /* pixel within the tile */
         for (uint32_t j = 0; j < (uint32_t)sets; ++j)
             for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
-                float v = set_sum_value(last->first + p, j, c);
-                sums[set_sum_index(j, c, s, samples)] = v;
-                store_fixed(accumulators, j, c, s, samples, v);
+                float value = set_sum_value(last->first + p, j, c);
+                sums[set_sum_index(j, c, s, samples)] = value;
+                store_fixed(accumulators, j, c, s, samples, value);
             }
     }
-    EstimatorImages images = {.pass[PASS_MEAN] = host_images,
-                              .pass[PASS_MON] = host_images + samples * EST_CHANNELS,
-                              .pass[PASS_GMON] = host_images + 2 * samples * EST_CHANNELS,
-                              .length = samples * EST_CHANNELS};
+    EstimatorImages images = {.length = sample_floats};
+    for (int pass = 0; pass < PASS_COUNT; ++pass) {
+        if (!(v->passes & PASS_BIT(pass)))
+            continue;
+        images.pass[pass] = host_images + (size_t)pass_slot(v->passes, pass) * sample_floats;
+        if (v->with_stderr && (PASSES_ESTIMATES & PASS_BIT(pass)))
+            images.error[pass] = host_images + (size_t)stderr_slot(v->passes, pass) * sample_floats;
+    }
     char message[256] = "";
     EstimatorStatus st =
         o->from_accumulators
@@ -425,40 +538,145 @@ static int check_against_host(Bench *b, const Options *o, uint64_t sample_count)
                                   &images, message, sizeof message);
     if (st != ESTIMATOR_OK) {
         fprintf(stderr, "bench_estimator: host reference failed: %s\n", message);
-        mismatches = -1;
         goto done;
     }
+    v->mismatches = 0;
+    v->checked = planes * (int)sample_floats;
     for (size_t s = 0; s < samples; ++s) {
         size_t p = samples > 1 ? s * (last->count - 1) / (samples - 1) : 0;
-        for (int i = 0; i < OUTPUT_IMAGES; ++i)
+        for (int i = 0; i < planes; ++i)
             for (int c = 0; c < EST_CHANNELS; ++c) {
-                float host = host_images[(size_t)i * samples * EST_CHANNELS + s * EST_CHANNELS + (size_t)c];
+                float host = host_images[(size_t)i * sample_floats + s * EST_CHANNELS + (size_t)c];
                 float dev = device_images[(size_t)i * image_floats + p * EST_CHANNELS + (size_t)c];
                 if (memcmp(&host, &dev, sizeof host) != 0) {
-                    if (mismatches < 5)
-                        fprintf(stderr, "  mismatch: pixel %zu image %d channel %d: kernel %.9g host %.9g\n",
-                                last->first + p, i, c, (double)dev, (double)host);
-                    ++mismatches;
+                    if (v->mismatches < 5) {
+                        char name[64];
+                        plane_name(v, i, name, sizeof name);
+                        fprintf(stderr, "  %s: mismatch: pixel %zu %s channel %d: kernel %.9g host %.9g\n", v->name,
+                                last->first + p, name, c, (double)dev, (double)host);
+                    }
+                    ++v->mismatches;
                 }
             }
     }
-    goto done;
-fail:
-    mismatches = -1;
+    status = 0;
 done:
     free(device_images);
     free(accumulators);
     free(sums);
     free(host_images);
-    return mismatches;
+    return status;
 }
 
-static void print_row(const char *name, const Timings *t, size_t pixels, double bytes_read, double bytes_written)
+/* Builds the variant's program, times it (one warm-up, then `repeats` runs
+ * alternating with the copy, whose times go to `copy`), checks it and
+ * destroys it. Returns 0, or -1 on an error. */
+static int time_variant(Bench *b, const Options *o, uint64_t sample_count, Variant *v, Timings *copy)
+{
+    const int repeats = (int)o->repeats;
+    EstimatorSettings settings = variant_settings(v, (int)o->sets);
+    if (timings_alloc(&v->timings, repeats) != 0) {
+        fprintf(stderr, "bench_estimator: out of host memory\n");
+        return -1;
+    }
+    double build_start = wall_seconds();
+    b->estimator = estimator_program_new(&b->device, &settings, NULL);
+    if (!b->estimator)
+        return -1;
+    v->build_seconds = wall_seconds() - build_start;
+    b->launch = estimator_program_launch(b->estimator);
+    double ignored_event = 0.0, ignored_wall = 0.0;
+    /* The warm-up also finishes the build: PoCL compiles a kernel at its
+     * first launch. */
+    double warm_start = wall_seconds();
+    if (run_estimator(b, sample_count, o->from_accumulators, &ignored_event, &ignored_wall) != 0)
+        return -1;
+    double warm_seconds = wall_seconds() - warm_start;
+    printf("  %-20s  build %6.1f s, warm-up run %6.1f s\n", v->name, v->build_seconds, warm_seconds);
+    fflush(stdout);
+    for (int r = 0; r < repeats; ++r) {
+        Timings *t = &v->timings;
+        if (run_estimator(b, sample_count, o->from_accumulators, &t->event_seconds[t->count],
+                          &t->wall_seconds[t->count]) != 0 ||
+            run_copy(b, &copy->event_seconds[copy->count], &copy->wall_seconds[copy->count]) != 0)
+            return -1;
+        ++t->count;
+        ++copy->count;
+    }
+    summarize(&v->timings);
+    int status = check_against_host(b, o, sample_count, v);
+    estimator_program_destroy(b->estimator);
+    b->estimator = NULL;
+    return status;
+}
+
+/* The bytes a variant writes: its images. */
+static double variant_written(const Variant *v, size_t pixels)
+{
+    return (double)pass_image_count(v->passes, v->with_stderr) * (double)pixels * EST_CHANNELS * sizeof(float);
+}
+
+static void print_table_header(void)
+{
+    printf("\n  %-20s  %6s  %9s  %9s  %9s  %9s  %8s  %8s  %9s  %6s  %9s\n", "variant", "images", "event ms", "min ms",
+           "max ms", "wall ms", "ms/Mpix", "GB/s r+w", "GB/s read", "% copy", "check");
+}
+
+static void print_row(const char *name, int images, const Timings *t, size_t pixels, double bytes_read,
+                      double bytes_written, double copy_bandwidth, const char *check)
 {
     double s = t->event_median;
-    printf("  %-9s  %10.3f  %9.3f  %9.3f  %10.3f  %10.1f  %9.2f  %9.2f\n", name, s * 1e3, t->event_min * 1e3,
-           t->event_max * 1e3, t->wall_median * 1e3, (double)pixels / s * 1e-6, (bytes_read + bytes_written) / s * 1e-9,
-           bytes_read / s * 1e-9);
+    double bandwidth = (bytes_read + bytes_written) / s;
+    printf("  %-20s  %6d  %9.2f  %9.2f  %9.2f  %9.2f  %8.2f  %8.2f  %9.2f  %5.1f%%  %9s\n", name, images, s * 1e3,
+           t->event_min * 1e3, t->event_max * 1e3, t->wall_median * 1e3, s * 1e3 / ((double)pixels * 1e-6),
+           bandwidth * 1e-9, bytes_read / s * 1e-9, bandwidth / copy_bandwidth * 100.0, check);
+}
+
+/* A 64 spp render of cornell-glass.pbrt at the bench's resolution with the
+ * default estimators (M as the bench's): its time without program builds.
+ * Returns 0, or -1 (reported). */
+static int time_render(ClDevice *device, const Options *o, double *seconds)
+{
+    RenderScene scene;
+    SceneSummary summary;
+    char error[2048];
+    if (scene_convert_load(RENDER_SCENE, 0, (unsigned)o->width, (unsigned)o->height, 1, &scene, &summary, error,
+                           sizeof error)) {
+        fprintf(stderr, "bench_estimator: %s\n", error);
+        return -1;
+    }
+    int status = -1;
+    scene.params.flags = RENDER_NEE; /* as gmonrt renders by default */
+    if (render_scene_finalize(&scene, error, sizeof error)) {
+        fprintf(stderr, "bench_estimator: %s\n", error);
+        goto done;
+    }
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = RENDER_SPP;
+    settings.estimator.set_count = (int)o->sets;
+    RenderOutput out;
+    if (renderer_run(device, 1, &scene, &settings, &out, error, sizeof error) != RENDER_OK) {
+        fprintf(stderr, "bench_estimator: render: %s\n", error);
+        goto done;
+    }
+    *seconds = out.seconds;
+    printf("render:     %s, %ldx%ld, %" PRIu64 " spp, maxdepth %u, M = %d, default estimators\n", RENDER_SCENE,
+           o->width, o->height, out.sample_count, out.max_depth, out.set_count);
+    printf("            %.2f s (passes and final estimate; program builds %.2f s not counted), %.3f Msamples/s,\n"
+           "            its own estimate (mean, MoN, G-MoN) %.1f ms\n",
+           out.seconds, out.build_seconds, (double)out.sample_count * out.width * out.height / out.seconds * 1e-6,
+           out.devices[0].estimate_seconds * 1e3);
+    render_output_free(&out);
+    status = 0;
+done:
+    render_scene_destroy(&scene);
+    return status;
+}
+
+static const char *goal_word(int met)
+{
+    return met ? "PASS" : "MISS";
 }
 
 int main(int argc, char **argv)
@@ -472,6 +690,9 @@ int main(int argc, char **argv)
 
     Bench b;
     memset(&b, 0, sizeof b);
+    static Variant variants[MAX_VARIANTS];
+    const int variant_count = list_variants(o.each_with_stderr, variants);
+    Timings copy;
     int status = 1;
     const int sets = (int)o.sets;
     const int repeats = (int)o.repeats;
@@ -479,26 +700,31 @@ int main(int argc, char **argv)
     const size_t pixel_count = (size_t)o.width * (size_t)o.height;
     const size_t bytes_per_pixel = input_bytes_per_pixel(sets, o.from_accumulators);
     cl_int err = CL_SUCCESS;
+    if (timings_alloc(&copy, variant_count * repeats) != 0) {
+        fprintf(stderr, "bench_estimator: out of host memory\n");
+        goto done;
+    }
 
     ClDeviceInfo infos[MAX_DEVICES];
     int device_count = cl_devices_enumerate(infos, MAX_DEVICES);
     if (device_count < 0) {
         fprintf(stderr, "bench_estimator: cannot list OpenCL devices\n");
-        return 1;
+        goto done;
     }
     if (device_count == 0) {
         fprintf(stderr, "bench_estimator: no OpenCL device found (PoCL needs POCL_CACHE_DIR set to a writable "
                         "directory)\n");
-        return 1;
+        goto done;
     }
     if (o.device >= device_count) {
         fprintf(stderr, "bench_estimator: --device %ld: only %d device(s), 0..%d\n", o.device, device_count,
                 device_count - 1);
-        return 2;
+        status = 2;
+        goto done;
     }
     if (cl_device_open(&b.device, &infos[o.device]) != 0) {
         fprintf(stderr, "bench_estimator: cannot open device %ld\n", o.device);
-        return 1;
+        goto done;
     }
     b.device_open = 1;
     const ClDeviceInfo *info = &b.device.info;
@@ -529,33 +755,22 @@ int main(int argc, char **argv)
 
     printf("device:     %s (%s, %s, %u compute units)\n", info->name, info->platform_name,
            cl_device_type_name(info->type), info->compute_units);
-    printf("kernel:     %s, outputs mean, MoN, G-MoN\n",
-           o.from_accumulators ? "estimate_from_accumulators (128-bit fixed-point accumulators)"
-                               : "estimate_from_sums (float set sums)");
+    printf("kernel:     %s\n", o.from_accumulators ? "estimate_from_accumulators (128-bit fixed-point accumulators)"
+                                                   : "estimate_from_sums (float set sums)");
     printf("resolution: %ldx%ld (%zu pixels), M = %d, n = %" PRIu64 " samples per pixel\n", o.width, o.height,
            pixel_count, sets, sample_count);
     fflush(stdout);
 
-    /* Programs. */
-    EstimatorSettings settings = default_settings(sets);
     double build_start = wall_seconds();
-    b.estimator = estimator_program_new(&b.device, &settings, NULL);
-    if (!b.estimator)
-        goto done;
     b.copy_program = cl_program_build(&b.device, "bench_copy", "", NULL);
     if (!b.copy_program)
         goto done;
     b.copy_kernel = clCreateKernel(b.copy_program, "copy_float4", &err);
     CL_CHECK(err, done);
-    double build_seconds = wall_seconds() - build_start;
-    EstimatorLaunch launch = estimator_program_launch(b.estimator);
-    char group[64] = "the runtime's choice";
-    if (launch.local_size > 0)
-        snprintf(group, sizeof group, "%d work items", launch.local_size);
-    printf("launch:     %d pixel(s) per work item, work groups of %s, prefetch %d work item(s) ahead\n",
-           launch.vector_width, group, launch.prefetch);
+    double copy_build_seconds = wall_seconds() - build_start;
 
-    /* Buffers and input. */
+    /* Buffers and input; the images buffer fits the variant with the most
+     * images. */
     double fill_start = wall_seconds();
     size_t largest_copy = 0;
     for (size_t t = 0; t < b.tile_count; ++t) {
@@ -581,63 +796,90 @@ int main(int argc, char **argv)
     }
     b.copy_output = clCreateBuffer(b.device.context, CL_MEM_WRITE_ONLY, largest_copy, NULL, &err);
     CL_CHECK(err, done);
+    int most_images = 0;
+    for (int i = 0; i < variant_count; ++i) {
+        int images = pass_image_count(variants[i].passes, variants[i].with_stderr);
+        most_images = images > most_images ? images : most_images;
+    }
     b.images = clCreateBuffer(b.device.context, CL_MEM_WRITE_ONLY,
-                              estimator_program_image_bytes(b.estimator, tile_pixels), NULL, &err);
+                              (size_t)most_images * tile_pixels * EST_CHANNELS * sizeof(float), NULL, &err);
     CL_CHECK(err, done);
     double fill_seconds = wall_seconds() - fill_start;
 
     const double estimator_read = (double)(pixel_count * bytes_per_pixel);
-    const double estimator_written = (double)(pixel_count * EST_CHANNELS * sizeof(float) * OUTPUT_IMAGES);
     double copy_bytes = 0.0;
     for (size_t t = 0; t < b.tile_count; ++t)
         copy_bytes += (double)b.tiles[t].copy_bytes;
     printf("tiles:      %zu (device max allocation %.0f MiB)\n", b.tile_count, (double)max_alloc / 1048576.0);
-    printf("setup:      %.1f s build, %.1f s input fill and upload\n", build_seconds, fill_seconds);
-    printf("per run:    estimator reads %.0f bytes, writes %.0f bytes\n", estimator_read, estimator_written);
+    printf("setup:      %.1f s copy kernel build, %.1f s input fill and upload\n", copy_build_seconds, fill_seconds);
+    printf("per run:    estimator reads %.0f bytes, writes 12 bytes a pixel per image\n", estimator_read);
     printf("            copy      reads %.0f bytes, writes %.0f bytes\n", copy_bytes, copy_bytes);
-    printf("repeats:    1 warm-up + %d timed runs of each kernel, medians below\n", repeats);
+    printf("repeats:    per variant 1 warm-up + %d timed runs, each followed by a copy run\n", repeats);
+    printf("builds:     (not in the timings)\n");
     fflush(stdout);
 
-    /* Warm-up, then the timed runs (estimator and copy alternate, so slow
-     * drifts such as clock or thermal changes hit both alike). */
-    static Timings est, copy;
-    double ignored_event = 0.0, ignored_wall = 0.0;
-    if (run_estimator(&b, sample_count, o.from_accumulators, &ignored_event, &ignored_wall) != 0 ||
-        run_copy(&b, &ignored_event, &ignored_wall) != 0)
-        goto done;
-    for (int r = 0; r < repeats; ++r) {
-        if (run_estimator(&b, sample_count, o.from_accumulators, &est.event_seconds[r], &est.wall_seconds[r]) != 0 ||
-            run_copy(&b, &copy.event_seconds[r], &copy.wall_seconds[r]) != 0)
+    int mismatches = 0;
+    for (int i = 0; i < variant_count; ++i) {
+        if (time_variant(&b, &o, sample_count, &variants[i], &copy) != 0)
             goto done;
+        mismatches += variants[i].mismatches;
     }
-    summarize(&est, repeats);
-    summarize(&copy, repeats);
+    summarize(&copy);
+    char group[64] = "the runtime's choice";
+    if (b.launch.local_size > 0)
+        snprintf(group, sizeof group, "%d work items", b.launch.local_size);
+    printf("launch:     %d pixel(s) per work item, work groups of %s, prefetch %d work item(s) ahead\n",
+           b.launch.vector_width, group, b.launch.prefetch);
+    const double copy_bandwidth = 2.0 * copy_bytes / copy.event_median;
 
-    int mismatches = check_against_host(&b, &o, sample_count);
-    if (mismatches < 0)
-        goto done;
+    print_table_header();
+    for (int i = 0; i < variant_count; ++i) {
+        const Variant *v = &variants[i];
+        char check[32];
+        snprintf(check, sizeof check, "%d/%d", v->mismatches, v->checked);
+        print_row(v->name, pass_image_count(v->passes, v->with_stderr), &v->timings, pixel_count, estimator_read,
+                  variant_written(v, pixel_count), copy_bandwidth, check);
+    }
+    print_row("copy", 0, &copy, pixel_count, copy_bytes, copy_bytes, copy_bandwidth, "");
+    printf("  (event and wall ms are medians, min/max over the event times; ms/Mpix, GB/s and %% copy\n"
+           "   (read + written bandwidth over the copy's) use the median event time; GB = 1e9 bytes;\n"
+           "   check: sampled output values differing from the host reference / values compared)\n\n");
 
-    printf("\n  %-9s  %10s  %9s  %9s  %10s  %10s  %9s  %9s\n", "kernel", "event ms", "min ms", "max ms", "wall ms",
-           "Mpixels/s", "GB/s r+w", "GB/s read");
-    print_row("estimator", &est, pixel_count, estimator_read, estimator_written);
-    print_row("copy", &copy, pixel_count, copy_bytes, copy_bytes);
-    printf("  (event and wall ms are medians, min/max over the event times; rates use the median event\n"
-           "   time; GB = 1e9 bytes)\n\n");
-
-    double ratio_rw =
-        ((estimator_read + estimator_written) / est.event_median) / (2.0 * copy_bytes / copy.event_median);
-    double ratio_read = (estimator_read / est.event_median) / (copy_bytes / copy.event_median);
+    const Variant *default_set = &variants[variant_count - 3], *family = &variants[variant_count - 1];
+    const double default_written = variant_written(default_set, pixel_count);
+    const Timings *dt = &default_set->timings;
+    double ratio_rw = ((estimator_read + default_written) / dt->event_median) / copy_bandwidth;
+    double ratio_read = (estimator_read / dt->event_median) / (copy_bytes / copy.event_median);
     double ratio_rw_wall =
-        ((estimator_read + estimator_written) / est.wall_median) / (2.0 * copy_bytes / copy.wall_median);
-    printf("estimator / copy bandwidth (read + written): %.1f%%  (wall clock: %.1f%%)\n", ratio_rw * 100.0,
+        ((estimator_read + default_written) / dt->wall_median) / (2.0 * copy_bytes / copy.wall_median);
+    printf("default set / copy bandwidth (read + written): %.1f%%  (wall clock: %.1f%%)\n", ratio_rw * 100.0,
            ratio_rw_wall * 100.0);
-    printf("estimator / copy bandwidth (read only):      %.1f%%\n", ratio_read * 100.0);
-    printf("goal: >= %.0f%% (read + written): %s\n", GOAL_RATIO * 100.0, ratio_rw >= GOAL_RATIO ? "MET" : "NOT MET");
-    printf("check: %d of %d sampled output values differ from the host reference\n", mismatches,
-           (int)(OUTPUT_IMAGES * EST_CHANNELS *
-                 (b.tiles[b.tile_count - 1].count < CHECK_PIXELS ? b.tiles[b.tile_count - 1].count : CHECK_PIXELS)));
+    printf("default set / copy bandwidth (read only):      %.1f%%\n", ratio_read * 100.0);
+    printf("goal: default set >= %.0f%% of the copy's bandwidth (read + written): %s\n", GOAL_RATIO * 100.0,
+           goal_word(ratio_rw >= GOAL_RATIO));
+    printf("check: %d sampled output values differ from the host reference\n", mismatches);
+    fflush(stdout);
+
+    if (o.render) {
+        /* The render needs the memory the input holds. */
+        bench_release_buffers(&b);
+        double render_seconds = 0.0;
+        printf("\n");
+        if (time_render(&b.device, &o, &render_seconds) != 0)
+            goto done;
+        double fraction = family->timings.event_median / render_seconds;
+        printf("goal: all estimates with standard errors (%.1f ms) < %.0f%% of the render: %.2f%%: %s\n",
+               family->timings.event_median * 1e3, GOAL_RENDER_FRACTION * 100.0, fraction * 100.0,
+               goal_word(fraction < GOAL_RENDER_FRACTION));
+    } else {
+        printf("goal: all estimates with standard errors < %.0f%% of the render: not measured (--no-render)\n",
+               GOAL_RENDER_FRACTION * 100.0);
+    }
     status = mismatches == 0 ? 0 : 1;
 done:
+    for (int i = 0; i < variant_count; ++i)
+        timings_free(&variants[i].timings);
+    timings_free(&copy);
     bench_release(&b);
     return status;
 }
