@@ -152,6 +152,8 @@ static void test_estimator_family_flags(void **state)
     /* estimate picks its preview once the file's estimators are known. */
     assert_int_equal(PARSE(&o, error, "estimate", "in.exr"), 0);
     assert_int_equal(o.preview, -1);
+    assert_int_equal(PARSE(&o, error, "merge", "a.exr", "b.exr"), 0);
+    assert_int_equal(o.preview, -1);
     assert_non_null(strstr(options_help(COMMAND_ESTIMATE), "--estimator-param"));
 }
 

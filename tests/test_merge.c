@@ -51,6 +51,9 @@ static int teardown(void **state)
     return test_device_teardown(state);
 }
 
+/* The passes parts are rendered with. */
+static uint32_t part_passes = PASSES_ALL;
+
 /* Renders samples [first, first + count) with M sets and seed to NAME in the
  * test directory. */
 static void render_part_of(const RenderScene *scene, const char *name, uint64_t first, uint64_t count, int sets,
@@ -59,7 +62,7 @@ static void render_part_of(const RenderScene *scene, const char *name, uint64_t 
     RenderSettings s;
     render_settings_default(&s);
     s.estimator.set_count = sets;
-    s.estimator.passes = PASSES_ALL;
+    s.estimator.passes = part_passes;
     s.keep_sets = 1;
     s.first_sample = first;
     s.sample_count = count;
@@ -194,6 +197,31 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     exr_image_free(&merged);
 }
 
+/* Parts that hold other estimators than the default ones (no gmon, the
+ * default preview): the merge computes theirs and previews the first. */
+static void test_parts_keep_their_estimators(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    part_passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_GMEDIAN);
+    render_part("g-whole.exr", 0, 9, 5, 3);
+    render_part("g-a.exr", 0, 4, 5, 3);
+    render_part("g-b.exr", 4, 5, 5, 3);
+    part_passes = PASSES_ALL;
+    const char *parts[] = {"g-a.exr", "g-b.exr"};
+    assert_int_equal(merge(parts, 2), 0);
+    ExrImage whole, merged;
+    read_image("g-whole.exr", &whole);
+    read_image("merged.exr", &merged);
+    size_t pixels = (size_t)whole.width * whole.height;
+    assert_null(film_file_pass(&merged, PASS_GMON, 0));
+    assert_non_null(film_file_pass(&merged, PASS_GMEDIAN, 0));
+    assert_memory_equal(film_file_pass(&merged, PASS_GMEDIAN, 0), film_file_pass(&whole, PASS_GMEDIAN, 0),
+                        pixels * 3 * sizeof(float));
+    exr_image_free(&whole);
+    exr_image_free(&merged);
+}
+
 static void test_mismatches_are_refused(void **state)
 {
     (void)state;
@@ -300,6 +328,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_film_merge_adds_ranges_exactly),
         cmocka_unit_test(test_parts_merge_into_the_whole_bit_for_bit),
+        cmocka_unit_test(test_parts_keep_their_estimators),
         cmocka_unit_test(test_mismatches_are_refused),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

@@ -455,7 +455,9 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         o->estimator.passes |= PASSES_DIAGNOSTICS;
     if (o->estimator.with_stderr && o->estimator.gini_mode == SORT_BY_LUMINANCE)
         return fail(error, size, "--stderr is not available with --gini-mode luminance (it trims whole RGB sets)");
-    if (o->command != COMMAND_ESTIMATE || o->estimators_given)
+    /* estimate and merge take the file's estimators: their preview is
+     * chosen once those are known (options_for_file). */
+    if ((o->command != COMMAND_ESTIMATE && o->command != COMMAND_MERGE) || o->estimators_given)
         return options_check_preview(o, error, size);
     return 0;
 }

@@ -64,7 +64,7 @@ int options_parse(int argc, char **argv, Options *options, char *error, size_t e
 
 /* Picks the preview (gmon if requested, else the first estimator) or
  * checks that the one asked for is requested: 0, or 2 with a message. For
- * `estimate`, once the file's estimators are known. */
+ * `estimate` and `merge`, once the file's estimators are known. */
 int options_check_preview(Options *options, char *error, size_t error_size);
 
 /* The --help text of a command: its usage and only the flags it takes. */
