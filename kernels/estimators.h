@@ -959,18 +959,8 @@ EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_
 }
 
 #if EST_VECTOR_WIDTH == 1
-/* The estimates of one pixel. */
+/* The estimates of one pixel (estimate_lanes with one lane, the host's). */
 typedef LaneEstimates PixelEstimates;
-
-/* Estimates one pixel (estimate_lanes with one lane, from float sums). */
-EST_INLINE PixelEstimates estimate_pixel(float (*sums)[EST_CAPACITY], uint64_t sample_count, int set_count,
-                                         uint32_t passes, int with_stderr, int gini_mode, const EstimatorParams *params)
-{
-    PixelEstimates out;
-    int m = sample_count < (uint64_t)set_count ? (int)sample_count : set_count;
-    estimate_lanes(sums, sample_count, set_count, m, passes, with_stderr, gini_mode, params, 0, 0, &out);
-    return out;
-}
 #endif
 
 #endif /* host, or a kernel with EST_SETS */

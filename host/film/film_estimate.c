@@ -251,29 +251,6 @@ static void store(const EstimatorSettings *settings, const PixelEstimates *e, si
     }
 }
 
-EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums, size_t set_sums_length,
-                                    size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
-                                    size_t message_size)
-{
-    if (!set_sums)
-        return invalid(message, message_size, "set sums are NULL");
-    EstimatorStatus status = check_common(settings, set_sums_length, 0, pixel_count, images, message, message_size);
-    if (status != ESTIMATOR_OK)
-        return status;
-    const uint32_t m = (uint32_t)settings->set_count;
-    const uint32_t first_set = (uint32_t)(settings->first_sample % m);
-    for (size_t p = 0; p < pixel_count; ++p) {
-        float sums[EST_CHANNELS][EST_CAPACITY];
-        for (uint32_t j = 0; j < m; ++j)
-            for (uint32_t c = 0; c < EST_CHANNELS; ++c)
-                sums[c][j] = set_sums[set_sum_index((j + first_set) % m, c, p, pixel_count)];
-        PixelEstimates e = estimate_pixel(sums, sample_count, (int)m, settings->passes, settings->with_stderr,
-                                          (int)settings->gini_mode, &settings->params);
-        store(settings, &e, p, images);
-    }
-    return ESTIMATOR_OK;
-}
-
 /* The sums of one pixel in grid units, sums[c][j] from set (j + first_set)
  * mod m (so that j counts sets in the order the samples filled them); returns
  * the pixel's grid exponent. */
@@ -291,28 +268,58 @@ static int sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t firs
     return grid_exponent(accumulators[grid_index(pixel)]);
 }
 
+/* Estimates every pixel from float set sums or (when given) accumulators,
+ * as the kernels do: accumulators' sums are in grid units, scaled back
+ * after estimation. */
+static EstimatorStatus estimate_all(const EstimatorSettings *settings, const float *set_sums,
+                                    const uint64_t *accumulators, size_t input_length, size_t pixel_count,
+                                    uint64_t sample_count, EstimatorImages *images, char *message, size_t message_size)
+{
+    const int from_accumulators = accumulators != NULL;
+    EstimatorStatus status =
+        check_common(settings, input_length, from_accumulators, pixel_count, images, message, message_size);
+    if (status != ESTIMATOR_OK)
+        return status;
+    const uint32_t m = (uint32_t)settings->set_count;
+    const uint32_t first_set = (uint32_t)(settings->first_sample % m);
+    const int sets = sample_count < m ? (int)sample_count : (int)m;
+    for (size_t p = 0; p < pixel_count; ++p) {
+        float sums[EST_CHANNELS][EST_CAPACITY];
+        int exponent = 0;
+        if (from_accumulators)
+            exponent = sums_of_pixel(accumulators, m, first_set, p, pixel_count, sums);
+        else
+            for (uint32_t j = 0; j < m; ++j)
+                for (uint32_t c = 0; c < EST_CHANNELS; ++c)
+                    sums[c][j] = set_sums[set_sum_index((j + first_set) % m, c, p, pixel_count)];
+        PixelEstimates e;
+        estimate_lanes(sums, sample_count, (int)m, sets, settings->passes, settings->with_stderr,
+                       (int)settings->gini_mode, &settings->params, exponent, from_accumulators, &e);
+        if (from_accumulators)
+            estimates_to_grid(&e, settings->passes, exponent);
+        store(settings, &e, p, images);
+    }
+    return ESTIMATOR_OK;
+}
+
+EstimatorStatus estimator_from_sums(const EstimatorSettings *settings, const float *set_sums, size_t set_sums_length,
+                                    size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
+                                    size_t message_size)
+{
+    if (!set_sums)
+        return invalid(message, message_size, "set sums are NULL");
+    return estimate_all(settings, set_sums, NULL, set_sums_length, pixel_count, sample_count, images, message,
+                        message_size);
+}
+
 EstimatorStatus estimator_from_accumulators(const EstimatorSettings *settings, const uint64_t *accumulators,
                                             size_t accumulators_length, size_t pixel_count, uint64_t sample_count,
                                             EstimatorImages *images, char *message, size_t message_size)
 {
     if (!accumulators)
         return invalid(message, message_size, "accumulators are NULL");
-    EstimatorStatus status = check_common(settings, accumulators_length, 1, pixel_count, images, message, message_size);
-    if (status != ESTIMATOR_OK)
-        return status;
-    const uint32_t m = (uint32_t)settings->set_count;
-    const uint32_t first_set = (uint32_t)(settings->first_sample % m);
-    for (size_t p = 0; p < pixel_count; ++p) {
-        float sums[EST_CHANNELS][EST_CAPACITY];
-        int exponent = sums_of_pixel(accumulators, m, first_set, p, pixel_count, sums);
-        PixelEstimates e;
-        int sets = sample_count < m ? (int)sample_count : (int)m;
-        estimate_lanes(sums, sample_count, (int)m, sets, settings->passes, settings->with_stderr,
-                       (int)settings->gini_mode, &settings->params, exponent, 1, &e);
-        estimates_to_grid(&e, settings->passes, exponent);
-        store(settings, &e, p, images);
-    }
-    return ESTIMATOR_OK;
+    return estimate_all(settings, NULL, accumulators, accumulators_length, pixel_count, sample_count, images, message,
+                        message_size);
 }
 
 EstimatorStatus estimator_sums_from_accumulators(int set_count, const uint64_t *accumulators,
