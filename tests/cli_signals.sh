@@ -54,6 +54,23 @@ grep -q "^wrote term.exr and term.png" term.log || fail "TERM: no image written:
 "$gmonrt" estimate --quiet --outfile term-estimate.exr term.exr 2>estimate.log ||
   fail "estimate of the interrupted render: $(cat estimate.log)"
 
+# The same SIGTERM delivered twice in quick succession (as `timeout` does:
+# to the command, then to its process group; here 20 ms apart, so that the
+# first is handled before the second arrives): one interrupt, the image
+# written.
+# (passes of about a second, as below, so the second arrives mid-pass)
+"$gmonrt" --quiet --spp 100000000 --estimators mean --resolution 1024x1024 --checkpoints double \
+  --outfile double.exr "$scene" 2>double.log &
+pid=$!
+wait_for double/spp-000001.exr $pid || fail "double TERM: no first checkpoint: $(cat double.log)"
+kill -TERM $pid
+sleep 0.02
+kill -TERM $pid
+wait $pid
+code=$?
+[ "$code" = 143 ] || fail "TERM twice at once: exit $code, expected 143: $(cat double.log)"
+[ -s double.exr ] || fail "TERM twice at once: no image written: $(cat double.log)"
+
 # SIGHUP (a closed terminal) once the first pass is done: exit 129.
 "$gmonrt" --quiet --spp 100000000 --checkpoints hup --outfile hup.exr "${render[@]}" 2>hup.log &
 pid=$!
@@ -94,6 +111,7 @@ for _ in $(seq 100); do
   grep -q "finishing the pass" twice.log && break
   sleep 0.05
 done
+sleep 0.3 # a second interrupt, not the first one delivered twice (within 100 ms)
 kill -INT $pid
 wait $pid
 code=$?

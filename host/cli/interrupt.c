@@ -3,6 +3,7 @@
 
 #include <stdatomic.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 volatile sig_atomic_t interrupt_signal;
@@ -10,13 +11,36 @@ static volatile sig_atomic_t keep_samples;
 /* Signals may arrive on several threads at once: one counter decides which
  * is the first (lock-free atomics are async-signal-safe). */
 static atomic_int signals_received;
+/* The first one's number and time (ms): GNU timeout sends its signal to
+ * the command and then to its whole process group, so the command gets it
+ * twice within microseconds; the same signal again within
+ * REPEAT_WINDOW_MS is that one signal, not a second interrupt. */
+static atomic_int first_signal;
+static atomic_llong first_signal_ms;
+#define REPEAT_WINDOW_MS 100
+
+static long long monotonic_ms(void)
+{
+    struct timespec now; /* clock_gettime is async-signal-safe */
+    clock_gettime(CLOCK_MONOTONIC, &now);
+    return (long long)now.tv_sec * 1000 + now.tv_nsec / 1000000;
+}
 static volatile sig_atomic_t has_temporary;
 static char temporary[4096];
 
 /* Only async-signal-safe calls here: write, unlink, _exit. */
 static void on_signal(int signal_number)
 {
-    if (atomic_fetch_add(&signals_received, 1) == 0 && keep_samples) {
+    long long now = monotonic_ms();
+    int order = atomic_fetch_add(&signals_received, 1);
+    if (order == 0) {
+        atomic_store(&first_signal_ms, now);
+        atomic_store(&first_signal, signal_number);
+    } else if (keep_samples && atomic_load(&first_signal) == signal_number &&
+               now - atomic_load(&first_signal_ms) < REPEAT_WINDOW_MS) {
+        return; /* the same signal, delivered twice */
+    }
+    if (order == 0 && keep_samples) {
         interrupt_signal = signal_number;
         static const char stopping[] = "\ngmonrt: interrupted: finishing the pass to write the samples done "
                                        "(interrupt again to exit at once)\n";

@@ -2,7 +2,9 @@
  * limit and a closed terminal send. Until a render has samples to keep, a
  * signal exits at once; once it has, the first signal asks the render to
  * stop after its pass (interrupt_signal), so that the samples done are
- * written, and a second one exits at once. Exiting at once removes the
+ * written, and a second one exits at once (the same signal again within
+ * 100 ms counts as the first: `timeout` delivers it twice). Exiting at
+ * once removes the
  * temporary file being written, if any, so existing outputs stay as they
  * were. The exit status is 128 + the signal, as shells report. */
 #ifndef HOST_CLI_INTERRUPT_H
