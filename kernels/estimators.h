@@ -567,7 +567,7 @@ EST_INLINE void weiszfeld(const est_float (*t)[EST_CAPACITY], int m, const est_f
 }
 
 /* What the family shares in a pixel: the channels' G (the paper's, before
- * any Gini mode), the scale of the RGB points, the units of 1e-11. */
+ * any Gini mode), the authors' G and the scales of the RGB points. */
 typedef struct {
     est_float gbar;                /* mean of the channels' G */
     est_float authors_gbar;        /* the same with the authors' G */
