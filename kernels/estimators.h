@@ -185,6 +185,13 @@ EST_INLINE SetCounts est_set_counts(uint64_t sample_count, int set_count, int m)
     return k;
 }
 
+/* MoN: the median of ascending v[0..m-1] (even m: the mean of the middle
+ * pair). */
+EST_INLINE est_float median_of_sorted(const est_float *v, int m)
+{
+    return average_range(v, (m - 1) / 2, m / 2, 1);
+}
+
 /* The first part of one channel: from its sums (sums[j], j < M) the set
  * means by set, t (t[j] = +inf for the empty sets j >= m), the same sorted,
  * v, and the channel's mean, MoN, G and trim in out (mean and MoN before
@@ -231,7 +238,7 @@ EST_INLINE void estimate_channel(const SetCounts *k, const est_float *sums, int 
     est_float differences = sum_of_differences(v, 0, m - 1, down, lowest, 1);
     if (k->equal_counts)
         out->value[PASS_MEAN][c] = scaled(lowest + differences / (float)m, power_of_two(e));
-    out->value[PASS_MON][c] = average_range(v, k->most, m - 1 - k->most, 1);
+    out->value[PASS_MON][c] = median_of_sorted(v, m);
     out->value[PASS_GINI][c] = gini_sorted(v, m, down, lowest, differences);
     out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(out->value[PASS_GINI][c], m));
 }
@@ -597,8 +604,8 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
         if (passes & PASS_BIT(PASS_GGMON))
             value[PASS_GGMON][c] = amon_of_sorted(s, m, 1.0f - shared->gbar);
         if (passes & PASS_BIT(PASS_GMON_BINARY))
-            value[PASS_GMON_BINARY][c] = EST_SELECT(shared->gbar < params->gmon_binary_threshold, mean_of_sorted(s, m),
-                                                    average_range(s, (m - 1) / 2, m / 2, 1));
+            value[PASS_GMON_BINARY][c] =
+                EST_SELECT(shared->gbar < params->gmon_binary_threshold, mean_of_sorted(s, m), median_of_sorted(s, m));
         if (passes & PASS_BIT(PASS_GMON_PARTIAL))
             value[PASS_GMON_PARTIAL][c] =
                 EST_SELECT(shared->gbar < params->gmon_partial_threshold, amon_of_sorted(s, m, EST_FLOATS(1.0f)),
@@ -658,7 +665,7 @@ EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m,
     for (int c = 0; c < EST_CHANNELS; ++c) {
         shared.down[c] = power_of_two(-e[c]);
         shared.ratio[c] = scale_by_power(EST_FLOATS(1.0f), e[c] - largest); /* 0 far below the largest */
-        z[c] = scaled(average_range(v[c], (m - 1) / 2, m / 2, 1), shared.down[c]);
+        z[c] = scaled(median_of_sorted(v[c], m), shared.down[c]);
     }
     return shared;
 }
@@ -679,7 +686,7 @@ EST_INLINE void mon_and_gmon(const est_float (*v)[EST_CAPACITY], int m, int gini
     est_float gbar = (gini[0] + gini[1] + gini[2]) / 3.0f;
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
-        value[PASS_MON][c] = average_range(v[c], (m - 1) / 2, m / 2, 1);
+        value[PASS_MON][c] = median_of_sorted(v[c], m);
         est_float g = gini_mode == EST_GINI_PER_PIXEL ? gbar : gini[c];
         value[PASS_GMON][c] = trimmed_average(v[c], m, trim_count(g, m), 1);
     }
