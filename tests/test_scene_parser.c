@@ -630,7 +630,7 @@ static void test_trianglemesh_normals_and_uv(void **state)
     load_fails(WORLD "Shape \"trianglemesh\" \"integer indices\" [ 0 1 2 ]\n", 2, "point3 P");
     load_fails(WORLD "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ ]\n", 2,
                "no triangles");
-    load_fails(WORLD "Shape \"disk\"\n", 2, "Shape \"disk\" is not supported");
+    load_fails(WORLD "Shape \"curve\"\n", 2, "Shape \"curve\" is not supported");
 }
 
 static void test_bad_mesh_data(void **state)
@@ -810,7 +810,7 @@ static void test_allow_unsupported_substitutes(void **state)
         "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
         "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
         "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
-        "Shape \"disk\" \"float radius\" 1\n"                                        /* skipped */
+        "Shape \"curve\" \"float width\" 1\n"                                        /* skipped */
         "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n"                                /* skipped */
         "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
         "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
@@ -828,7 +828,7 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "pinhole"));
     assert_true(has_warning(&s, "Texture is not supported; skipped"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
-    assert_true(has_warning(&s, "Shape \"disk\" is not supported"));
+    assert_true(has_warning(&s, "Shape \"curve\" is not supported"));
     assert_true(has_warning(&s, "LightSource \"point\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "ObjectInstance"));

@@ -8,6 +8,7 @@
 #include "scene/ply.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/shapes.h"
 
 #include <cglm/cglm.h>
 
@@ -324,6 +325,7 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
     shape->material = material;
     shape->area_light = -1;
     shape->flip_normal = flip_normal;
+    shape->has_uvs = 0;
     shape->first = first;
     shape->count = count;
     if (p->state.has_area_light) {
@@ -340,32 +342,43 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
     return 0;
 }
 
-/* Grows positions (and normals, once any mesh has them) to `needed` vertices. */
-static int reserve_vertices(Parser *p, size_t needed, int want_normals)
+/* Grows an optional per-vertex attribute (NULL until some mesh has one) to
+ * the positions' capacity. */
+static int reserve_attribute(float **array, size_t old_capacity, size_t capacity, size_t components, int wanted)
 {
-    Scene *s = p->scene;
-    size_t old_capacity = p->vertex_capacity;
-    if (scene_reserve((void **)&s->positions, &p->vertex_capacity, needed, 3 * sizeof *s->positions))
-        return -1;
-    if (s->normals && p->vertex_capacity != old_capacity) {
-        float *grown = realloc(s->normals, p->vertex_capacity * 3 * sizeof *grown);
+    if (*array && capacity != old_capacity) {
+        float *grown = realloc(*array, capacity * components * sizeof *grown);
         if (!grown)
             return -1;
-        s->normals = grown;
+        *array = grown;
     }
-    if (want_normals && !s->normals) {
-        s->normals = calloc(p->vertex_capacity * 3, sizeof *s->normals);
-        if (!s->normals)
+    if (wanted && !*array) {
+        *array = calloc(capacity * components, sizeof **array);
+        if (!*array)
             return -1;
     }
     return 0;
 }
 
+/* Grows positions (and normals and uvs, once any mesh has them) to `needed` vertices. */
+static int reserve_vertices(Parser *p, size_t needed, int want_normals, int want_uvs)
+{
+    Scene *s = p->scene;
+    size_t old_capacity = p->vertex_capacity;
+    if (scene_reserve((void **)&s->positions, &p->vertex_capacity, needed, 3 * sizeof *s->positions))
+        return -1;
+    if (reserve_attribute(&s->normals, old_capacity, p->vertex_capacity, 3, want_normals) ||
+        reserve_attribute(&s->uvs, old_capacity, p->vertex_capacity, 2, want_uvs))
+        return -1;
+    return 0;
+}
+
 /* Adds a mesh given in object space under the current transform: checks it,
  * transforms it to world space and drops zero-area triangles (counted in a
- * warning). `owner` names the shape in messages. */
+ * warning). normals and uvs may be NULL. `owner` names the shape in messages. */
 static int add_mesh(Parser *p, const char *file, int line, const char *owner, const float *positions,
-                    size_t vertex_count, const uint32_t *indices, size_t index_count, const float *normals)
+                    size_t vertex_count, const uint32_t *indices, size_t index_count, const float *normals,
+                    const float *uvs)
 {
     Scene *s = p->scene;
     if (vertex_count == 0)
@@ -381,11 +394,15 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     for (size_t i = 0; i < 3 * vertex_count; ++i)
         if (!isfinite(positions[i]))
             return scene_error(&p->diag, file, line, "%s: vertex %zu has a non-finite position", owner, i / 3);
+    for (size_t i = 0; uvs && i < 2 * vertex_count; ++i)
+        if (!isfinite(uvs[i]))
+            return scene_error(&p->diag, file, line, "%s: vertex %zu has a non-finite texture coordinate", owner,
+                               i / 2);
     if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX)
         return scene_error(&p->diag, file, line, "%s: too many vertices in the scene", owner);
 
     size_t base = s->vertex_count;
-    if (reserve_vertices(p, base + vertex_count, normals != NULL))
+    if (reserve_vertices(p, base + vertex_count, normals != NULL, uvs != NULL))
         return out_of_memory(p, file, line);
     float *world = s->positions + 3 * base;
     int invertible = det3(p->state.ctm) != 0.0; /* else the triangles have no area either */
@@ -399,6 +416,11 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
                                "renderer squares distances in single precision)",
                                owner, v, (double)w[0], (double)w[1], (double)w[2], SCENE_MAX_COORDINATE);
         farthest = fmaxf(farthest, fmaxf(fabsf(w[0]), fmaxf(fabsf(w[1]), fabsf(w[2]))));
+    }
+    if (s->uvs) {
+        float *out = s->uvs + 2 * base;
+        for (size_t i = 0; i < 2 * vertex_count; ++i)
+            out[i] = uvs ? uvs[i] : 0.0f;
     }
     if (s->normals) {
         float *out = s->normals + 3 * base;
@@ -467,6 +489,7 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     int swaps_handedness = det3(p->state.ctm) < 0.0;
     if (add_shape(p, SCENE_SHAPE_TRIANGLES, p->state.reverse_orientation ^ swaps_handedness, first, kept))
         return out_of_memory(p, file, line);
+    s->shapes[s->shape_count - 1].has_uvs = uvs != NULL;
     return 0;
 }
 
@@ -1158,17 +1181,16 @@ static int shape_sphere(Parser *p, Lexer *lex, const Token *d, ParamList *params
 
 static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
 {
-    const Param *P = NULL, *indices = NULL, *N = NULL;
+    const Param *P = NULL, *indices = NULL, *N = NULL, *uv = NULL;
     if (params_get_array(params, "P", PARAM_POINT3, &P) < 0 ||
         params_get_array(params, "indices", PARAM_INTEGER, &indices) < 0 ||
         params_get_array(params, "N", PARAM_NORMAL3, &N) < 0)
         return -1;
-    params_ignore(params, "uv"); /* no textures */
-    if (params_check_unused(params))
+    size_t vertex_count = P ? P->count / 3 : 0;
+    if (shape_read_uv(params, vertex_count, &uv) < 0 || params_check_unused(params))
         return -1;
     if (!P)
         return scene_error(&p->diag, lex->path, d->line, "%s: missing \"point3 P\"", params->owner);
-    size_t vertex_count = P->count / 3;
     if (!indices && vertex_count != 3)
         return scene_error(&p->diag, lex->path, d->line,
                            "%s: missing \"integer indices\" (needed unless P holds "
@@ -1179,26 +1201,28 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     size_t index_count = indices ? indices->count : 3;
     float *positions = malloc(3 * vertex_count * sizeof *positions + 1);
     float *normals = N ? malloc(3 * vertex_count * sizeof *normals + 1) : NULL;
+    float *uvs = uv ? malloc(2 * vertex_count * sizeof *uvs + 1) : NULL;
     uint32_t *index = malloc(index_count * sizeof *index + 1);
     int result = 0;
-    if (!positions || !index || (N && !normals))
+    if (!positions || !index || (N && !normals) || (uv && !uvs))
         result = out_of_memory(p, lex->path, d->line);
     for (size_t i = 0; result == 0 && i < 3 * vertex_count; ++i) {
         positions[i] = (float)P->numbers[i];
         if (normals)
             normals[i] = (float)N->numbers[i];
     }
-    for (size_t i = 0; result == 0 && i < index_count; ++i) {
-        double v = indices ? indices->numbers[i] : (double)i;
-        if (v < 0.0)
-            result = params_error(params, indices, "negative vertex index %.0f (number %zu)", v, i);
-        else
-            index[i] = (uint32_t)v;
-    }
+    for (size_t i = 0; result == 0 && uvs && i < 2 * vertex_count; ++i)
+        uvs[i] = (float)uv->numbers[i];
+    if (result == 0 && indices)
+        result = shape_read_indices(params, indices, vertex_count, 3, index);
+    for (uint32_t i = 0; result == 0 && !indices && i < 3; ++i)
+        index[i] = i;
     if (result == 0)
-        result = add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals);
+        result =
+            add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals, uvs);
     free(positions);
     free(normals);
+    free(uvs);
     free(index);
     return result;
 }
@@ -1260,9 +1284,23 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
         result = scene_error(&p->diag, lex->path, d->line, "%s: %s", owner, message);
     else
         result = add_mesh(p, lex->path, d->line, owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          3 * mesh.triangle_count, mesh.normals);
+                          3 * mesh.triangle_count, mesh.normals, mesh.uvs);
     ply_mesh_destroy(&mesh);
     free(path);
+    return result;
+}
+
+/* A shape built as a triangle mesh (shapes.c), through the mesh path. */
+static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *params, ShapeBuilder build)
+{
+    ShapeMesh mesh;
+    if (build(params, d->line, &mesh))
+        return -1;
+    int result = params_check_unused(params);
+    if (result == 0)
+        result = add_mesh(p, lex->path, d->line, params->owner, mesh.positions, mesh.vertex_count, mesh.indices,
+                          mesh.index_count, mesh.normals, mesh.uvs);
+    shape_mesh_free(&mesh);
     return result;
 }
 
@@ -1273,6 +1311,12 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the shape type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
+    ShapeBuilder builder = NULL;
+    if (result == 0) {
+        char name[32];
+        directive_name(&type, name, sizeof name);
+        builder = shape_builder(name);
+    }
     if (result == 0 && !p->skipping_object) {
         if (token_is(&type, "sphere"))
             result = shape_sphere(p, lex, d, &params);
@@ -1280,9 +1324,13 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
             result = shape_triangle_mesh(p, lex, d, &params);
         else if (token_is(&type, "plymesh"))
             result = shape_ply_mesh(p, lex, d, &params);
+        else if (builder)
+            result = shape_tessellated(p, lex, d, &params, builder);
         else
             result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
-                                       "%s is not supported (sphere, trianglemesh, plymesh)", params.owner);
+                                       "%s is not supported (sphere, trianglemesh, plymesh, disk, cylinder, "
+                                       "bilinearmesh, loopsubdiv)",
+                                       params.owner);
     }
     params_free(&params);
     return result;

@@ -348,27 +348,44 @@ static int find_property(const PlyElement *e, const char *name)
     return -1;
 }
 
+/* Texture coordinate names in use, tried in pbrt-v4's order. */
+static const char *const uv_names[][2] = {
+    {"u", "v"}, {"s", "t"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
+
 static int read_vertices(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
 {
-    static const char *names[6] = {"x", "y", "z", "nx", "ny", "nz"};
+    static const char *names[8] = {"x", "y", "z", "nx", "ny", "nz", "u", "v"};
     int slot[PLY_MAX_PROPERTIES]; /* which of names[] each property fills, or -1 */
-    int found[6];
-    for (int k = 0; k < 6; ++k) {
+    int found[8];
+    for (int k = 0; k < 6; ++k)
         found[k] = find_property(e, names[k]);
+    found[6] = found[7] = -1;
+    for (size_t i = 0; found[6] < 0 && i < sizeof uv_names / sizeof uv_names[0]; ++i) {
+        int u = find_property(e, uv_names[i][0]), v = find_property(e, uv_names[i][1]);
+        if (u >= 0 && v >= 0) {
+            found[6] = u;
+            found[7] = v;
+            names[6] = uv_names[i][0];
+            names[7] = uv_names[i][1];
+        }
+    }
+    for (int k = 0; k < 8; ++k)
         if (found[k] >= 0 && e->properties[found[k]].is_list)
             return fail(r, "vertex property \"%s\" is a list", names[k]);
-    }
     if (found[0] < 0 || found[1] < 0 || found[2] < 0)
         return fail(r, "the vertex element lacks x, y or z");
-    int has_normals = found[3] >= 0 && found[4] >= 0 && found[5] >= 0;
+    int has_normals = found[3] >= 0 && found[4] >= 0 && found[5] >= 0, has_uvs = found[6] >= 0;
     for (int i = 0; i < e->property_count; ++i)
         slot[i] = -1;
-    for (int k = 0; k < (has_normals ? 6 : 3); ++k)
-        slot[found[k]] = k;
+    for (int k = 0; k < 8; ++k)
+        if ((k < 3 || (k < 6 && has_normals) || (k >= 6 && has_uvs)))
+            slot[found[k]] = k;
     mesh->vertex_count = e->count;
-    mesh->positions = malloc((e->count ? e->count : 1) * 3 * sizeof *mesh->positions);
-    mesh->normals = has_normals ? malloc((e->count ? e->count : 1) * 3 * sizeof *mesh->normals) : NULL;
-    if (!mesh->positions || (has_normals && !mesh->normals))
+    size_t allocated = e->count ? e->count : 1;
+    mesh->positions = malloc(allocated * 3 * sizeof *mesh->positions);
+    mesh->normals = has_normals ? malloc(allocated * 3 * sizeof *mesh->normals) : NULL;
+    mesh->uvs = has_uvs ? malloc(allocated * 2 * sizeof *mesh->uvs) : NULL;
+    if (!mesh->positions || (has_normals && !mesh->normals) || (has_uvs && !mesh->uvs))
         return fail(r, "out of memory for %zu vertices", e->count);
     for (size_t item = 0; item < e->count; ++item) {
         for (int i = 0; i < e->property_count; ++i) {
@@ -384,8 +401,10 @@ static int read_vertices(PlyReader *r, const PlyElement *e, PlyMesh *mesh)
                 return data_error(r, code, e, item);
             if (slot[i] < 3)
                 mesh->positions[3 * item + (size_t)slot[i]] = to_float(v);
-            else
+            else if (slot[i] < 6)
                 mesh->normals[3 * item + (size_t)slot[i] - 3] = to_float(v);
+            else
+                mesh->uvs[2 * item + (size_t)slot[i] - 6] = to_float(v);
         }
         const float *position = mesh->positions + 3 * item;
         if (!isfinite(position[0]) || !isfinite(position[1]) || !isfinite(position[2]))
@@ -445,6 +464,7 @@ void ply_mesh_destroy(PlyMesh *mesh)
 {
     free(mesh->positions);
     free(mesh->normals);
+    free(mesh->uvs);
     free(mesh->indices);
     memset(mesh, 0, sizeof *mesh);
 }

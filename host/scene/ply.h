@@ -1,6 +1,6 @@
 /* A PLY mesh reader for Shape "plymesh": ASCII and binary (little and big
  * endian) files with a "vertex" element (x, y, z as float or double; nx, ny,
- * nz read when all three are present) and a "face" element whose
+ * nz read when all three are present, and texture coordinates) and a "face" element whose
  * vertex_indices (or vertex_index) list holds triangles or quads, quads
  * split into two triangles. Other elements and properties are skipped. */
 #ifndef HOST_SCENE_PLY_H
@@ -12,6 +12,7 @@
 typedef struct {
     float *positions; /* 3 per vertex, as stored; finite */
     float *normals;   /* 3 per vertex, or NULL */
+    float *uvs;       /* 2 per vertex (u v, s t, texture_u texture_v or texture_s texture_t), or NULL */
     size_t vertex_count;
     uint32_t *indices; /* 3 per triangle, each below vertex_count */
     size_t triangle_count;

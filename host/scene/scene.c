@@ -24,6 +24,7 @@ void scene_destroy(Scene *scene)
     free(scene->area_lights);
     free(scene->positions);
     free(scene->normals);
+    free(scene->uvs);
     free(scene->triangles);
     free(scene->spheres);
     for (size_t i = 0; i < scene->warning_count; ++i)

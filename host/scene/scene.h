@@ -72,6 +72,7 @@ typedef struct {
     int material;   /* index into Scene.materials */
     int area_light; /* index into Scene.area_lights, or -1 */
     int flip_normal;
+    int has_uvs;  /* its vertices have texture coordinates in Scene.uvs (pbrt's own for the tessellated shapes) */
     size_t first; /* triangles [first, first + count); a sphere: its index, count 1 */
     size_t count;
 } SceneShape;
@@ -112,6 +113,7 @@ typedef struct {
 
     float *positions; /* world space, 3 floats per vertex */
     float *normals;   /* NULL, or 3 per vertex: world space, unit; zero where a mesh has none */
+    float *uvs;       /* NULL, or 2 per vertex: (u, v); zero where a mesh has none (SceneShape.has_uvs) */
     size_t vertex_count;
     SceneTriangle *triangles;
     size_t triangle_count;

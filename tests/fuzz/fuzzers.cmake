@@ -24,6 +24,8 @@ add_library(fuzz_code STATIC
   host/scene/parser.c
   host/scene/ply.c
   host/scene/scene.c
+  host/scene/shapes.c
+  host/scene/loop_subdiv.c
   host/render/scene_convert.c
   host/render/render_scene.c
   host/render/bvh.c
