@@ -515,6 +515,42 @@ static void test_trianglemesh_uv(void **state)
                "2 texture coordinates for 3 vertices");
 }
 
+/* PLY texture coordinates under pbrt-v4's names: the first complete pair of
+ * u v, s t, texture_u texture_v, texture_s texture_t (the last case has s t
+ * before u v in the file: u v wins). */
+static void test_ply_uv(void **state)
+{
+    (void)state;
+    static const char *const properties[] = {
+        "u\nproperty float v",
+        "s\nproperty float t",
+        "texture_u\nproperty float texture_v",
+        "texture_s\nproperty float texture_t",
+        "s\nproperty float t\nproperty float u\nproperty float v",
+    };
+    static const char *const values[] = {"", "", "", "", "9 9 "};
+    char ply_path[96], text[256];
+    snprintf(ply_path, sizeof ply_path, "%s.ply", scene_path);
+    for (size_t i = 0; i < sizeof properties / sizeof properties[0]; ++i) {
+        FILE *f = fopen(ply_path, "w");
+        assert_non_null(f);
+        fprintf(f,
+                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                "property float %s\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                "0 0 0 %s0.5 0.25\n1 0 0 %s1 0\n0 1 0 %s0 1\n3 0 1 2\n",
+                properties[i], values[i], values[i], values[i]);
+        fclose(f);
+        snprintf(text, sizeof text, WORLD "Shape \"plymesh\" \"string filename\" \"%s\"\n", ply_path);
+        Scene s;
+        load_ok(text, &s);
+        assert_true(s.shapes[0].has_uvs);
+        static const float expected[] = {0.5f, 0.25f, 1, 0, 0, 1};
+        assert_memory_equal(s.uvs, expected, sizeof expected);
+        scene_destroy(&s);
+    }
+    remove(ply_path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -528,6 +564,7 @@ int main(void)
         cmocka_unit_test(test_killeroo_simple_loads),
         cmocka_unit_test(test_bad_parameters),
         cmocka_unit_test(test_trianglemesh_uv),
+        cmocka_unit_test(test_ply_uv),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
