@@ -471,9 +471,17 @@ static void test_bad_parameters(void **state)
     load_fails(WORLD "Shape \"bilinearmesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 1 1 0 ] \"point2 uv\" [ 0 0 1 0 ]\n", 2,
                "2 texture coordinates for 4 vertices");
     load_fails(WORLD "Shape \"bilinearmesh\" \"integer indices\" [ 0 1 2 3 ]\n", 2, "missing \"point3 P\"");
+    static char saddles[16384]; /* 1800 curved patches of 2450 triangles each */
+    int length =
+        snprintf(saddles, sizeof saddles,
+                 WORLD "Shape \"bilinearmesh\" \"point3 P\" [ 0 0 0  1 0 0  0 1 0  1 1 1 ] \"integer indices\" [");
+    for (int i = 0; i < 1800; ++i)
+        length += snprintf(saddles + length, sizeof saddles - (size_t)length, " 0 1 2 3");
+    snprintf(saddles + length, sizeof saddles - (size_t)length, " ]\n");
+    load_fails(saddles, 2, "the curved patches make 4410000 triangles, over the limit of 4194304");
     load_fails(WORLD "Shape \"loopsubdiv\" \"integer levels\" -1 " TETRAHEDRON "\n", 2, "levels -1 must not be");
-    load_fails(WORLD "Shape \"loopsubdiv\" \"integer levels\" 12 " TETRAHEDRON "\n", 2,
-               "12 levels make 6.711e+07 triangles from 4, over the limit of 16777216");
+    load_fails(WORLD "Shape \"loopsubdiv\" \"integer levels\" 11 " TETRAHEDRON "\n", 2,
+               "11 levels make 1.678e+07 triangles from 4, over the limit of 4194304");
     load_fails(WORLD "Shape \"loopsubdiv\" \"integer levels\" 2147483647 " TETRAHEDRON "\n", 2, "over the limit");
     load_fails(WORLD "Shape \"loopsubdiv\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ]\n", 2, "missing \"integer indices\"");
     load_fails(WORLD "Shape \"loopsubdiv\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 ] \"integer indices\" [ 0 1 1 ]\n", 2,

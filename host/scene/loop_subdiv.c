@@ -393,9 +393,9 @@ int loop_subdivide(const float *positions, size_t vertex_count, const uint32_t *
         }
     }
     double made = (double)triangle_count * pow(4.0, levels);
-    if (made > (double)LOOP_MAX_TRIANGLES) {
+    if (made > (double)SHAPE_MAX_TRIANGLES) {
         snprintf(error, error_size, "%d levels make %.4g triangles from %zu, over the limit of %zu", levels, made,
-                 triangle_count, LOOP_MAX_TRIANGLES);
+                 triangle_count, SHAPE_MAX_TRIANGLES);
         return -1;
     }
     Level m = {malloc(3 * vertex_count * sizeof(double) + 1), vertex_count,

@@ -11,17 +11,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* The most triangles a subdivision may make (2^24, about 1.7 GB once the
- * renderer has its BVH): `levels` multiplies the count by 4 each. */
-#define LOOP_MAX_TRIANGLES ((size_t)1 << 24)
-
 /* Subdivides the triangles (indices below vertex_count) `levels` times into
  * *out: limit positions, limit normals, no uv. pbrt's limit normal points
  * against the input's winding (cross(v1 - v0, v2 - v0)); the output's
  * triangles are wound to agree with it, as pbrt turns a mesh's geometric
  * normal toward its vertex normals. Returns 0, or -1 with a message (a
- * non-manifold or inconsistently oriented input, too many triangles, out of
- * memory) in `error`. */
+ * non-manifold or inconsistently oriented input, more than
+ * SHAPE_MAX_TRIANGLES triangles, out of memory) in `error`. */
 int loop_subdivide(const float *positions, size_t vertex_count, const uint32_t *indices, size_t triangle_count,
                    int levels, ShapeMesh *out, char *error, size_t error_size);
 

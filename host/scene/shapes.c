@@ -260,6 +260,9 @@ static int build_bilinear_mesh(ParamList *params, int line, ShapeMesh *mesh)
         params_get_array(params, "N", PARAM_NORMAL3, &N) < 0)
         return -1;
     params_ignore(params, "faceIndices"); /* per-patch ids, only for Ptex textures */
+    /* An image pbrt samples an emitting patch's points by: only how it
+     * samples, not what the image converges to. */
+    params_ignore(params, "emissionfilename");
     if (!P)
         return shape_fail(params, line, "missing \"point3 P\"");
     size_t vertex_count = P->count / 3;
@@ -297,6 +300,9 @@ static int build_bilinear_mesh(ParamList *params, int line, ShapeMesh *mesh)
         vertices += (segments[patch] + 1) * (segments[patch] + 1);
         triangles += 2 * segments[patch] * segments[patch];
     }
+    if (result == 0 && triangles > SHAPE_MAX_TRIANGLES)
+        result = shape_fail(params, line, "the curved patches make %zu triangles, over the limit of %zu", triangles,
+                            SHAPE_MAX_TRIANGLES);
     if (result == 0 && mesh_alloc(mesh, vertices, triangles, smooth))
         result = shape_fail(params, line, "out of memory");
     size_t first = 0, t = 0;

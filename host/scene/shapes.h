@@ -10,6 +10,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The most triangles one shape may become, 2^22 (4.2 million: pbrt's
+ * killeroo subdivided 4 levels; each level multiplies the count by 4). Loop
+ * subdivision takes about 200 bytes a triangle at its peak, and the
+ * renderer's copy and BVH more: beyond this a mistyped "levels" (or many
+ * curved bilinear patches) would exhaust memory instead of rendering. */
+#define SHAPE_MAX_TRIANGLES ((size_t)1 << 22)
+
 typedef struct {
     float *positions; /* 3 per vertex, object space */
     float *normals;   /* 3 per vertex, or NULL: flat */
