@@ -19,6 +19,8 @@
 
 #include <cmocka.h>
 
+#include "scene_fixture.h"
+
 #ifndef GMON_SOURCE_DIR
 #define GMON_SOURCE_DIR "."
 #endif
@@ -26,75 +28,11 @@
 #define PI 3.14159265358979323846
 #define WORLD "WorldBegin\n"
 
-static char scene_path[64];
-static char error[1024];
-
-static int setup(void **state)
-{
-    (void)state;
-    strcpy(scene_path, "/tmp/gmon-shapes-XXXXXX");
-    int fd = mkstemp(scene_path);
-    if (fd < 0)
-        return -1;
-    close(fd);
-    return 0;
-}
-
-static int teardown(void **state)
-{
-    (void)state;
-    return remove(scene_path);
-}
-
-static int load(const char *text, Scene *s)
-{
-    FILE *f = fopen(scene_path, "w");
-    assert_non_null(f);
-    fputs(text, f);
-    fclose(f);
-    error[0] = '\0';
-    return scene_load(scene_path, NULL, s, error, sizeof error);
-}
-
-/* Loads text that must succeed without warnings. */
-static void load_ok(const char *text, Scene *s)
-{
-    if (load(text, s))
-        fail_msg("unexpected error: %s", error);
-    for (size_t i = 0; i < s->warning_count; ++i)
-        print_message("warning: %s\n", s->warnings[i]);
-    assert_int_equal(s->warning_count, 0);
-}
-
-/* Loads text that must fail with "<file>:<line>: " and `needle`. */
-static void load_fails(const char *text, int line, const char *needle)
-{
-    Scene s;
-    char location[128];
-    if (load(text, &s) == 0)
-        fail_msg("loaded, expected an error with \"%s\"", needle);
-    snprintf(location, sizeof location, "%s:%d: ", scene_path, line);
-    if (strncmp(error, location, strlen(location)) != 0 || !strstr(error, needle))
-        fail_msg("error \"%s\"; expected it to start with \"%s\" and contain \"%s\"", error, location, needle);
-}
-
-#define assert_near(actual, expected, tolerance)                                                                       \
-    do {                                                                                                               \
-        double a_ = (actual), e_ = (expected);                                                                         \
-        if (!(fabs(a_ - e_) <= (tolerance)))                                                                           \
-            fail_msg("%s = %.9g, expected %.9g", #actual, a_, e_);                                                     \
-    } while (0)
-
-static const float *position(const Scene *s, size_t triangle, int corner)
-{
-    return s->positions + 3 * s->triangles[triangle].vertex[corner];
-}
-
 /* cross(v1 - v0, v2 - v0) of a triangle, in double, negated when its shape
  * is flipped: the side a one-sided light emits to, times twice the area. */
 static void front(const Scene *s, size_t t, double out[3])
 {
-    const float *a = position(s, t, 0), *b = position(s, t, 1), *c = position(s, t, 2);
+    const float *a = vertex(s, t, 0), *b = vertex(s, t, 1), *c = vertex(s, t, 2);
     double e1[3], e2[3];
     for (int k = 0; k < 3; ++k) {
         e1[k] = (double)b[k] - a[k];
@@ -125,7 +63,7 @@ static double silhouette_error(const Scene *s, double radius, double inner)
     double worst = 0.0;
     for (size_t t = 0; t < s->triangle_count; ++t)
         for (int a = 0; a < 3; ++a) {
-            const float *p = position(s, t, a), *q = position(s, t, (a + 1) % 3);
+            const float *p = vertex(s, t, a), *q = vertex(s, t, (a + 1) % 3);
             double points[2][2] = {{p[0], p[1]}, {0.5 * ((double)p[0] + q[0]), 0.5 * ((double)p[1] + q[1])}};
             for (int i = 0; i < 2; ++i) {
                 double r = hypot(points[i][0], points[i][1]);
@@ -237,7 +175,7 @@ static void test_cylinder_area_normals_and_uv(void **state)
         for (size_t t = 0; t < s.triangle_count; ++t) {
             double n[3];
             front(&s, t, n);
-            const float *p = position(&s, t, 0);
+            const float *p = vertex(&s, t, 0);
             assert_true(n[0] * p[0] + n[1] * p[1] > 0.0); /* outward */
             assert_near(n[2], 0.0, 1e-9);
         }
@@ -323,7 +261,7 @@ static void test_bilinear_saddle_is_tessellated(void **state)
         double c[3] = {0, 0, 0};
         for (int k = 0; k < 3; ++k)
             for (int corner = 0; corner < 3; ++corner)
-                c[k] += position(&s, t, corner)[k] / 3.0;
+                c[k] += vertex(&s, t, corner)[k] / 3.0;
         worst = fmax(worst, fabs(c[2] - c[0] * c[1]));
     }
     print_message("saddle: %zu triangles, area %.7f (quadrature %.7f), relative error %.2e, largest distance %.2e\n",
@@ -388,7 +326,7 @@ static void test_loop_tetrahedron_limit_positions(void **state)
             double n[3], centre = 0.0;
             front(&s, t, n);
             for (int k = 0; k < 3; ++k)
-                centre += n[k] * (position(&s, t, 0)[k] + position(&s, t, 1)[k] + position(&s, t, 2)[k]);
+                centre += n[k] * (vertex(&s, t, 0)[k] + vertex(&s, t, 1)[k] + vertex(&s, t, 2)[k]);
             assert_true(centre < 0.0); /* facing the centre, as the normals */
         }
         scene_destroy(&s);
@@ -537,17 +475,16 @@ static void test_ply_uv(void **state)
         "s\nproperty float t\nproperty float u\nproperty float v",
     };
     static const char *const values[] = {"", "", "", "", "9 9 "};
-    char ply_path[96], text[256];
-    snprintf(ply_path, sizeof ply_path, "%s.ply", scene_path);
+    char ply_path[512], text[768];
+    snprintf(ply_path, sizeof ply_path, "%s", temp_path("uv.ply"));
     for (size_t i = 0; i < sizeof properties / sizeof properties[0]; ++i) {
-        FILE *f = fopen(ply_path, "w");
-        assert_non_null(f);
-        fprintf(f,
-                "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
-                "property float %s\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
-                "0 0 0 %s0.5 0.25\n1 0 0 %s1 0\n0 1 0 %s0 1\n3 0 1 2\n",
-                properties[i], values[i], values[i], values[i]);
-        fclose(f);
+        char ply[1024];
+        snprintf(ply, sizeof ply,
+                 "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                 "property float %s\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                 "0 0 0 %s0.5 0.25\n1 0 0 %s1 0\n0 1 0 %s0 1\n3 0 1 2\n",
+                 properties[i], values[i], values[i], values[i]);
+        write_text("uv.ply", ply);
         snprintf(text, sizeof text, WORLD "Shape \"plymesh\" \"string filename\" \"%s\"\n", ply_path);
         Scene s;
         load_ok(text, &s);
@@ -556,7 +493,6 @@ static void test_ply_uv(void **state)
         assert_memory_equal(s.uvs, expected, sizeof expected);
         scene_destroy(&s);
     }
-    remove(ply_path);
 }
 
 int main(void)

@@ -1284,8 +1284,8 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
         result = scene_error(&p->diag, lex->path, d->line, "%s: %s", owner, message);
     else
         result = add_mesh(p, lex->path, d->line, owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          3 * mesh.triangle_count, mesh.normals, mesh.uvs);
-    ply_mesh_destroy(&mesh);
+                          mesh.index_count, mesh.normals, mesh.uvs);
+    shape_mesh_free(&mesh);
     free(path);
     return result;
 }

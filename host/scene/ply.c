@@ -448,25 +448,16 @@ static int read_faces(PlyReader *r, const PlyElement *e, size_t vertex_count, Pl
                     return fail(r, "face %zu: vertex index %.0f is out of range (%zu vertices)", item, x, vertex_count);
                 v[k] = (uint32_t)x;
             }
-            uint32_t *out = mesh->indices + 3 * mesh->triangle_count;
+            uint32_t *out = mesh->indices + mesh->index_count;
             out[0] = v[0], out[1] = v[1], out[2] = v[2];
-            mesh->triangle_count++;
+            mesh->index_count += 3;
             if (count == 4) { /* split the quad along its 0-2 diagonal */
                 out[3] = v[0], out[4] = v[2], out[5] = v[3];
-                mesh->triangle_count++;
+                mesh->index_count += 3;
             }
         }
     }
     return 0;
-}
-
-void ply_mesh_destroy(PlyMesh *mesh)
-{
-    free(mesh->positions);
-    free(mesh->normals);
-    free(mesh->uvs);
-    free(mesh->indices);
-    memset(mesh, 0, sizeof *mesh);
 }
 
 int ply_read(const char *path, PlyMesh *mesh, char *error, size_t error_size)
@@ -519,6 +510,6 @@ int ply_read(const char *path, PlyMesh *mesh, char *error, size_t error_size)
     }
     free(data);
     if (result)
-        ply_mesh_destroy(mesh);
+        shape_mesh_free(mesh);
     return result;
 }

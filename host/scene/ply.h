@@ -6,21 +6,14 @@
 #ifndef HOST_SCENE_PLY_H
 #define HOST_SCENE_PLY_H
 
-#include <stddef.h>
-#include <stdint.h>
+#include "scene/shapes.h"
 
-typedef struct {
-    float *positions; /* 3 per vertex, as stored; finite */
-    float *normals;   /* 3 per vertex, or NULL */
-    float *uvs;       /* 2 per vertex (u v, s t, texture_u texture_v or texture_s texture_t), or NULL */
-    size_t vertex_count;
-    uint32_t *indices; /* 3 per triangle, each below vertex_count */
-    size_t triangle_count;
-} PlyMesh;
+/* positions (finite) and normals as stored, uvs, 3 indices per triangle
+ * (each below vertex_count); free with shape_mesh_free. */
+typedef ShapeMesh PlyMesh;
 
 /* Returns 0, or -1 with a message (naming the header line or the element
  * and item that is wrong, without the path) in `error`. */
 int ply_read(const char *path, PlyMesh *mesh, char *error, size_t error_size);
-void ply_mesh_destroy(PlyMesh *mesh);
 
 #endif

@@ -22,8 +22,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fuzz_touch(mesh.positions, 3 * mesh.vertex_count * sizeof *mesh.positions);
         if (mesh.normals)
             fuzz_touch(mesh.normals, 3 * mesh.vertex_count * sizeof *mesh.normals);
-        fuzz_touch(mesh.indices, 3 * mesh.triangle_count * sizeof *mesh.indices);
+        fuzz_touch(mesh.indices, mesh.index_count * sizeof *mesh.indices);
     }
-    ply_mesh_destroy(&mesh);
+    shape_mesh_free(&mesh);
     return 0;
 }
