@@ -1293,7 +1293,7 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
 /* A shape built as a triangle mesh (shapes.c), through the mesh path. */
 static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *params, ShapeBuilder build)
 {
-    ShapeMesh mesh;
+    ShapeMesh mesh = {0};
     if (build(params, d->line, &mesh))
         return -1;
     int result = params_check_unused(params);

@@ -255,6 +255,7 @@ static size_t patch_segments(double p[4][3])
 static int build_bilinear_mesh(ParamList *params, int line, ShapeMesh *mesh)
 {
     const Param *P = NULL, *indices = NULL, *N = NULL, *uv = NULL;
+    memset(mesh, 0, sizeof *mesh); /* freed on every error below */
     if (params_get_array(params, "P", PARAM_POINT3, &P) < 0 ||
         params_get_array(params, "indices", PARAM_INTEGER, &indices) < 0 ||
         params_get_array(params, "N", PARAM_NORMAL3, &N) < 0)
