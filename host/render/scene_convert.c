@@ -74,11 +74,11 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     scene_camera_tan_half_fov(scene.camera.fov, width, height, tan_half);
     render_scene_set_camera(out, scene.camera.position, scene.camera.forward, scene.camera.right, scene.camera.up,
                             tan_half[0], tan_half[1], width, height);
-    out->params.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
-    memcpy(out->params.environment, scene.environment, sizeof out->params.environment);
-    const int scene_has_environment = scene.has_environment;
+    out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
 
     int failed = 0;
+    if (scene.has_environment)
+        failed = render_scene_add_infinite_light(out, scene.environment) != 0;
     for (size_t i = 0; i < scene.material_count && !failed; ++i) {
         Material m = convert_material(&scene.materials[i]);
         summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;
@@ -107,7 +107,7 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
         render_scene_destroy(out);
         return -1;
     }
-    if (out->emitter_count == 0 && !scene_has_environment && !quiet)
+    if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
     if (summary->coated_diffuse && !quiet)
         fprintf(stderr,
