@@ -8,6 +8,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
   libopenexr-dev libpng-dev libcglm-dev libcmocka-dev
   python3 python3-venv
+  libstb-dev
 )
 
 missing=()

@@ -180,7 +180,7 @@ static void test_defaults(void **state)
     assert_near(s.camera.tan_half_fov[1], 1.0, 1e-6); /* 90 degrees across the shorter (vertical) axis */
     assert_near(s.camera.tan_half_fov[0], 1280.0 / 720.0, 1e-6);
     assert_int_equal(s.shape_count, 0);
-    assert_int_equal(s.has_environment, 0);
+    assert_int_equal(s.light_count, 0);
     scene_destroy(&s);
 }
 
@@ -544,26 +544,91 @@ static void test_area_lights_and_orientation(void **state)
                "AreaLightSource: the radiance L * scale, 3e+39, overflows single precision");
 }
 
+static const SceneLight *only_light(const Scene *s, SceneLightType type)
+{
+    assert_int_equal(s->light_count, 1);
+    assert_int_equal(s->lights[0].type, type);
+    return &s->lights[0];
+}
+
 static void test_infinite_light(void **state)
 {
     (void)state;
     Scene s;
     load_ok(WORLD "LightSource \"infinite\" \"rgb L\" [ 0.5 0.25 1 ] \"float scale\" [ 2 ]\n", &s);
-    assert_int_equal(s.has_environment, 1);
-    assert_vec3(s.environment, 1, 0.5, 2);
+    assert_vec3(only_light(&s, SCENE_LIGHT_INFINITE)->radiance, 1, 0.5, 2);
     scene_destroy(&s);
     load_ok(WORLD "LightSource \"infinite\"\n", &s); /* pbrt's default: L = 1 */
-    assert_vec3(s.environment, 1, 1, 1);
+    assert_vec3(only_light(&s, SCENE_LIGHT_INFINITE)->radiance, 1, 1, 1);
     scene_destroy(&s);
-    load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n", 2, "filename");
+    /* illuminance E: a uniform sky of radiance E / pi gives E. */
+    load_ok(WORLD "LightSource \"infinite\" \"float illuminance\" 3.14159265\n", &s);
+    assert_vec3(only_light(&s, SCENE_LIGHT_INFINITE)->radiance, 1, 1, 1);
+    scene_destroy(&s);
+    load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\"\n", 2, "cannot find");
+    load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\" \"rgb L\" [1 1 1]\n", 2,
+               "both \"L\" and \"filename\"");
     load_fails(WORLD "LightSource \"infinite\" \"spectrum L\" [ 300 1 800 1 ]\n", 2, "spectrum L");
-    load_fails(WORLD "LightSource \"point\"\n", 2, "LightSource \"point\" is not supported");
+    load_fails(WORLD "LightSource \"goniometric\"\n", 2, "LightSource \"goniometric\" is not supported");
     load_fails(WORLD "LightSource \"infinite\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\n", 2,
                "overflows single precision");
-    /* Several add up: the sum must fit too. */
-    load_fails(WORLD
-               "LightSource \"infinite\" \"rgb L\" [ 3e38 1 1 ]\nLightSource \"infinite\" \"rgb L\" [ 3e38 1 1 ]\n",
-               3, "overflows single precision");
+    load_fails(WORLD "LightSource \"infinite\" \"float illuminance\" 0\n", 2, "must be positive");
+}
+
+/* Point and spot lights: I * scale at the CTM applied to "from"; "power"
+ * replaces the scale by power / (solid angle the light covers). */
+static void test_point_and_spot_lights(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD
+            "Translate 1 2 3\nLightSource \"point\" \"rgb I\" [ 1 2 3 ] \"float scale\" 2 \"point3 from\" [ 0 0 1 ]\n",
+            &s);
+    const SceneLight *l = only_light(&s, SCENE_LIGHT_POINT);
+    assert_vec3(l->radiance, 2, 4, 6);
+    assert_vec3(l->position, 1, 2, 4);
+    scene_destroy(&s);
+    load_ok(WORLD "LightSource \"point\" \"float power\" 12.566370614\n", &s);
+    assert_vec3(only_light(&s, SCENE_LIGHT_POINT)->radiance, 1, 1, 1); /* 4 pi I = power */
+    scene_destroy(&s);
+    load_ok(WORLD "Rotate 90 0 1 0\nLightSource \"spot\" \"point3 from\" [ 0 0 0 ] \"point3 to\" [ 0 0 5 ] "
+                  "\"float coneangle\" 60 \"float conedeltaangle\" 20\n",
+            &s);
+    l = only_light(&s, SCENE_LIGHT_SPOT);
+    assert_vec3(l->direction, 1, 0, 0); /* +z rotated 90 degrees about +y */
+    assert_near(l->cos_total_width, 0.5, 1e-6);
+    assert_near(l->cos_falloff_start, cos(40.0 * 3.14159265358979 / 180.0), 1e-6);
+    scene_destroy(&s);
+    /* power: 2 pi I ((1 - cos start) + (cos start - cos end) / 2) = power */
+    load_ok(WORLD "LightSource \"spot\" \"float coneangle\" 90 \"float conedeltaangle\" 0 \"float power\" "
+                  "6.283185307\n",
+            &s);
+    assert_vec3(only_light(&s, SCENE_LIGHT_SPOT)->radiance, 1, 1, 1);
+    scene_destroy(&s);
+    load_fails(WORLD "LightSource \"spot\" \"float coneangle\" 10 \"float conedeltaangle\" 20\n", 2,
+               "conedeltaangle in [0, coneangle]");
+    load_fails(WORLD "LightSource \"spot\" \"point3 from\" [ 1 1 1 ] \"point3 to\" [ 1 1 1 ]\n", 2, "no direction");
+    load_fails(WORLD "LightSource \"point\" \"point3 from\" [ 1 1 ]\n", 2, "point3 from");
+    load_fails(WORLD "LightSource \"point\" \"float power\" 0\n", 2, "must be positive");
+    load_fails(WORLD "LightSource \"point\" \"rgb L\" [ 1 1 1 ]\n", 2, "rgb L");
+}
+
+/* A distant light shines from "from" toward "to": its direction (toward
+ * the light) is from - to through the CTM; illuminance replaces scale. */
+static void test_distant_light(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD "Scale 1 -1 1\nLightSource \"distant\" \"point3 from\" [ 0 4 0 ] \"point3 to\" [ 0 0 0 ] "
+                  "\"rgb L\" [ 1 2 3 ] \"float illuminance\" 2\n",
+            &s);
+    const SceneLight *l = only_light(&s, SCENE_LIGHT_DISTANT);
+    assert_vec3(l->direction, 0, -1, 0);
+    assert_vec3(l->radiance, 2, 4, 6);
+    scene_destroy(&s);
+    load_ok(WORLD "LightSource \"distant\"\n", &s); /* pbrt's default: from the origin toward +z */
+    assert_vec3(only_light(&s, SCENE_LIGHT_DISTANT)->direction, 0, 0, -1);
+    scene_destroy(&s);
 }
 
 /* --------------------------------------------------------------- shapes */
@@ -811,7 +876,7 @@ static void test_allow_unsupported_substitutes(void **state)
         "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
         "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
         "Shape \"disk\" \"float radius\" 1\n"                                        /* skipped */
-        "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n"                                /* skipped */
+        "LightSource \"goniometric\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
         "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
         "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
         "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
@@ -821,7 +886,7 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_int_equal(s.triangle_count, 3);
     assert_int_equal(s.sphere_count, 1);
     assert_int_equal(s.area_light_count, 0);
-    assert_int_equal(s.has_environment, 0);
+    assert_int_equal(s.light_count, 0);
     assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
     assert_vec3(material_of_shape(&s, 0)->reflectance, 0.5, 0.5, 0.5);
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
@@ -829,7 +894,7 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "Texture is not supported; skipped"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
     assert_true(has_warning(&s, "Shape \"disk\" is not supported"));
-    assert_true(has_warning(&s, "LightSource \"point\""));
+    assert_true(has_warning(&s, "LightSource \"goniometric\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "ObjectInstance"));
     assert_true(has_warning(&s, "phimax"));
@@ -1153,6 +1218,8 @@ int main(void)
         cmocka_unit_test(test_named_materials),
         cmocka_unit_test(test_area_lights_and_orientation),
         cmocka_unit_test(test_infinite_light),
+        cmocka_unit_test(test_point_and_spot_lights),
+        cmocka_unit_test(test_distant_light),
         cmocka_unit_test(test_spheres),
         cmocka_unit_test(test_trianglemesh_normals_and_uv),
         cmocka_unit_test(test_bad_mesh_data),

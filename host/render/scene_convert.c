@@ -1,5 +1,7 @@
 #include "render/scene_convert.h"
 
+#include "equal_area.h"
+#include "io/image_read.h"
 #include "scene/scene.h"
 
 #include <math.h>
@@ -47,6 +49,86 @@ static Material convert_material(const SceneMaterial *in)
     return m;
 }
 
+/* The illuminance an image light of unit scale gives a surface facing its
+ * light-space +z, as pbrt-v4 computes it for "illuminance". */
+static double image_illuminance(const RgbImage *image)
+{
+    double sum = 0.0;
+    for (uint32_t y = 0; y < image->height; ++y)
+        for (uint32_t x = 0; x < image->width; ++x) {
+            Vec3 w = equal_area_square_to_sphere((x + 0.5f) / (float)image->width, (y + 0.5f) / (float)image->height);
+            const float *rgb = image->rgb + 3 * ((size_t)y * image->width + x);
+            if (w.z > 0.0f)
+                sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) * w.z;
+        }
+    return sum * 2.0 * 3.14159265358979323846 / ((double)image->width * image->height);
+}
+
+/* An image light: its file read, checked and uploaded. Returns 0 or -1. */
+static int add_image_light(RenderScene *out, const SceneLight *in, Light *light, char *error, size_t error_size)
+{
+    RgbImage image;
+    char why[512];
+    if (image_read_rgb(in->filename, &image, why, sizeof why) != IMAGE_IO_OK) {
+        snprintf(error, error_size, "%s: LightSource \"infinite\": %s", in->origin, why);
+        return -1;
+    }
+    int result = 0;
+    size_t n = (size_t)image.width * image.height * 3;
+    if (image.width != image.height) {
+        snprintf(error, error_size,
+                 "%s: LightSource \"infinite\": \"%s\" is %ux%u, not square: not an equal-area environment map",
+                 in->origin, in->filename, image.width, image.height);
+        result = -1;
+    }
+    for (size_t i = 0; i < n && !result; ++i)
+        if (!isfinite(image.rgb[i])) {
+            snprintf(error, error_size, "%s: LightSource \"infinite\": \"%s\" has non-finite texels", in->origin,
+                     in->filename);
+            result = -1;
+        } else if (image.rgb[i] < 0.0f) {
+            image.rgb[i] = 0.0f; /* pbrt-v4 clamps them to zero */
+        }
+    if (!result && in->illuminance > 0.0f) {
+        double e = image_illuminance(&image);
+        for (int c = 0; c < 3; ++c)
+            light->radiance[c] = e > 0.0 ? (float)(light->radiance[c] * in->illuminance / e) : 0.0f;
+    }
+    if (!result && render_scene_add_image_light(out, light, image.width, image.height, image.rgb, why, sizeof why)) {
+        snprintf(error, error_size, "%s: LightSource \"infinite\": %s", in->origin, why);
+        result = -1;
+    }
+    rgb_image_free(&image);
+    return result;
+}
+
+/* One LightSource as the kernels take it. Returns 0, or -1 with a message. */
+static int add_light(RenderScene *out, const SceneLight *in, char *error, size_t error_size)
+{
+    static const uint32_t types[] = {
+        [SCENE_LIGHT_POINT] = LIGHT_POINT,          [SCENE_LIGHT_SPOT] = LIGHT_SPOT,
+        [SCENE_LIGHT_DISTANT] = LIGHT_DISTANT,      [SCENE_LIGHT_INFINITE] = LIGHT_UNIFORM_INFINITE,
+        [SCENE_LIGHT_IMAGE] = LIGHT_IMAGE_INFINITE,
+    };
+    Light light;
+    memset(&light, 0, sizeof light);
+    light.type = types[in->type];
+    light.primitive = -1;
+    memcpy(light.radiance, in->radiance, sizeof light.radiance);
+    memcpy(light.position, in->position, sizeof light.position);
+    memcpy(light.direction, in->direction, sizeof light.direction);
+    light.cos_falloff_start = in->cos_falloff_start;
+    light.cos_total_width = in->cos_total_width;
+    memcpy(light.light_from_world, in->light_from_world, sizeof light.light_from_world);
+    if (in->type == SCENE_LIGHT_IMAGE)
+        return add_image_light(out, in, &light, error, error_size);
+    if (render_scene_add_light(out, &light)) {
+        snprintf(error, error_size, "%s: out of memory", in->origin);
+        return -1;
+    }
+    return 0;
+}
+
 int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
                        RenderScene *out, SceneSummary *summary, char *error, size_t error_size)
 {
@@ -77,8 +159,13 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
 
     int failed = 0;
-    if (scene.has_environment)
-        failed = render_scene_add_infinite_light(out, scene.environment) != 0;
+    for (size_t i = 0; i < scene.light_count && !failed; ++i)
+        failed = add_light(out, &scene.lights[i], error, error_size);
+    if (failed < 0) {
+        scene_destroy(&scene);
+        render_scene_destroy(out);
+        return -1;
+    }
     for (size_t i = 0; i < scene.material_count && !failed; ++i) {
         Material m = convert_material(&scene.materials[i]);
         summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;

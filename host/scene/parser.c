@@ -58,7 +58,8 @@ typedef struct {
     NamedMaterial *named;
     size_t named_count, named_capacity;
     int default_material;
-    size_t material_capacity, shape_capacity, area_light_capacity, vertex_capacity, triangle_capacity, sphere_capacity;
+    size_t material_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity, triangle_capacity,
+        sphere_capacity;
     char **paths; /* every file read, alive until scene_load returns (messages point at them) */
     size_t path_count, path_capacity;
     const char *main_path;
@@ -1074,6 +1075,35 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
+static int file_exists(const char *path);
+static char *resolve_path(Parser *p, const char *file, const char *name);
+
+/* A direction through the CTM's linear part, in double. */
+static void transform_vector_d(mat4 m, const double v[3], double out[3])
+{
+    for (int k = 0; k < 3; ++k)
+        out[k] = m[0][k] * v[0] + m[1][k] * v[1] + m[2][k] * v[2];
+}
+
+/* Reads the light's point parameter `name` (default `fallback`). */
+static int light_point(ParamList *params, const char *name, const float fallback[3], double out[3])
+{
+    const Param *param = NULL;
+    int found = params_get_array(params, name, PARAM_POINT3, &param);
+    if (found < 0)
+        return -1;
+    if (found && param->count != 3)
+        return params_error(params, param, "expected one point (3 values), got %zu values", param->count);
+    for (int k = 0; k < 3; ++k)
+        out[k] = found ? param->numbers[k] : fallback[k];
+    return 0;
+}
+
+/* pbrt-v4's LightSource directive: point, spot, distant, infinite
+ * (uniform, or an equal-area image). Each light's spectrum is scaled by
+ * "scale", and "power" (point, spot) or "illuminance" (distant, infinite)
+ * replace that scale by one that gives the light this power (W... in
+ * pbrt's photometric units) or this illuminance on a surface facing it. */
 static int on_light_source(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -1081,31 +1111,149 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the light type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
-    if (result == 0 && !token_is(&type, "infinite")) {
+    const int is_point = token_is(&type, "point"), is_spot = token_is(&type, "spot");
+    const int is_distant = token_is(&type, "distant"), is_infinite = token_is(&type, "infinite");
+    if (result == 0 && !is_point && !is_spot && !is_distant && !is_infinite) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
         result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
-                                   "LightSource %s is not supported (only a constant \"infinite\")", shown);
+                                   "LightSource %s is not supported (point, spot, distant, infinite)", shown);
         params_free(&params);
         return result;
     }
-    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
-    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0))
-        result = -1;
-    if (result == 0 && scale < 0.0f)
-        result = scene_error(&p->diag, lex->path, d->line, "LightSource: scale must not be negative");
-    if (result == 0)
+    if (result) {
+        params_free(&params);
+        return result;
+    }
+    SceneLight light;
+    memset(&light, 0, sizeof light);
+    light.illuminance = -1.0f;
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f, power = -1.0f, illuminance = -1.0f;
+    const char *filename = NULL;
+    int has_L = 0;
+    const double pi = 3.14159265358979323846;
+    mat4 *ctm = &p->state.ctm;
+    result = params_get_float(&params, "scale", &scale) < 0;
+    if (!result && (is_point || is_spot))
+        result = params_get_rgb(&params, "I", 0, L) < 0 || params_get_float(&params, "power", &power) < 0;
+    if (!result && (is_distant || is_infinite))
+        result = (has_L = params_get_rgb(&params, "L", 0, L)) < 0 ||
+                 params_get_float(&params, "illuminance", &illuminance) < 0;
+    if (!result && is_infinite) {
+        /* A portal only helps pbrt sample the image: the light is the same. */
+        params_ignore(&params, "portal");
+        result = params_get_string(&params, "filename", &filename) < 0;
+        if (!result && filename && !filename[0])
+            filename = NULL;
+        if (!result && filename && has_L)
+            result = scene_error(&p->diag, lex->path, d->line,
+                                 "LightSource \"infinite\": both \"L\" and \"filename\" given (pbrt-v4 refuses this)");
+    }
+    if (!result && (scale < 0.0f || !(power == -1.0f || power > 0.0f) || !(illuminance == -1.0f || illuminance > 0.0f)))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "%s: scale must not be negative, power and illuminance must be positive", params.owner);
+    double from[3], to[3];
+    static const float origin[3] = {0.0f, 0.0f, 0.0f}, ahead[3] = {0.0f, 0.0f, 1.0f};
+    if (!result && !is_infinite)
+        result = light_point(&params, "from", origin, from) || light_point(&params, "to", ahead, to);
+    if (!result && is_spot) {
+        float cone = 30.0f, delta = 5.0f;
+        result = params_get_float(&params, "coneangle", &cone) < 0 ||
+                 params_get_float(&params, "conedeltaangle", &delta) < 0;
+        if (!result && !(cone > 0.0f && cone <= 180.0f && delta >= 0.0f && delta <= cone))
+            result = scene_error(&p->diag, lex->path, d->line,
+                                 "LightSource \"spot\": coneangle must be in (0, 180] and conedeltaangle in [0, "
+                                 "coneangle] (got %g and %g)",
+                                 (double)cone, (double)delta);
+        light.cos_total_width = (float)cos(cone * pi / 180.0);
+        light.cos_falloff_start = (float)cos((cone - delta) * pi / 180.0);
+    }
+    if (!result)
         result = params_check_unused(&params);
-    Scene *s = p->scene;
-    double radiance[3]; /* several infinite lights add up */
-    for (int k = 0; k < 3; ++k)
-        radiance[k] = s->environment[k] + (double)L[k] * scale;
-    if (result == 0)
-        result = check_radiance(p, lex, d, "LightSource \"infinite\"", radiance);
-    if (result == 0) {
-        s->has_environment = 1;
-        for (int k = 0; k < 3; ++k)
-            s->environment[k] = (float)radiance[k];
+    double k = scale;
+    if (!result && is_point) {
+        light.type = SCENE_LIGHT_POINT;
+        if (power > 0.0f)
+            k *= power / (4.0 * pi);
+    } else if (!result && is_spot) {
+        light.type = SCENE_LIGHT_SPOT;
+        if (power > 0.0f)
+            k *= power / (2.0 * pi *
+                          ((1.0 - light.cos_falloff_start) + (light.cos_falloff_start - light.cos_total_width) / 2.0));
+    } else if (!result && is_distant) {
+        light.type = SCENE_LIGHT_DISTANT;
+        if (illuminance > 0.0f)
+            k *= illuminance;
+    } else if (!result) {
+        light.type = filename ? SCENE_LIGHT_IMAGE : SCENE_LIGHT_INFINITE;
+        if (filename)
+            light.illuminance = illuminance;
+        else if (illuminance > 0.0f)
+            k *= illuminance / pi; /* a uniform sky of radiance L gives pi L */
+    }
+    double radiance[3];
+    for (int c = 0; c < 3; ++c)
+        radiance[c] = (light.type == SCENE_LIGHT_IMAGE ? 1.0 : (double)L[c]) * k;
+    if (!result)
+        result = check_radiance(p, lex, d, params.owner, radiance);
+    for (int c = 0; c < 3; ++c)
+        light.radiance[c] = (float)radiance[c];
+
+    if (!result && (is_point || is_spot)) {
+        float from_f[3] = {(float)from[0], (float)from[1], (float)from[2]};
+        transform_point(*ctm, from_f, light.position);
+        if (!within_range(light.position))
+            result = scene_error(&p->diag, lex->path, d->line, "%s: the light lies beyond %g of the origin",
+                                 params.owner, SCENE_MAX_COORDINATE);
+    }
+    if (!result && (is_spot || is_distant)) {
+        /* spot: it shines along to - from; distant: the light is along from - to */
+        double v[3], w[3];
+        for (int c = 0; c < 3; ++c)
+            v[c] = is_spot ? to[c] - from[c] : from[c] - to[c];
+        transform_vector_d(*ctm, v, w);
+        if (normalize_d(w) == 0.0 || !isfinite(w[0] + w[1] + w[2]))
+            result =
+                scene_error(&p->diag, lex->path, d->line, "%s: \"from\" and \"to\" give no direction", params.owner);
+        for (int c = 0; c < 3; ++c)
+            light.direction[c] = (float)w[c];
+    }
+    if (!result && light.type == SCENE_LIGHT_IMAGE) {
+        /* Light space is object space: the rows of the CTM's inverse
+         * rotation (its transpose, for a rotation times a uniform scale). */
+        double s;
+        if (!is_similarity(*ctm, &s) || !(s > 0.0))
+            result = scene_unsupported(&p->diag, lex->path, d->line, "its non-uniform scale or shear is ignored",
+                                       "LightSource \"infinite\": the transform is not a rotation and uniform scale");
+        for (int r = 0; r < 3; ++r) {
+            double row[3] = {(*ctm)[r][0], (*ctm)[r][1], (*ctm)[r][2]}; /* column r of the CTM */
+            normalize_d(row);
+            for (int c = 0; c < 3; ++c)
+                light.light_from_world[r][c] = (float)row[c];
+        }
+        if (!result) {
+            light.filename = resolve_path(p, lex->path, filename);
+            if (!light.filename)
+                result = out_of_memory(p, lex->path, d->line);
+            else if (!file_exists(light.filename))
+                result = scene_error(&p->diag, lex->path, d->line, "LightSource \"infinite\": cannot find \"%s\"",
+                                     light.filename);
+        }
+    }
+    if (!result) {
+        char where[1024];
+        snprintf(where, sizeof where, "%s:%d", lex->path, d->line);
+        light.origin = scene_strndup(where, strlen(where));
+        Scene *sc = p->scene;
+        if (!light.origin ||
+            scene_reserve((void **)&sc->lights, &p->light_capacity, sc->light_count + 1, sizeof *sc->lights))
+            result = out_of_memory(p, lex->path, d->line);
+        else
+            sc->lights[sc->light_count++] = light;
+    }
+    if (result) {
+        free(light.filename);
+        free(light.origin);
     }
     params_free(&params);
     return result;

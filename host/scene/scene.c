@@ -22,6 +22,11 @@ void scene_destroy(Scene *scene)
     free(scene->materials);
     free(scene->shapes);
     free(scene->area_lights);
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        free(scene->lights[i].filename);
+        free(scene->lights[i].origin);
+    }
+    free(scene->lights);
     free(scene->positions);
     free(scene->normals);
     free(scene->triangles);

@@ -94,6 +94,30 @@ typedef struct {
     int shape; /* index into Scene.shapes */
 } SceneAreaLight;
 
+/* LightSource directives (area lights are SceneAreaLight). pbrt-v4's
+ * parameters are applied here (scale, power, illuminance, from/to, the
+ * CTM), except an image light's illuminance, which needs the image:
+ * scene_convert loads the image and applies it. */
+typedef enum {
+    SCENE_LIGHT_POINT,
+    SCENE_LIGHT_SPOT,
+    SCENE_LIGHT_DISTANT,
+    SCENE_LIGHT_INFINITE, /* uniform */
+    SCENE_LIGHT_IMAGE,    /* infinite, from an equal-area square image */
+} SceneLightType;
+
+typedef struct {
+    SceneLightType type;
+    float radiance[3];                        /* I (point, spot), L (distant, infinite), the image's scale; all RGB */
+    float position[3];                        /* point, spot: world space */
+    float direction[3];                       /* spot: unit, the way it shines; distant: unit, toward the light */
+    float cos_falloff_start, cos_total_width; /* spot */
+    float light_from_world[3][3];             /* image: rows of the rotation into light space */
+    char *filename;                           /* image: the path to open */
+    float illuminance;                        /* image: target illuminance (pbrt-v4's), or -1 */
+    char *origin;                             /* "file:line" of the directive, for messages */
+} SceneLight;
+
 typedef struct {
     SceneCamera camera;
     unsigned width, height; /* Film xresolution, yresolution */
@@ -118,8 +142,8 @@ typedef struct {
     SceneSphere *spheres;
     size_t sphere_count;
 
-    int has_environment;
-    float environment[3]; /* LightSource "infinite": constant radiance, L * scale, summed */
+    SceneLight *lights;
+    size_t light_count;
 
     char **warnings; /* "file:line: ..." lines, for the renderer to print */
     size_t warning_count;

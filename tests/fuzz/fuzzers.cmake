@@ -10,6 +10,7 @@ endif()
 find_package(OpenEXR 3 CONFIG REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CGLM REQUIRED IMPORTED_TARGET cglm)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 find_library(MATH_LIBRARY m REQUIRED)
 
 # Everything is instrumented for coverage and checked by ASan and UBSan; only
@@ -28,10 +29,11 @@ add_library(fuzz_code STATIC
   host/render/render_scene.c
   host/render/bvh.c
   host/io/exr_image.c
+  host/io/image_read.c
   tests/fuzz/fuzz_input.c)
 target_include_directories(fuzz_code PUBLIC host kernels ${GMON_GENERATED_DIR}/kernels tests/fuzz)
 add_dependencies(fuzz_code sorting_networks)
-target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM OpenEXR::OpenEXRCore ${MATH_LIBRARY})
+target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB OpenEXR::OpenEXRCore ${MATH_LIBRARY})
 
 foreach(harness scene ply exr)
   add_executable(fuzz_${harness} tests/fuzz/fuzz_${harness}.c)
