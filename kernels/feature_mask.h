@@ -22,10 +22,11 @@
 #define FEATURE_POINT_LIGHTS 0x4000u
 #define FEATURE_SPOT_LIGHTS 0x8000u
 #define FEATURE_DISTANT_LIGHTS 0x10000u
-#define FEATURE_ENVIRONMENT_MAP 0x20000u /* an infinite light with an image */
-#define FEATURE_FILM_MATRIX 0x40000u     /* a film that is not the identity on radiance */
-#define FEATURE_FILM_CLAMP 0x80000u      /* Film "maxcomponentvalue" */
-#define FEATURES_ALL 0xffff0u
+#define FEATURE_ENVIRONMENT_MAP 0x20000u  /* an infinite light with an image */
+#define FEATURE_FILM_MATRIX 0x40000u      /* a film that is not the identity on radiance */
+#define FEATURE_FILM_CLAMP 0x80000u       /* Film "maxcomponentvalue" */
+#define FEATURE_SHADING_NORMALS 0x100000u /* meshes with vertex normals */
+#define FEATURES_ALL 0x1ffff0u
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -49,5 +50,6 @@
 #define GMON_HAS_INFINITE_LIGHTS (GMON_HAS_ENVIRONMENT || GMON_HAS_ENVIRONMENT_MAP)
 #define GMON_HAS_FILM_MATRIX GMON_HAS(FEATURE_FILM_MATRIX)
 #define GMON_HAS_FILM_CLAMP GMON_HAS(FEATURE_FILM_CLAMP)
+#define GMON_HAS_SHADING_NORMALS GMON_HAS(FEATURE_SHADING_NORMALS)
 
 #endif

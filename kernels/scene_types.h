@@ -55,7 +55,8 @@ typedef union {
 
 /* Primitive.kind: the shape in the low byte, flags above it. */
 #define PRIM_KIND_MASK 0xffu
-#define PRIM_FLIP_NORMAL 0x100u /* ReverseOrientation (or a handedness swap) */
+#define PRIM_FLIP_NORMAL 0x100u    /* ReverseOrientation (or a handedness swap) */
+#define PRIM_SHADING_NORMAL 0x200u /* a triangle with vertex normals, in shading_normals */
 
 /* With one shape kind in the build (feature_mask.h) the test folds away. */
 KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
@@ -190,14 +191,17 @@ typedef struct {
  * constants: ARRAY(name, element type). The kernel's signature, the
  * kernel's Scene and the host's upload (host/render/scene_upload.c) all
  * come from this one list. `distributions` holds the lights' sampling
- * distributions, `texels` their images (RGB floats). */
+ * distributions, `texels` their images (RGB floats), `shading_normals`
+ * the vertex normals of triangles flagged PRIM_SHADING_NORMAL (9 floats a
+ * primitive, in the BVH's order; empty when no triangle has them). */
 #define GMON_SCENE_ARRAYS(ARRAY)                                                                                       \
     ARRAY(nodes, BvhNode)                                                                                              \
     ARRAY(primitives, Primitive)                                                                                       \
     ARRAY(materials, Material)                                                                                         \
     ARRAY(lights, Light)                                                                                               \
     ARRAY(distributions, float)                                                                                        \
-    ARRAY(texels, float)
+    ARRAY(texels, float)                                                                                               \
+    ARRAY(shading_normals, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");

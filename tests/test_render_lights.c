@@ -136,6 +136,40 @@ static void test_distant_light(void **state)
     render_and_check(&scene, 1, 4, RHO / PI * 4.0 * 0.5, "distant light at 60 degrees");
 }
 
+/* Vertex normals shade: the plane's normals tilted 60 degrees toward a
+ * distant light at 60 degrees make it lit as if head-on (E = L), while
+ * the geometry (and so the ray offsets) stays flat. */
+static void test_vertex_normals_shade(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderScene scene;
+    plane_scene(&scene, 0.0f);
+    const float tilted[3] = {(float)sin(PI / 3.0), 0.0f, (float)cos(PI / 3.0)};
+    /* Both triangles of the plane get the same tilted normals. */
+    RenderScene shaded;
+    render_scene_init(&shaded);
+    shaded.constants = scene.constants;
+    for (int i = 0; i < scene.material_count; ++i)
+        assert_true(render_scene_add_material(&shaded, &scene.materials[i]) >= 0);
+    for (int i = 0; i < scene.primitive_count; ++i) {
+        const Primitive *p = &scene.primitives[i];
+        float a[3], b[3], c[3];
+        for (int k = 0; k < 3; ++k) {
+            a[k] = p->a[k];
+            b[k] = p->a[k] + p->b[k];
+            c[k] = p->a[k] + p->c[k];
+        }
+        assert_int_equal(render_scene_add_triangle(&shaded, a, b, c, p->material, NULL, 0, 0), 0);
+        assert_int_equal(render_scene_set_vertex_normals(&shaded, tilted, tilted, tilted), 0);
+    }
+    render_scene_destroy(&scene);
+    Light light = light_of(LIGHT_DISTANT, 4.0f);
+    memcpy(light.direction, tilted, sizeof light.direction);
+    assert_int_equal(render_scene_add_light(&shaded, &light), 0);
+    render_and_check(&shaded, 1, 4, RHO / PI * 4.0, "vertex normals facing the distant light");
+}
+
 /* An N x N environment image: `background` everywhere, one texel `bright`. */
 static float *environment(int n, float background, int bright_x, int bright_y, float bright)
 {
@@ -222,9 +256,9 @@ static void test_equal_area_mapping(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_equal_area_mapping), cmocka_unit_test(test_point_light),
-        cmocka_unit_test(test_spot_light),         cmocka_unit_test(test_distant_light),
-        cmocka_unit_test(test_environment_image),
+        cmocka_unit_test(test_equal_area_mapping),   cmocka_unit_test(test_point_light),
+        cmocka_unit_test(test_spot_light),           cmocka_unit_test(test_distant_light),
+        cmocka_unit_test(test_vertex_normals_shade), cmocka_unit_test(test_environment_image),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -23,6 +23,8 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->lights);
     free(scene->distributions);
     free(scene->texels);
+    free(scene->vertex_normals);
+    free(scene->shading_normals);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -42,6 +44,8 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.distributions_count = scene->distribution_count;
     a.texels = scene->texels;
     a.texels_count = scene->texel_count;
+    a.shading_normals = scene->shading_normals;
+    a.shading_normals_count = scene->shading_normals ? 9 * (size_t)scene->bvh.primitive_count : 0;
     return a;
 }
 
@@ -124,6 +128,27 @@ int render_scene_add_sphere(RenderScene *scene, const float centre[3], float rad
     p.kind = PRIM_SPHERE | (flip_normal ? PRIM_FLIP_NORMAL : 0u);
     p.material = material;
     return add_primitive(scene, &p, emission, two_sided, (float)(4.0 * 3.14159265358979323846 * radius * radius));
+}
+
+int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3])
+{
+    int last = scene->primitive_count - 1;
+    if ((size_t)scene->primitive_capacity > scene->vertex_normal_capacity) {
+        size_t capacity = (size_t)scene->primitive_capacity;
+        float *grown = realloc(scene->vertex_normals, capacity * 9 * sizeof *grown);
+        if (!grown)
+            return -1;
+        memset(grown + 9 * scene->vertex_normal_capacity, 0,
+               (capacity - scene->vertex_normal_capacity) * 9 * sizeof *grown);
+        scene->vertex_normals = grown;
+        scene->vertex_normal_capacity = capacity;
+    }
+    float *v = scene->vertex_normals + 9 * (size_t)last;
+    memcpy(v, na, 3 * sizeof *v);
+    memcpy(v + 3, nb, 3 * sizeof *v);
+    memcpy(v + 6, nc, 3 * sizeof *v);
+    scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
 }
 
 int render_scene_add_light(RenderScene *scene, const Light *light)
@@ -348,6 +373,22 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     }
     free(new_index);
 
+    /* Vertex normals follow their primitives into the BVH's order. */
+    free(scene->shading_normals);
+    scene->shading_normals = NULL;
+    if (scene->vertex_normals && scene->bvh.primitive_count > 0) {
+        size_t count = (size_t)scene->bvh.primitive_count;
+        scene->shading_normals = calloc(9 * count, sizeof *scene->shading_normals);
+        if (!scene->shading_normals) {
+            snprintf(error, error_size, "out of memory for the vertex normals");
+            return -1;
+        }
+        for (size_t i = 0; i < count; ++i)
+            if (scene->bvh.primitives[i].kind & PRIM_SHADING_NORMAL)
+                memcpy(scene->shading_normals + 9 * i, scene->vertex_normals + 9 * (size_t)scene->bvh.order[i],
+                       9 * sizeof *scene->shading_normals);
+    }
+
     /* Pick lights in proportion to their power. */
     double radius = scene_radius(&scene->bvh), total = 0.0;
     for (int i = 0; i < n; ++i)
@@ -394,6 +435,8 @@ uint32_t render_scene_features(const RenderScene *scene)
         features |= by_light[scene->lights[i].type];
     if (scene->constants.integrator.flags & RENDER_NEE)
         features |= FEATURE_NEE;
+    if (scene->shading_normals)
+        features |= FEATURE_SHADING_NORMALS;
     const FilmData *film = &scene->constants.film;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)

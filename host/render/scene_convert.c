@@ -49,6 +49,26 @@ static Material convert_material(const SceneMaterial *in)
     return m;
 }
 
+static int is_zero(const float v[3])
+{
+    return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
+}
+
+/* Whether the triangle's cross(v1 - v0, v2 - v0) points away from the sum
+ * of its vertex normals. */
+static int faces_against(const float *v[3], const float *n[3])
+{
+    double e1[3], e2[3], dot = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = (double)v[1][k] - v[0][k];
+        e2[k] = (double)v[2][k] - v[0][k];
+    }
+    double g[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int k = 0; k < 3; ++k)
+        dot += g[k] * ((double)n[0][k] + n[1][k] + n[2][k]);
+    return dot < 0.0;
+}
+
 /* The illuminance an image light of unit scale gives a surface facing its
  * light-space +z, as pbrt-v4 computes it for "illuminance". */
 static double image_illuminance(const RgbImage *image)
@@ -175,10 +195,17 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
         const SceneTriangle *t = &scene.triangles[i];
         const SceneShape *shape = &scene.shapes[t->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed = render_scene_add_triangle(
-                     out, &scene.positions[3 * (size_t)t->vertex[0]], &scene.positions[3 * (size_t)t->vertex[1]],
-                     &scene.positions[3 * (size_t)t->vertex[2]], shape->material, light ? light->radiance : NULL,
-                     light && light->two_sided, shape->flip_normal) != 0;
+        const float *v[3], *n[3] = {NULL, NULL, NULL};
+        for (int k = 0; k < 3; ++k) {
+            v[k] = &scene.positions[3 * (size_t)t->vertex[k]];
+            n[k] = scene.normals ? &scene.normals[3 * (size_t)t->vertex[k]] : NULL;
+        }
+        int flip = shape->flip_normal, shaded = n[0] && !is_zero(n[0]) && !is_zero(n[1]) && !is_zero(n[2]);
+        if (shaded) /* pbrt-v4 turns the geometric normal to the vertex normals' side */
+            flip = faces_against(v, n) ? !shape->flip_normal : shape->flip_normal;
+        failed = render_scene_add_triangle(out, v[0], v[1], v[2], shape->material, light ? light->radiance : NULL,
+                                           light && light->two_sided, flip) != 0 ||
+                 (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
     }
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
