@@ -136,6 +136,43 @@ static void test_distant_light(void **state)
     render_and_check(&scene, 1, 4, RHO / PI * 4.0 * 0.5, "distant light at 60 degrees");
 }
 
+/* A goniometric light with a constant image is a point light of that
+ * intensity; a projection light lights a point with the texel its
+ * direction projects to. */
+static void test_goniometric_and_projection_lights(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char error[256];
+    float grey[4 * 4 * 3];
+    for (int i = 0; i < 4 * 4 * 3; ++i)
+        grey[i] = 2.0f;
+    RenderScene scene;
+    plane_scene(&scene, 0.0f);
+    Light light = light_of(LIGHT_GONIOMETRIC, 1.5f);
+    light.position[2] = 1.0f;
+    for (int i = 0; i < 3; ++i)
+        light.light_from_world[i][i] = 1.0f;
+    assert_int_equal(render_scene_add_image_light(&scene, &light, 4, 4, grey, error, sizeof error), 0);
+    render_and_check(&scene, 1, 4, RHO / PI * 1.5 * 2.0, "goniometric light, constant image");
+
+    /* Pointing down (light +z is world -z), fov 90, from (0, -0.2, 1): the
+     * point at x = 0.2 is seen along light-space (0.2, 0.2, 1), in the 2x2
+     * image's texel (column 1, row 1), which alone is green. */
+    float slide[2 * 2 * 3] = {0};
+    slide[3 * 3 + 1] = 3.0f;
+    plane_scene(&scene, 0.2f);
+    light = light_of(LIGHT_PROJECTION, 1.0f);
+    light.position[1] = -0.2f;
+    light.position[2] = 1.0f;
+    light.light_from_world[0][0] = light.light_from_world[1][1] = 1.0f;
+    light.light_from_world[2][2] = -1.0f;
+    light.screen_half[0] = light.screen_half[1] = 1.0f;
+    assert_int_equal(render_scene_add_image_light(&scene, &light, 2, 2, slide, error, sizeof error), 0);
+    double d2 = 1.0 + 2.0 * 0.2 * 0.2;
+    render_and_check(&scene, 1, 4, RHO / PI * 3.0 / sqrt(d2) / d2, "projection light, one texel");
+}
+
 /* Vertex normals shade: the plane's normals tilted 60 degrees toward a
  * distant light at 60 degrees make it lit as if head-on (E = L), while
  * the geometry (and so the ray offsets) stays flat. */
@@ -258,7 +295,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_equal_area_mapping),   cmocka_unit_test(test_point_light),
         cmocka_unit_test(test_spot_light),           cmocka_unit_test(test_distant_light),
-        cmocka_unit_test(test_vertex_normals_shade), cmocka_unit_test(test_environment_image),
+        cmocka_unit_test(test_vertex_normals_shade), cmocka_unit_test(test_goniometric_and_projection_lights),
+        cmocka_unit_test(test_environment_image),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

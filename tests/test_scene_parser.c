@@ -569,7 +569,11 @@ static void test_infinite_light(void **state)
     load_fails(WORLD "LightSource \"infinite\" \"string filename\" \"sky.exr\" \"rgb L\" [1 1 1]\n", 2,
                "both \"L\" and \"filename\"");
     load_fails(WORLD "LightSource \"infinite\" \"spectrum L\" [ 300 1 800 1 ]\n", 2, "spectrum L");
-    load_fails(WORLD "LightSource \"goniometric\"\n", 2, "LightSource \"goniometric\" is not supported");
+    load_fails(WORLD "LightSource \"sun\"\n", 2, "LightSource \"sun\" is not supported");
+    load_fails(WORLD "LightSource \"projection\"\n", 2, "missing \"string filename\"");
+    load_fails(WORLD "LightSource \"projection\" \"string filename\" \"slide.png\" \"float fov\" 180\n", 2,
+               "fov must be in (0, 180)");
+    load_fails(WORLD "LightSource \"goniometric\" \"string filename\" \"missing.exr\"\n", 2, "cannot find");
     load_fails(WORLD "LightSource \"infinite\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\n", 2,
                "overflows single precision");
     load_fails(WORLD "LightSource \"infinite\" \"float illuminance\" 0\n", 2, "must be positive");
@@ -876,7 +880,7 @@ static void test_allow_unsupported_substitutes(void **state)
         "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
         "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
         "Shape \"disk\" \"float radius\" 1\n"                                        /* skipped */
-        "LightSource \"goniometric\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
+        "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                                  /* skipped */
         "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
         "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
         "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
@@ -894,7 +898,7 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "Texture is not supported; skipped"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
     assert_true(has_warning(&s, "Shape \"disk\" is not supported"));
-    assert_true(has_warning(&s, "LightSource \"goniometric\""));
+    assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "ObjectInstance"));
     assert_true(has_warning(&s, "phimax"));

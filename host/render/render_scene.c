@@ -203,36 +203,17 @@ static double write_cdf(const double *f, size_t n, float *cdf)
     return total;
 }
 
-int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
-                                 const float *rgb, char *error, size_t error_size)
+/* The piecewise-constant distribution of an image light at d (layout in
+ * scene_types.h). Returns 0, or -1 when out of memory. */
+static int write_distribution(const float *rgb, uint32_t width, uint32_t height, float *d)
 {
     size_t texels = (size_t)width * height;
-    size_t distribution = DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + texels;
-    if (width == 0 || height == 0 || scene->texel_count + 3 * texels > UINT32_MAX ||
-        scene->distribution_count + distribution > UINT32_MAX) {
-        snprintf(error, error_size, "an environment image of %ux%u texels is too large", width, height);
-        return -1;
-    }
-    Light added = *light;
-    added.type = LIGHT_IMAGE_INFINITE;
-    added.primitive = -1;
-    added.image_width = width;
-    added.image_height = height;
-    added.image_offset = (uint32_t)scene->texel_count;
-    added.distribution_offset = (uint32_t)scene->distribution_count;
-    float *t = grow_floats(&scene->texels, &scene->texel_count, &scene->texel_capacity, 3 * texels);
-    double *f = t ? malloc(texels * sizeof *f) : NULL;
-    double *rows = f ? malloc(height * sizeof *rows) : NULL;
-    float *d = rows ? grow_floats(&scene->distributions, &scene->distribution_count, &scene->distribution_capacity,
-                                  distribution)
-                    : NULL;
-    if (!d) {
+    double *f = malloc(texels * sizeof *f), *rows = malloc(height * sizeof *rows);
+    if (!f || !rows) {
         free(f);
         free(rows);
-        snprintf(error, error_size, "out of memory for an environment image of %ux%u texels", width, height);
         return -1;
     }
-    memcpy(t, rgb, 3 * texels * sizeof *t);
     float *function = d + DISTRIBUTION_FUNCTION((size_t)width, (size_t)height);
     for (size_t i = 0; i < texels; ++i) {
         f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0;
@@ -240,14 +221,42 @@ int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_
     }
     for (uint32_t y = 0; y < height; ++y)
         rows[y] = write_cdf(f + (size_t)y * width, width, d + 1 + (height + 1u) + (size_t)y * (width + 1u));
-    double total = write_cdf(rows, height, d + 1);
-    d[0] = (float)(total / (double)texels);
+    d[0] = (float)(write_cdf(rows, height, d + 1) / (double)texels);
     free(f);
     free(rows);
-    if (render_scene_add_light(scene, &added)) {
-        snprintf(error, error_size, "out of memory");
+    return 0;
+}
+
+int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
+                                 const float *rgb, char *error, size_t error_size)
+{
+    /* Goniometric and projection lights are delta lights: never sampled by
+     * their image, so they need no distribution. */
+    int infinite = light->type != LIGHT_GONIOMETRIC && light->type != LIGHT_PROJECTION;
+    size_t texels = (size_t)width * height;
+    size_t distribution = infinite ? DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + texels : 0;
+    if (width == 0 || height == 0 || scene->texel_count + 3 * texels > UINT32_MAX ||
+        scene->distribution_count + distribution > UINT32_MAX) {
+        snprintf(error, error_size, "a light image of %ux%u texels is too large", width, height);
         return -1;
     }
+    Light added = *light;
+    added.type = infinite ? LIGHT_IMAGE_INFINITE : light->type;
+    added.primitive = -1;
+    added.image_width = width;
+    added.image_height = height;
+    added.image_offset = (uint32_t)scene->texel_count;
+    added.distribution_offset = (uint32_t)scene->distribution_count;
+    float *t = grow_floats(&scene->texels, &scene->texel_count, &scene->texel_capacity, 3 * texels);
+    float *d = t && infinite ? grow_floats(&scene->distributions, &scene->distribution_count,
+                                           &scene->distribution_capacity, distribution)
+                             : NULL;
+    if (!t || (infinite && (!d || write_distribution(rgb, width, height, d))) ||
+        render_scene_add_light(scene, &added)) {
+        snprintf(error, error_size, "out of memory for a light image of %ux%u texels", width, height);
+        return -1;
+    }
+    memcpy(t, rgb, 3 * texels * sizeof *t);
     return 0;
 }
 
@@ -304,6 +313,33 @@ static double scene_radius(const Bvh *bvh)
     return 0.5 * sqrt(d2);
 }
 
+/* pbrt-v4's power of a goniometric light (4 pi times its mean intensity)
+ * or a projection light (the screen's area times the mean of its texels
+ * times cos^3, the solid angle of a texel over its screen area). */
+static double image_light_power(const RenderScene *scene, const Light *light)
+{
+    const float *t = scene->texels + light->image_offset;
+    uint32_t w = light->image_width, h = light->image_height;
+    double sum = 0.0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float *texel = t + 3 * ((size_t)y * w + x);
+            float rgb[3] = {texel[0] * light->radiance[0], texel[1] * light->radiance[1],
+                            texel[2] * light->radiance[2]};
+            double weight = 1.0;
+            if (light->type == LIGHT_PROJECTION) {
+                double sx = (2.0 * (x + 0.5) / w - 1.0) * light->screen_half[0];
+                double sy = (2.0 * (y + 0.5) / h - 1.0) * light->screen_half[1];
+                weight = pow(1.0 / sqrt(sx * sx + sy * sy + 1.0), 3.0);
+            }
+            sum += luminance(rgb) * weight;
+        }
+    double mean = sum / ((double)w * h);
+    const double pi = 3.14159265358979323846;
+    return light->type == LIGHT_PROJECTION ? 4.0 * light->screen_half[0] * light->screen_half[1] * mean
+                                           : 4.0 * pi * mean;
+}
+
 /* pbrt-v4's light power (Light::Phi), by luminance. */
 static double light_power(const RenderScene *scene, const Light *light, double radius)
 {
@@ -332,6 +368,9 @@ static double light_power(const RenderScene *scene, const Light *light, double r
         }
         return 4.0 * pi * pi * radius * radius * sum / (double)n;
     }
+    case LIGHT_GONIOMETRIC:
+    case LIGHT_PROJECTION:
+        return image_light_power(scene, light);
     }
     return 0.0;
 }
@@ -430,6 +469,8 @@ uint32_t render_scene_features(const RenderScene *scene)
         [LIGHT_DISTANT] = FEATURE_DISTANT_LIGHTS,
         [LIGHT_UNIFORM_INFINITE] = FEATURE_ENVIRONMENT,
         [LIGHT_IMAGE_INFINITE] = FEATURE_ENVIRONMENT_MAP,
+        [LIGHT_GONIOMETRIC] = FEATURE_GONIOMETRIC_LIGHTS,
+        [LIGHT_PROJECTION] = FEATURE_PROJECTION_LIGHTS,
     };
     for (int i = 0; i < scene->light_count; ++i)
         features |= by_light[scene->lights[i].type];

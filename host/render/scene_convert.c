@@ -84,38 +84,70 @@ static double image_illuminance(const RgbImage *image)
     return sum * 2.0 * 3.14159265358979323846 / ((double)image->width * image->height);
 }
 
-/* An image light: its file read, checked and uploaded. Returns 0 or -1. */
+/* The power of a goniometric or projection light of unit scale: 4 pi
+ * times the image's mean, or the screen's area times the mean of
+ * luminance times cos^3 (pbrt-v4's "power" rules). */
+static double imaged_light_power(const RgbImage *image, const Light *light)
+{
+    double sum = 0.0;
+    for (uint32_t y = 0; y < image->height; ++y)
+        for (uint32_t x = 0; x < image->width; ++x) {
+            const float *rgb = image->rgb + 3 * ((size_t)y * image->width + x);
+            if (light->type == LIGHT_GONIOMETRIC) {
+                sum += rgb[0]; /* grey by now */
+                continue;
+            }
+            double sx = (2.0 * (x + 0.5) / image->width - 1.0) * light->screen_half[0];
+            double sy = (2.0 * (y + 0.5) / image->height - 1.0) * light->screen_half[1];
+            double cos_theta = 1.0 / sqrt(sx * sx + sy * sy + 1.0);
+            sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) * cos_theta * cos_theta * cos_theta;
+        }
+    double mean = sum / ((double)image->width * image->height);
+    return light->type == LIGHT_GONIOMETRIC ? 4.0 * 3.14159265358979323846 * mean
+                                            : 4.0 * light->screen_half[0] * light->screen_half[1] * mean;
+}
+
+/* A light with an image (infinite, goniometric, projection): its file
+ * read, checked and uploaded. Returns 0 or -1. */
 static int add_image_light(RenderScene *out, const SceneLight *in, Light *light, char *error, size_t error_size)
 {
     RgbImage image;
     char why[512];
     if (image_read_rgb(in->filename, &image, why, sizeof why) != IMAGE_IO_OK) {
-        snprintf(error, error_size, "%s: LightSource \"infinite\": %s", in->origin, why);
+        snprintf(error, error_size, "%s: LightSource: %s", in->origin, why);
         return -1;
     }
     int result = 0;
     size_t n = (size_t)image.width * image.height * 3;
-    if (image.width != image.height) {
-        snprintf(error, error_size,
-                 "%s: LightSource \"infinite\": \"%s\" is %ux%u, not square: not an equal-area environment map",
-                 in->origin, in->filename, image.width, image.height);
+    if (image.width != image.height && in->type != SCENE_LIGHT_PROJECTION) {
+        snprintf(error, error_size, "%s: LightSource: \"%s\" is %ux%u, not square: not an equal-area image", in->origin,
+                 in->filename, image.width, image.height);
         result = -1;
     }
     for (size_t i = 0; i < n && !result; ++i)
         if (!isfinite(image.rgb[i])) {
-            snprintf(error, error_size, "%s: LightSource \"infinite\": \"%s\" has non-finite texels", in->origin,
-                     in->filename);
+            snprintf(error, error_size, "%s: LightSource: \"%s\" has non-finite texels", in->origin, in->filename);
             result = -1;
         } else if (image.rgb[i] < 0.0f) {
             image.rgb[i] = 0.0f; /* pbrt-v4 clamps them to zero */
         }
-    if (!result && in->illuminance > 0.0f) {
-        double e = image_illuminance(&image);
+    for (size_t i = 0; in->type == SCENE_LIGHT_GONIOMETRIC && i < n; i += 3) {
+        float grey = (image.rgb[i] + image.rgb[i + 1] + image.rgb[i + 2]) / 3.0f; /* pbrt-v4 averages them */
+        image.rgb[i] = image.rgb[i + 1] = image.rgb[i + 2] = grey;
+    }
+    if (in->type == SCENE_LIGHT_PROJECTION) { /* fov spans the shorter axis */
+        double t = tan(in->fov * 3.14159265358979323846 / 360.0), aspect = (double)image.width / image.height;
+        light->screen_half[0] = (float)(aspect > 1.0 ? aspect * t : t);
+        light->screen_half[1] = (float)(aspect > 1.0 ? t : t / aspect);
+    }
+    double target = in->type == SCENE_LIGHT_IMAGE ? in->illuminance : in->power;
+    if (!result && target > 0.0) {
+        double unit = in->type == SCENE_LIGHT_IMAGE ? image_illuminance(&image) : imaged_light_power(&image, light);
         for (int c = 0; c < 3; ++c)
-            light->radiance[c] = e > 0.0 ? (float)(light->radiance[c] * in->illuminance / e) : 0.0f;
+            light->radiance[c] = unit > 0.0 ? (float)(light->radiance[c] * target / unit) : 0.0f;
     }
     if (!result && render_scene_add_image_light(out, light, image.width, image.height, image.rgb, why, sizeof why)) {
-        snprintf(error, error_size, "%s: LightSource \"infinite\": %s", in->origin, why);
+        snprintf(error, error_size, "%s: LightSource: %s", in->origin, why);
         result = -1;
     }
     rgb_image_free(&image);
@@ -126,9 +158,10 @@ static int add_image_light(RenderScene *out, const SceneLight *in, Light *light,
 static int add_light(RenderScene *out, const SceneLight *in, char *error, size_t error_size)
 {
     static const uint32_t types[] = {
-        [SCENE_LIGHT_POINT] = LIGHT_POINT,          [SCENE_LIGHT_SPOT] = LIGHT_SPOT,
-        [SCENE_LIGHT_DISTANT] = LIGHT_DISTANT,      [SCENE_LIGHT_INFINITE] = LIGHT_UNIFORM_INFINITE,
-        [SCENE_LIGHT_IMAGE] = LIGHT_IMAGE_INFINITE,
+        [SCENE_LIGHT_POINT] = LIGHT_POINT,           [SCENE_LIGHT_SPOT] = LIGHT_SPOT,
+        [SCENE_LIGHT_DISTANT] = LIGHT_DISTANT,       [SCENE_LIGHT_INFINITE] = LIGHT_UNIFORM_INFINITE,
+        [SCENE_LIGHT_IMAGE] = LIGHT_IMAGE_INFINITE,  [SCENE_LIGHT_GONIOMETRIC] = LIGHT_GONIOMETRIC,
+        [SCENE_LIGHT_PROJECTION] = LIGHT_PROJECTION,
     };
     Light light;
     memset(&light, 0, sizeof light);
@@ -140,7 +173,7 @@ static int add_light(RenderScene *out, const SceneLight *in, char *error, size_t
     light.cos_falloff_start = in->cos_falloff_start;
     light.cos_total_width = in->cos_total_width;
     memcpy(light.light_from_world, in->light_from_world, sizeof light.light_from_world);
-    if (in->type == SCENE_LIGHT_IMAGE)
+    if (in->filename)
         return add_image_light(out, in, &light, error, error_size);
     if (render_scene_add_light(out, &light)) {
         snprintf(error, error_size, "%s: out of memory", in->origin);

@@ -1113,11 +1113,15 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         result = require_world(p, lex, d, 1);
     const int is_point = token_is(&type, "point"), is_spot = token_is(&type, "spot");
     const int is_distant = token_is(&type, "distant"), is_infinite = token_is(&type, "infinite");
-    if (result == 0 && !is_point && !is_spot && !is_distant && !is_infinite) {
+    const int is_goniometric = token_is(&type, "goniometric"), is_projection = token_is(&type, "projection");
+    const int is_imaged = is_goniometric || is_projection; /* point lights shaped by an image */
+    if (result == 0 && !is_point && !is_spot && !is_distant && !is_infinite && !is_imaged) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
         result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
-                                   "LightSource %s is not supported (point, spot, distant, infinite)", shown);
+                                   "LightSource %s is not supported (point, spot, distant, infinite, goniometric, "
+                                   "projection)",
+                                   shown);
         params_free(&params);
         return result;
     }
@@ -1128,14 +1132,28 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     SceneLight light;
     memset(&light, 0, sizeof light);
     light.illuminance = -1.0f;
+    light.power = -1.0f;
+    light.fov = 90.0f;
     float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f, power = -1.0f, illuminance = -1.0f;
     const char *filename = NULL;
     int has_L = 0;
     const double pi = 3.14159265358979323846;
     mat4 *ctm = &p->state.ctm;
     result = params_get_float(&params, "scale", &scale) < 0;
-    if (!result && (is_point || is_spot))
-        result = params_get_rgb(&params, "I", 0, L) < 0 || params_get_float(&params, "power", &power) < 0;
+    if (!result && (is_point || is_spot || is_goniometric))
+        result = params_get_rgb(&params, "I", 0, L) < 0;
+    if (!result && (is_point || is_spot || is_imaged))
+        result = params_get_float(&params, "power", &power) < 0;
+    if (!result && is_imaged)
+        result = params_get_string(&params, "filename", &filename) < 0;
+    if (!result && is_projection) {
+        result = params_get_float(&params, "fov", &light.fov) < 0;
+        if (!result && !filename)
+            result = scene_error(&p->diag, lex->path, d->line, "%s: missing \"string filename\"", params.owner);
+        if (!result && !(light.fov > 0.0f && light.fov < 180.0f))
+            result = scene_error(&p->diag, lex->path, d->line, "%s: fov must be in (0, 180), got %g", params.owner,
+                                 (double)light.fov);
+    }
     if (!result && (is_distant || is_infinite))
         result = (has_L = params_get_rgb(&params, "L", 0, L)) < 0 ||
                  params_get_float(&params, "illuminance", &illuminance) < 0;
@@ -1154,8 +1172,10 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
                              "%s: scale must not be negative, power and illuminance must be positive", params.owner);
     double from[3], to[3];
     static const float origin[3] = {0.0f, 0.0f, 0.0f}, ahead[3] = {0.0f, 0.0f, 1.0f};
-    if (!result && !is_infinite)
+    if (!result && !is_infinite && !is_imaged)
         result = light_point(&params, "from", origin, from) || light_point(&params, "to", ahead, to);
+    for (int c = 0; c < 3 && is_imaged; ++c)
+        from[c] = 0.0; /* at the CTM's origin */
     if (!result && is_spot) {
         float cone = 30.0f, delta = 5.0f;
         result = params_get_float(&params, "coneangle", &cone) < 0 ||
@@ -1184,6 +1204,15 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         light.type = SCENE_LIGHT_DISTANT;
         if (illuminance > 0.0f)
             k *= illuminance;
+    } else if (!result && is_goniometric && !filename) {
+        light.type = SCENE_LIGHT_POINT; /* pbrt-v4 warns and renders it without an image */
+        result =
+            scene_warn(&p->diag, lex->path, d->line, "%s: no \"filename\": an isotropic point light", params.owner);
+        if (power > 0.0f)
+            k *= power / (4.0 * pi);
+    } else if (!result && is_imaged) {
+        light.type = is_goniometric ? SCENE_LIGHT_GONIOMETRIC : SCENE_LIGHT_PROJECTION;
+        light.power = power; /* needs the image: scene_convert applies it */
     } else if (!result) {
         light.type = filename ? SCENE_LIGHT_IMAGE : SCENE_LIGHT_INFINITE;
         if (filename)
@@ -1193,13 +1222,13 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     }
     double radiance[3];
     for (int c = 0; c < 3; ++c)
-        radiance[c] = (light.type == SCENE_LIGHT_IMAGE ? 1.0 : (double)L[c]) * k;
+        radiance[c] = (light.type == SCENE_LIGHT_IMAGE || is_projection ? 1.0 : (double)L[c]) * k;
     if (!result)
         result = check_radiance(p, lex, d, params.owner, radiance);
     for (int c = 0; c < 3; ++c)
         light.radiance[c] = (float)radiance[c];
 
-    if (!result && (is_point || is_spot)) {
+    if (!result && (is_point || is_spot || is_imaged)) {
         float from_f[3] = {(float)from[0], (float)from[1], (float)from[2]};
         transform_point(*ctm, from_f, light.position);
         if (!within_range(light.position))
@@ -1218,26 +1247,30 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         for (int c = 0; c < 3; ++c)
             light.direction[c] = (float)w[c];
     }
-    if (!result && light.type == SCENE_LIGHT_IMAGE) {
+    if (!result && (light.type == SCENE_LIGHT_IMAGE || is_imaged) && filename) {
         /* Light space is object space: the rows of the CTM's inverse
-         * rotation (its transpose, for a rotation times a uniform scale). */
+         * rotation (its transpose, for a rotation times a uniform scale);
+         * pbrt-v4 swaps a goniometric light's y and z, and flips a
+         * projection light's y (its image's rows run down). */
         double s;
         if (!is_similarity(*ctm, &s) || !(s > 0.0))
             result = scene_unsupported(&p->diag, lex->path, d->line, "its non-uniform scale or shear is ignored",
-                                       "LightSource \"infinite\": the transform is not a rotation and uniform scale");
+                                       "%s: the transform is not a rotation and uniform scale", params.owner);
         for (int r = 0; r < 3; ++r) {
-            double row[3] = {(*ctm)[r][0], (*ctm)[r][1], (*ctm)[r][2]}; /* column r of the CTM */
+            int column = is_goniometric && r > 0 ? 3 - r : r;
+            double sign = is_projection && r == 1 ? -1.0 : 1.0;
+            double row[3] = {(*ctm)[column][0], (*ctm)[column][1], (*ctm)[column][2]}; /* a column of the CTM */
             normalize_d(row);
             for (int c = 0; c < 3; ++c)
-                light.light_from_world[r][c] = (float)row[c];
+                light.light_from_world[r][c] = (float)(sign * row[c]);
         }
         if (!result) {
             light.filename = resolve_path(p, lex->path, filename);
             if (!light.filename)
                 result = out_of_memory(p, lex->path, d->line);
             else if (!file_exists(light.filename))
-                result = scene_error(&p->diag, lex->path, d->line, "LightSource \"infinite\": cannot find \"%s\"",
-                                     light.filename);
+                result =
+                    scene_error(&p->diag, lex->path, d->line, "%s: cannot find \"%s\"", params.owner, light.filename);
         }
     }
     if (!result) {

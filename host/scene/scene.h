@@ -104,6 +104,8 @@ typedef enum {
     SCENE_LIGHT_DISTANT,
     SCENE_LIGHT_INFINITE, /* uniform */
     SCENE_LIGHT_IMAGE,    /* infinite, from an equal-area square image */
+    SCENE_LIGHT_GONIOMETRIC,
+    SCENE_LIGHT_PROJECTION,
 } SceneLightType;
 
 typedef struct {
@@ -112,9 +114,11 @@ typedef struct {
     float position[3];                        /* point, spot: world space */
     float direction[3];                       /* spot: unit, the way it shines; distant: unit, toward the light */
     float cos_falloff_start, cos_total_width; /* spot */
-    float light_from_world[3][3];             /* image: rows of the rotation into light space */
-    char *filename;                           /* image: the path to open */
+    float light_from_world[3][3];             /* image, goniometric, projection: rows of the rotation */
+    char *filename;                           /* image, goniometric, projection: the path to open */
     float illuminance;                        /* image: target illuminance (pbrt-v4's), or -1 */
+    float power;                              /* goniometric, projection: target power, or -1 */
+    float fov;                                /* projection: degrees, across the image's shorter axis */
     char *origin;                             /* "file:line" of the directive, for messages */
 } SceneLight;
 
