@@ -19,6 +19,7 @@ void scene_destroy(Scene *scene)
 {
     free(scene->film_filename);
     free(scene->sampler);
+    free(scene->light_sampler);
     free(scene->materials);
     free(scene->shapes);
     free(scene->area_lights);
@@ -29,6 +30,17 @@ void scene_destroy(Scene *scene)
     for (size_t i = 0; i < scene->warning_count; ++i)
         free(scene->warnings[i]);
     free(scene->warnings);
+    for (size_t i = 0; i < scene->note_count; ++i)
+        free(scene->notes[i]);
+    free(scene->notes);
+    for (size_t i = 0; i < scene->diagnostic_count; ++i) {
+        SceneDiagnostic *d = &scene->diagnostics[i];
+        free(d->file);
+        free(d->message);
+        free(d->substitute);
+        free(d->path);
+    }
+    free(scene->diagnostics);
     memset(scene, 0, sizeof *scene);
 }
 
@@ -73,24 +85,36 @@ int scene_error(Diagnostics *diag, const char *file, int line, const char *forma
     return -1;
 }
 
-static int add_warning(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format,
-                       va_list args)
+/* Appends a copy of `text` to lines[*count], unless it is there already
+ * (the same line of a file included twice says the same thing twice). */
+static int append_unique(char ***lines, size_t *count, const char *text)
+{
+    for (size_t i = 0; i < *count; ++i)
+        if (strcmp((*lines)[i], text) == 0)
+            return 0;
+    char *copy = scene_strndup(text, strlen(text));
+    char **grown = copy ? realloc(*lines, (*count + 1) * sizeof *grown) : NULL;
+    if (!grown) {
+        free(copy);
+        return -1;
+    }
+    *lines = grown;
+    (*lines)[(*count)++] = copy;
+    return 0;
+}
+
+/* "file:line: <prefix>message[; substitute]" appended to lines (once). */
+static int add_line(Diagnostics *diag, char ***lines, size_t *count, const char *file, int line, const char *prefix,
+                    const char *substitute, const char *format, va_list args)
 {
     char text[512];
-    format_located(text, sizeof text, file, line, "warning: ", format, args);
+    format_located(text, sizeof text, file, line, prefix, format, args);
     if (substitute) {
         size_t n = strlen(text);
         snprintf(text + n, sizeof text - n, "; %s", substitute);
     }
-    Scene *scene = diag->scene;
-    char *copy = scene_strndup(text, strlen(text));
-    char **grown = copy ? realloc(scene->warnings, (scene->warning_count + 1) * sizeof *grown) : NULL;
-    if (!grown) {
-        free(copy);
+    if (append_unique(lines, count, text))
         return scene_error(diag, file, line, "out of memory");
-    }
-    scene->warnings = grown;
-    scene->warnings[scene->warning_count++] = copy;
     return 0;
 }
 
@@ -98,9 +122,53 @@ int scene_warn(Diagnostics *diag, const char *file, int line, const char *format
 {
     va_list args;
     va_start(args, format);
-    int result = add_warning(diag, file, line, NULL, format, args);
+    Scene *s = diag->scene;
+    int result = add_line(diag, &s->warnings, &s->warning_count, file, line, "warning: ", NULL, format, args);
     va_end(args);
     return result;
+}
+
+int scene_note(Diagnostics *diag, const char *file, int line, const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    Scene *s = diag->scene;
+    int result = add_line(diag, &s->notes, &s->note_count, file, line, "note: ", NULL, format, args);
+    va_end(args);
+    return result;
+}
+
+static int same_text(const char *a, const char *b)
+{
+    return a == b || (a && b && strcmp(a, b) == 0);
+}
+
+/* Records a check-mode diagnostic, once for each distinct one. */
+static int add_diagnostic(Diagnostics *diag, SceneDiagnosticKind kind, const char *file, int line, const char *message,
+                          const char *substitute, const char *path)
+{
+    Scene *s = diag->scene;
+    for (size_t i = 0; i < s->diagnostic_count; ++i) {
+        const SceneDiagnostic *d = &s->diagnostics[i];
+        if (d->kind == kind && d->line == line && strcmp(d->file, file) == 0 && strcmp(d->message, message) == 0 &&
+            same_text(d->substitute, substitute) && same_text(d->path, path))
+            return 0;
+    }
+    SceneDiagnostic *grown = realloc(s->diagnostics, (s->diagnostic_count + 1) * sizeof *grown);
+    if (!grown)
+        return scene_error(diag, file, line, "out of memory");
+    s->diagnostics = grown;
+    SceneDiagnostic *d = &s->diagnostics[s->diagnostic_count];
+    d->kind = kind;
+    d->line = line;
+    d->file = scene_strndup(file, strlen(file));
+    d->message = scene_strndup(message, strlen(message));
+    d->substitute = substitute ? scene_strndup(substitute, strlen(substitute)) : NULL;
+    d->path = path ? scene_strndup(path, strlen(path)) : NULL;
+    s->diagnostic_count++; /* counted even when a copy failed: scene_destroy frees what there is */
+    if (!d->file || !d->message || (substitute && !d->substitute) || (path && !d->path))
+        return scene_error(diag, file, line, "out of memory");
+    return 0;
 }
 
 int scene_unsupported(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format, ...)
@@ -108,12 +176,26 @@ int scene_unsupported(Diagnostics *diag, const char *file, int line, const char 
     va_list args;
     va_start(args, format);
     int result = -1;
-    if (diag->allow_unsupported)
-        result = add_warning(diag, file, line, substitute, format, args);
-    else if (diag->error && diag->error_size > 0)
+    Scene *s = diag->scene;
+    if (diag->check) {
+        char message[512];
+        vsnprintf(message, sizeof message, format, args);
+        result = add_diagnostic(diag, SCENE_DIAGNOSTIC_UNSUPPORTED, file, line, message, substitute, NULL);
+    } else if (diag->allow_unsupported) {
+        result = add_line(diag, &s->warnings, &s->warning_count, file, line, "warning: ", substitute, format, args);
+    } else if (diag->error && diag->error_size > 0) {
         format_located(diag->error, diag->error_size, file, line, "", format, args);
+    }
     va_end(args);
     return result;
+}
+
+int scene_missing_file(Diagnostics *diag, const char *file, int line, const char *path, const char *what)
+{
+    struct stat st;
+    if (!diag->check || stat(path, &st) == 0 || errno != ENOENT)
+        return 0; /* there (or unreadable for another reason, which reading reports) */
+    return add_diagnostic(diag, SCENE_DIAGNOSTIC_MISSING_FILE, file, line, what, NULL, path) ? -1 : 1;
 }
 
 int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size)

@@ -19,6 +19,7 @@ typedef struct {
     char *error;
     size_t error_size;
     int allow_unsupported;
+    int check; /* SceneLoadOptions.check: record diagnostics and go on */
     Scene *scene;
 } Diagnostics;
 
@@ -26,14 +27,26 @@ typedef struct {
  * error buffer. Returns -1, for `return scene_error(...)`. */
 int scene_error(Diagnostics *diag, const char *file, int line, const char *format, ...) SCENE_PRINTF(4, 5);
 
-/* Appends "file:line: warning: message" to the scene's warnings. Returns 0,
- * or -1 (with an error) when out of memory. */
+/* Appends "file:line: warning: message" to the scene's warnings, unless
+ * the same line is there already (a file included twice). Returns 0, or -1
+ * (with an error) when out of memory. */
 int scene_warn(Diagnostics *diag, const char *file, int line, const char *format, ...) SCENE_PRINTF(4, 5);
 
-/* An unsupported feature: an error, or with allow_unsupported a warning
- * that ends "; <substitute>" (what is used instead). Returns -1 or 0. */
+/* Appends "file:line: note: message" to the scene's notes (once): what
+ * gmonrt does differently from pbrt-v4 without changing the expected image. */
+int scene_note(Diagnostics *diag, const char *file, int line, const char *format, ...) SCENE_PRINTF(4, 5);
+
+/* An unsupported feature: an error; with allow_unsupported a warning that
+ * ends "; <substitute>" (what is used instead); in check mode a diagnostic.
+ * Returns -1 or 0 (go on with the substitute). */
 int scene_unsupported(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format, ...)
     SCENE_PRINTF(5, 6);
+
+/* In check mode, records `path` as missing when nothing is there and
+ * returns 1: the caller skips what needs the file (`what` names it, e.g.
+ * Shape "plymesh"). Otherwise returns 0 and the caller reads the file (an
+ * error if that fails); -1 when out of memory. */
+int scene_missing_file(Diagnostics *diag, const char *file, int line, const char *path, const char *what);
 
 /* Grows *array (of item_size-byte items, *capacity of them) to hold `needed`.
  * Returns 0, or -1 when out of memory or the size overflows. */
