@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "scene/scene.h"
+#include "scene/scene_internal.h" /* scene_read_file, for its size limit on gzip data */
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 #include <unistd.h>
 
 #include <cmocka.h>
+#include <zlib.h>
 
 #ifndef GMON_SOURCE_DIR
 #define GMON_SOURCE_DIR "."
@@ -1100,6 +1102,102 @@ static void test_ply_binary(void **state)
     }
 }
 
+/* data[0, size) compressed as one gzip member into out (malloc'd). */
+static size_t gzip_bytes(const void *data, size_t size, unsigned char **out)
+{
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    assert_int_equal(deflateInit2(&z, 9, Z_DEFLATED, 16 + MAX_WBITS, 9, Z_DEFAULT_STRATEGY), Z_OK);
+    size_t capacity = deflateBound(&z, (uLong)size);
+    *out = malloc(capacity);
+    z.next_in = (Bytef *)data;
+    z.avail_in = (uInt)size;
+    z.next_out = *out;
+    z.avail_out = (uInt)capacity;
+    assert_int_equal(deflate(&z, Z_FINISH), Z_STREAM_END);
+    size_t length = capacity - z.avail_out;
+    deflateEnd(&z);
+    return length;
+}
+
+static const char *write_gzip(const char *relative, const char *text)
+{
+    unsigned char *packed;
+    size_t length = gzip_bytes(text, strlen(text), &packed);
+    const char *path = write_bytes(relative, packed, length);
+    free(packed);
+    return path;
+}
+
+/* gzip files (pbrt-v4 reads .pbrt.gz and .ply.gz) are recognised by their
+ * magic bytes, whatever their name; corrupt or truncated data is an error,
+ * and the size limit applies to the inflated data. */
+static void test_gzip_files(void **state)
+{
+    (void)state;
+    const char *ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    write_gzip("gz/mesh.ply.gz", ply);
+    write_gzip("gz/named-plainly.ply", ply);
+    write_gzip("gz/part.pbrt.gz", "Translate 0 0 2\nShape \"plymesh\" \"string filename\" \"mesh.ply.gz\"\n");
+    const char *main_path =
+        write_gzip("gz/main.pbrt.gz", WORLD "Include \"part.pbrt.gz\"\n"
+                                            "Shape \"plymesh\" \"string filename\" \"named-plainly.ply\"\n");
+    Scene s;
+    if (scene_load(main_path, NULL, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.triangle_count, 2);
+    assert_vec3(vertex(&s, 0, 1), 1, 0, 2);
+    assert_vec3(vertex(&s, 1, 2), 0, 1, 2); /* the Translate of part.pbrt.gz still applies */
+    scene_destroy(&s);
+
+    /* Two members, as `cat a.gz b.gz` makes: the text of both. */
+    unsigned char *first, *second;
+    size_t first_length = gzip_bytes(WORLD, strlen(WORLD), &first);
+    size_t second_length = gzip_bytes(TRIANGLE, strlen(TRIANGLE), &second);
+    unsigned char both[1024];
+    assert_true(first_length + second_length <= sizeof both);
+    memcpy(both, first, first_length);
+    memcpy(both + first_length, second, second_length);
+    assert_int_equal(
+        scene_load(write_bytes("gz/two.pbrt", both, first_length + second_length), NULL, &s, error, sizeof error), 0);
+    assert_int_equal(s.triangle_count, 1);
+    scene_destroy(&s);
+
+    /* Corrupt and truncated data. */
+    unsigned char *packed;
+    size_t length = gzip_bytes(ply, strlen(ply), &packed);
+    write_bytes("gz/truncated.ply", packed, length / 2);
+    memset(packed + 10, 0xff, 8); /* the first deflate block's header and codes */
+    write_bytes("gz/corrupt.ply", packed, length);
+    free(packed);
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"gz/corrupt.ply\"\n", 2,
+               "gz/corrupt.ply\": cannot read: corrupt gzip data: invalid");
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"gz/truncated.ply\"\n", 2,
+               "cannot read: corrupt gzip data: the file ends inside the compressed stream");
+    free(first);
+    free(second);
+
+    /* A small file that inflates to far more than the limit stops there. */
+    size_t big = (size_t)1 << 22;
+    char *zeros = calloc(big, 1);
+    length = gzip_bytes(zeros, big, &packed);
+    free(zeros);
+    assert_true(length < 8192);
+    const char *bomb = write_bytes("gz/bomb.ply", packed, length);
+    free(packed);
+    char *data, why[128];
+    size_t size;
+    assert_int_equal(scene_read_file(bomb, big - 1, &data, &size, why, sizeof why), -1);
+    assert_string_equal(why, "over the 4194303 bytes limit once uncompressed");
+    assert_null(data);
+    assert_int_equal(scene_read_file(bomb, big, &data, &size, why, sizeof why), 0);
+    assert_int_equal(size, big);
+    assert_int_equal(data[big - 1], 0);
+    free(data);
+}
+
 static void test_ply_errors(void **state)
 {
     (void)state;
@@ -1403,6 +1501,7 @@ int main(void)
         cmocka_unit_test(test_ply_ascii),
         cmocka_unit_test(test_ply_binary),
         cmocka_unit_test(test_ply_errors),
+        cmocka_unit_test(test_gzip_files),
         cmocka_unit_test(test_include_and_import),
         cmocka_unit_test(test_paths_resolve_as_pbrt),
         cmocka_unit_test(test_warnings_once),

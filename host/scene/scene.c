@@ -265,6 +265,12 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
         close(fd);
         return -1;
     }
+    unsigned char magic[2];
+    if (pread(fd, magic, 2, 0) == 2 && magic[0] == 0x1f && magic[1] == 0x8b) {
+        int result = scene_read_gzip(fd, max_size, limit, data, size, why, why_size);
+        close(fd);
+        return result;
+    }
     /* Read to the end, not just st_size bytes (the file may have grown),
      * but never more than one byte past the limit, plus the NUL. */
     size_t most = max_size + 2, capacity = (size_t)st.st_size + 2, length = 0;

@@ -59,9 +59,16 @@ int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_siz
 
 /* Reads the whole of `path` into *data (NUL-terminated, *size bytes before
  * the NUL). Only a regular file of at most max_size bytes is read (a device
- * such as /dev/zero would be read forever, a FIFO could block). Returns 0,
+ * such as /dev/zero would be read forever, a FIFO could block); a gzip file
+ * is inflated, to at most max_size bytes. Returns 0,
  * or -1 with the reason (without the path) in `why`. */
 int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size);
+
+/* The rest of scene_read_file for a file that starts with gzip's magic
+ * bytes (1f 8b): inflates all of fd, at most max_size bytes of it (`limit`
+ * names that size in messages). A corrupt stream is "corrupt gzip data:
+ * <zlib's message>". */
+int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, size_t *size, char *why, size_t why_size);
 
 /* A copy of text[0, length) with a terminating NUL, or NULL. */
 char *scene_strndup(const char *text, size_t length);
