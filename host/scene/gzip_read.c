@@ -1,7 +1,7 @@
 /* Reading gzip-compressed scene files (.pbrt.gz, .ply.gz: pbrt-v4 reads
- * them, and public scenes ship them) through zlib, with the size limit on
- * the uncompressed data: a small file that inflates without end (a "gzip
- * bomb") stops at the limit instead of filling the memory. */
+ * them, and public scenes ship them) through zlib. The caller's size limit
+ * applies to the inflated data: a small file that inflates without end (a
+ * "gzip bomb") stops at the limit instead of filling the memory. */
 #define _POSIX_C_SOURCE 200809L /* read */
 
 #include "scene/scene_internal.h"
@@ -13,7 +13,7 @@
 #include <unistd.h>
 #include <zlib.h>
 
-int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, size_t *size, char *why, size_t why_size)
+int scene_read_gzip(int fd, size_t most, char **buffer, size_t *length, char *why, size_t why_size)
 {
     z_stream z;
     memset(&z, 0, sizeof z);
@@ -21,11 +21,10 @@ int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, siz
         snprintf(why, why_size, "cannot start zlib: %s", z.msg ? z.msg : "out of memory");
         return -1;
     }
-    /* Up to one byte past the limit (to see it is passed), plus the NUL. */
-    size_t most = max_size + 2, capacity = most < ((size_t)1 << 20) ? most : ((size_t)1 << 20), length = 0;
-    char *buffer = malloc(capacity);
+    size_t capacity = most < ((size_t)1 << 20) ? most : ((size_t)1 << 20);
+    *buffer = malloc(capacity);
     unsigned char input[1 << 16];
-    int failed = buffer == NULL, ended = 0; /* ended: the last member is complete */
+    int failed = *buffer == NULL, ended = 0; /* ended: the last member is complete */
     if (failed)
         snprintf(why, why_size, "out of memory for %zu bytes", capacity);
     while (!failed) {
@@ -47,31 +46,21 @@ int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, siz
             inflateReset(&z);
             ended = 0;
         }
-        if (length + 1 == capacity) {
-            if (capacity == most) {
-                snprintf(why, why_size, "over the %s limit once uncompressed", limit);
-                failed = 1;
-                break;
-            }
-            size_t grown = capacity > most / 2 ? most : 2 * capacity;
-            char *p = realloc(buffer, grown);
-            if (!p) {
-                snprintf(why, why_size, "out of memory for %zu bytes", grown);
-                failed = 1;
-                break;
-            }
-            buffer = p;
-            capacity = grown;
+        int full = scene_grow_read_buffer(buffer, &capacity, *length, most, why, why_size);
+        if (full != 0) {
+            failed = full < 0;
+            ended = full > 0; /* at the limit: the caller reports it */
+            break;
         }
-        size_t room = capacity - 1 - length;
-        z.next_out = (Bytef *)buffer + length;
+        size_t room = capacity - 1 - *length;
+        z.next_out = (Bytef *)*buffer + *length;
         z.avail_out = room > UINT32_MAX ? UINT32_MAX : (uInt)room;
         uInt before = z.avail_out;
         int status = inflate(&z, Z_NO_FLUSH);
-        length += before - z.avail_out;
-        if (status == Z_STREAM_END)
+        *length += before - z.avail_out;
+        if (status == Z_STREAM_END) {
             ended = 1;
-        else if (status != Z_OK && status != Z_BUF_ERROR) {
+        } else if (status != Z_OK && status != Z_BUF_ERROR) {
             snprintf(why, why_size, "corrupt gzip data: %s", z.msg ? z.msg : zError(status));
             failed = 1;
         }
@@ -81,16 +70,5 @@ int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, siz
         snprintf(why, why_size, "corrupt gzip data: the file ends inside the compressed stream (truncated?)");
         failed = 1;
     }
-    if (!failed && length > max_size) {
-        snprintf(why, why_size, "over the %s limit once uncompressed", limit);
-        failed = 1;
-    }
-    if (failed) {
-        free(buffer);
-        return -1;
-    }
-    buffer[length] = '\0';
-    *data = buffer;
-    *size = length;
-    return 0;
+    return failed ? -1 : 0;
 }

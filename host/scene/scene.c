@@ -237,6 +237,50 @@ static void format_bytes(size_t bytes, char *out, size_t size)
         snprintf(out, size, "%zu bytes", bytes);
 }
 
+int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_t most, char *why, size_t why_size)
+{
+    if (length + 1 < *capacity)
+        return 0;
+    if (*capacity == most)
+        return 1;
+    size_t grown = *capacity > most / 2 ? most : 2 * *capacity;
+    char *p = realloc(*buffer, grown);
+    if (!p) {
+        snprintf(why, why_size, "out of memory for %zu bytes", grown);
+        return -1;
+    }
+    *buffer = p;
+    *capacity = grown;
+    return 0;
+}
+
+/* Reads fd to the end, not just st_size bytes (the file may have grown),
+ * into a buffer of at most `most` bytes (one past the limit, plus the NUL). */
+static int read_plain(int fd, size_t file_size, size_t most, char **buffer, size_t *length, char *why, size_t why_size)
+{
+    size_t capacity = file_size + 2;
+    *buffer = malloc(capacity);
+    if (!*buffer) {
+        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
+        return -1;
+    }
+    for (;;) {
+        int full = scene_grow_read_buffer(buffer, &capacity, *length, most, why, why_size);
+        if (full != 0)
+            return full < 0 ? -1 : 0; /* one byte past the limit: the caller sees it */
+        ssize_t n = read(fd, *buffer + *length, capacity - 1 - *length);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            snprintf(why, why_size, "%s", strerror(errno));
+            return -1;
+        }
+        if (n == 0)
+            return 0;
+        *length += (size_t)n;
+    }
+}
+
 int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size)
 {
     *data = NULL;
@@ -266,47 +310,14 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
         return -1;
     }
     unsigned char magic[2];
-    if (pread(fd, magic, 2, 0) == 2 && magic[0] == 0x1f && magic[1] == 0x8b) {
-        int result = scene_read_gzip(fd, max_size, limit, data, size, why, why_size);
-        close(fd);
-        return result;
-    }
-    /* Read to the end, not just st_size bytes (the file may have grown),
-     * but never more than one byte past the limit, plus the NUL. */
-    size_t most = max_size + 2, capacity = (size_t)st.st_size + 2, length = 0;
-    char *buffer = malloc(capacity);
-    int failed = buffer == NULL;
-    if (failed)
-        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
-    while (!failed) {
-        if (length + 1 == capacity) {
-            if (capacity == most)
-                break; /* one byte past the limit */
-            size_t grown = capacity > most / 2 ? most : 2 * capacity;
-            char *p = realloc(buffer, grown);
-            if (!p) {
-                snprintf(why, why_size, "out of memory for %zu bytes", grown);
-                failed = 1;
-                break;
-            }
-            buffer = p;
-            capacity = grown;
-        }
-        ssize_t n = read(fd, buffer + length, capacity - 1 - length);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n < 0) {
-            snprintf(why, why_size, "%s", strerror(errno));
-            failed = 1;
-        } else if (n == 0) {
-            break;
-        } else {
-            length += (size_t)n;
-        }
-    }
+    int gzip = pread(fd, magic, 2, 0) == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+    char *buffer = NULL;
+    size_t length = 0, most = max_size + 2;
+    int failed = gzip ? scene_read_gzip(fd, most, &buffer, &length, why, why_size)
+                      : read_plain(fd, (size_t)st.st_size, most, &buffer, &length, why, why_size);
     close(fd);
     if (!failed && length > max_size) {
-        snprintf(why, why_size, "over the %s limit", limit);
+        snprintf(why, why_size, "over the %s limit%s", limit, gzip ? " once uncompressed" : "");
         failed = 1;
     }
     if (failed) {

@@ -64,11 +64,17 @@ int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_siz
  * or -1 with the reason (without the path) in `why`. */
 int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size);
 
-/* The rest of scene_read_file for a file that starts with gzip's magic
- * bytes (1f 8b): inflates all of fd, at most max_size bytes of it (`limit`
- * names that size in messages). A corrupt stream is "corrupt gzip data:
- * <zlib's message>". */
-int scene_read_gzip(int fd, size_t max_size, const char *limit, char **data, size_t *size, char *why, size_t why_size);
+/* For the file readers: when buffer[0, length) fills all but the NUL's
+ * byte of *capacity, doubles it, to at most `most` bytes. Returns 1 when it
+ * is `most` already (a limit passed), 0 when there is room, -1 when out of
+ * memory (the reason in `why`). */
+int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_t most, char *why, size_t why_size);
+
+/* For scene_read_file, a file that starts with gzip's magic bytes (1f 8b):
+ * inflates all of fd into *buffer (malloc'd, freed by the caller, room for
+ * a NUL), stopping once it holds most - 1 bytes. Returns 0, or -1 with the
+ * reason in `why` (corrupt data: "corrupt gzip data: <zlib's message>"). */
+int scene_read_gzip(int fd, size_t most, char **buffer, size_t *length, char *why, size_t why_size);
 
 /* A copy of text[0, length) with a terminating NUL, or NULL. */
 char *scene_strndup(const char *text, size_t length);
