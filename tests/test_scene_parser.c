@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "scene/scene.h"
+#include "scene/scene_internal.h" /* scene_read_file, for its size limit on gzip data */
 
 #include <errno.h>
 #include <math.h>
@@ -19,6 +20,7 @@
 #include <unistd.h>
 
 #include <cmocka.h>
+#include <zlib.h>
 
 #ifndef GMON_SOURCE_DIR
 #define GMON_SOURCE_DIR "."
@@ -324,13 +326,71 @@ static void test_film_sampler_integrator_filter(void **state)
     load_fails("Film \"rgb\" \"integer xresolution\" 0\n" WORLD, 1, "resolution");
     load_fails("Sampler \"independent\" \"integer pixelsamples\" 0\n" WORLD, 1, "pixelsamples");
     load_fails("PixelFilter \"gaussian\"\n" WORLD, 1, "box");
-    load_fails("Integrator \"bdpt\"\n" WORLD, 1, "path");
+    load_fails("Integrator \"ambientocclusion\"\n" WORLD, 1, "its image differs");
     load_fails("Camera \"orthographic\"\n" WORLD, 1, "perspective");
     load_fails(WORLD "Camera \"perspective\"\n", 2, "before WorldBegin");
     assert_int_equal(
         load_text("opt.pbrt", "Integrator \"volpath\"\nPixelFilter \"gaussian\"\nFilm \"gbuffer\"\n" WORLD, &s, 1), 0);
-    assert_int_equal(s.warning_count, 3);
+    assert_int_equal(s.warning_count, 2);
+    assert_int_equal(s.note_count, 1); /* volpath: the same image */
     scene_destroy(&s);
+}
+
+/* pbrt-v4's integrators that render the path tracer's expected image are
+ * accepted with a note; those whose image differs are unsupported. */
+static void test_integrators(void **state)
+{
+    (void)state;
+    static const char *const same[] = {"volpath", "simplevolpath", "bdpt",      "mlt",
+                                       "sppm",    "simplepath",    "lightpath", "randomwalk"};
+    for (size_t i = 0; i < sizeof same / sizeof same[0]; ++i) {
+        Scene s;
+        char text[256], note[128];
+        snprintf(text, sizeof text, "Integrator \"%s\" \"integer maxdepth\" 3\n" WORLD, same[i]);
+        load_ok(text, &s);
+        assert_int_equal(s.max_depth, 3);
+        assert_int_equal(s.note_count, 1);
+        snprintf(note, sizeof note, ":1: note: Integrator \"%s\" is rendered by the path tracer", same[i]);
+        if (!strstr(s.notes[0], note) || !strstr(s.notes[0], "the expected image is the same"))
+            fail_msg("note \"%s\" lacks \"%s\"", s.notes[0], note);
+        scene_destroy(&s);
+    }
+    Scene s;
+    load_ok("Integrator \"path\"\n" WORLD, &s);
+    assert_int_equal(s.note_count, 0);
+    assert_string_equal(s.light_sampler, "bvh"); /* pbrt-v4's default */
+    scene_destroy(&s);
+    /* Parameters that only tune convergence are accepted. */
+    load_ok("Integrator \"mlt\" \"integer mutationsperpixel\" 10 \"float largestepprobability\" 0.2 "
+            "\"integer chains\" 100 \"integer bootstrapsamples\" 10 \"float sigma\" 0.01\n" WORLD,
+            &s);
+    scene_destroy(&s);
+    load_ok("Integrator \"sppm\" \"integer photonsperiteration\" 100 \"float radius\" 1 \"integer seed\" 2\n" WORLD,
+            &s);
+    scene_destroy(&s);
+    load_fails("Integrator \"bdpt\" \"bool visualizestrategies\" true\n" WORLD, 1, "visualizestrategies");
+    load_fails("Integrator \"aov\"\n" WORLD, 1, "Integrator \"aov\" is not supported: its image differs");
+    load_fails("Integrator \"volpath\" \"float cossample\" 1\n" WORLD, 1, "cossample");
+    assert_int_equal(load_text("ao.pbrt", "Integrator \"ambientocclusion\"\n" WORLD, &s, 1), 0);
+    assert_true(has_warning(&s, "Integrator \"ambientocclusion\" is not supported: its image differs from the path "
+                                "tracer's"));
+    assert_true(has_warning(&s, "; \"path\" is used"));
+    scene_destroy(&s);
+
+    /* lightsampler: recorded, with a note unless it is "power". */
+    static const char *const samplers[] = {"bvh", "uniform", "power"};
+    for (size_t i = 0; i < 3; ++i) {
+        char text[256];
+        snprintf(text, sizeof text, "Integrator \"path\" \"string lightsampler\" \"%s\"\n" WORLD, samplers[i]);
+        load_ok(text, &s);
+        assert_string_equal(s.light_sampler, samplers[i]);
+        assert_int_equal(s.note_count, i < 2 ? 1 : 0);
+        if (i < 2)
+            assert_non_null(strstr(s.notes[0], "in proportion to their power"));
+        scene_destroy(&s);
+    }
+    load_fails("Integrator \"path\" \"string lightsampler\" \"spatial\"\n" WORLD, 1,
+               "\"lightsampler\" \"spatial\" is not bvh, power or uniform");
 }
 
 /* ----------------------------------------------------------- transforms */
@@ -403,6 +463,86 @@ static void test_attribute_and_transform_blocks(void **state)
     load_fails(WORLD "AttributeEnd\n", 2, "without a matching");
     load_fails(WORLD "\nAttributeBegin\n" TRIANGLE, 3, "without a matching end");
     load_fails("AttributeBegin\nWorldBegin\nAttributeEnd\n", 2, "inside the AttributeBegin");
+}
+
+/* pbrt-v4's named coordinate systems: CoordinateSystem saves the CTM,
+ * CoordSysTransform restores it; "camera" (camera to world) is defined at
+ * Camera and "world" at WorldBegin; an unknown name is a warning. */
+static void test_coordinate_systems(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\n" WORLD "Translate 1 2 3\nCoordinateSystem \"mine\"\n"
+            "CoordSysTransform \"camera\"\n" TRIANGLE "Identity\nCoordSysTransform \"mine\"\n" TRIANGLE
+            "CoordSysTransform \"world\"\n" TRIANGLE,
+            &s);
+    assert_int_equal(s.triangle_count, 3);
+    assert_vec3(vertex(&s, 0, 0), 1, 0, -5); /* camera space: +x right, +z forward from (0, 0, -5) */
+    assert_vec3(vertex(&s, 0, 2), 0, 0, -4);
+    assert_vec3(vertex(&s, 1, 0), 2, 2, 3); /* "mine": Translate 1 2 3 */
+    assert_vec3(vertex(&s, 2, 0), 1, 0, 0); /* "world": the identity */
+    scene_destroy(&s);
+
+    /* Before WorldBegin the CTM is the camera transform. */
+    load_ok("Translate 0 0 7\nCoordinateSystem \"early\"\nIdentity\nCamera \"perspective\"\n" WORLD
+            "CoordSysTransform \"early\"\n" TRIANGLE,
+            &s);
+    assert_vec3(vertex(&s, 0, 0), 1, 0, 7);
+    scene_destroy(&s);
+
+    assert_int_equal(load_text("cs.pbrt", WORLD "Translate 1 0 0\nCoordSysTransform \"nowhere\"\n" TRIANGLE, &s, 0), 0);
+    assert_int_equal(s.warning_count, 1);
+    assert_true(has_warning(&s, "cs.pbrt:3: warning: CoordSysTransform: no coordinate system named \"nowhere\""));
+    assert_vec3(vertex(&s, 0, 0), 2, 0, 0); /* unchanged */
+    scene_destroy(&s);
+    load_fails(WORLD "CoordSysTransform camera\n", 2, "quoted string");
+    /* pbrt-v4 has no CameraTransform directive. */
+    load_fails(WORLD "CameraTransform\n", 2, "unknown directive 'CameraTransform'");
+}
+
+/* ActiveTransform and TransformTimes: gmonrt renders the start time (the
+ * start transform) with one warning once the two transforms differ. */
+static void test_active_transform(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("TransformTimes 0 1\n" WORLD "ActiveTransform EndTime\nActiveTransform All\nTranslate 1 0 0\n" TRIANGLE
+            "AttributeBegin\n  ActiveTransform StartTime\nAttributeEnd\nTranslate 1 0 0\n" TRIANGLE,
+            &s);
+    assert_vec3(vertex(&s, 0, 0), 2, 0, 0);
+    assert_vec3(vertex(&s, 1, 0), 3, 0, 0); /* AttributeEnd restored All */
+    scene_destroy(&s);
+
+    const char *moving = "TransformTimes 0 1\n" WORLD "AttributeBegin\n  ActiveTransform EndTime\n  Translate 10 0 0\n"
+                         "  Rotate 90 0 0 1\n  ActiveTransform All\n  Scale 2 2 2\n  " TRIANGLE "AttributeEnd\n"
+                         "ActiveTransform StartTime\nTranslate 0 5 0\nActiveTransform All\n" TRIANGLE;
+    assert_int_equal(load_text("moving.pbrt", moving, &s, 0), 0);
+    assert_vec3(vertex(&s, 0, 0), 2, 0, 0); /* the start transform: Scale 2 only */
+    assert_vec3(vertex(&s, 1, 0), 1, 5, 0);
+    assert_int_equal(s.warning_count, 1); /* one for the whole scene */
+    assert_true(has_warning(&s, "moving.pbrt:9: warning: Shape: its transforms at the start and end times differ"));
+    assert_true(has_warning(&s, "motion is not rendered"));
+    scene_destroy(&s);
+
+    /* A moving camera: rendered from where it starts. */
+    assert_int_equal(load_text("camera.pbrt",
+                               "ActiveTransform EndTime\nTranslate 0 0 -3\nActiveTransform All\nTranslate 0 0 2\n"
+                               "Camera \"perspective\"\n" WORLD,
+                               &s, 0),
+                     0);
+    assert_vec3(s.camera.position, 0, 0, -2);
+    assert_true(has_warning(&s, "camera.pbrt:5: warning: Camera: its transforms"));
+    scene_destroy(&s);
+
+    /* TransformBegin/End restore both transforms and ActiveTransform; a
+     * transform that moves nothing is not warned about. */
+    load_ok(WORLD "TransformBegin\n  ActiveTransform EndTime\n  Translate 4 0 0\nTransformEnd\n" TRIANGLE, &s);
+    assert_vec3(vertex(&s, 0, 0), 1, 0, 0);
+    scene_destroy(&s);
+
+    load_fails(WORLD "ActiveTransform Sometimes\n", 2, "expected All, StartTime or EndTime, got 'Sometimes'");
+    load_fails(WORLD "TransformTimes 0 1\n", 2, "before WorldBegin");
+    load_fails("TransformTimes 0\n" WORLD, 2, "expected 2 numbers");
 }
 
 /* ------------------------------------------------------------ materials */
@@ -884,7 +1024,7 @@ static void test_allow_unsupported_substitutes(void **state)
         "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
         "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
         "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
-        "MediumInterface \"\" \"fog\"\nActiveTransform All\nTransformTimes 0 1\n";
+        "MediumInterface \"\" \"fog\"\n";
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
     assert_int_equal(s.triangle_count, 3);
@@ -902,7 +1042,7 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "ObjectInstance"));
     assert_true(has_warning(&s, "phimax"));
-    assert_true(has_warning(&s, "ActiveTransform"));
+    assert_true(has_warning(&s, "MediumInterface"));
     for (size_t i = 0; i < s.warning_count; ++i)
         assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
     scene_destroy(&s);
@@ -1031,6 +1171,102 @@ static void test_ply_binary(void **state)
     }
 }
 
+/* data[0, size) compressed as one gzip member into out (malloc'd). */
+static size_t gzip_bytes(const void *data, size_t size, unsigned char **out)
+{
+    z_stream z;
+    memset(&z, 0, sizeof z);
+    assert_int_equal(deflateInit2(&z, 9, Z_DEFLATED, 16 + MAX_WBITS, 9, Z_DEFAULT_STRATEGY), Z_OK);
+    size_t capacity = deflateBound(&z, (uLong)size);
+    *out = malloc(capacity);
+    z.next_in = (Bytef *)data;
+    z.avail_in = (uInt)size;
+    z.next_out = *out;
+    z.avail_out = (uInt)capacity;
+    assert_int_equal(deflate(&z, Z_FINISH), Z_STREAM_END);
+    size_t length = capacity - z.avail_out;
+    deflateEnd(&z);
+    return length;
+}
+
+static const char *write_gzip(const char *relative, const char *text)
+{
+    unsigned char *packed;
+    size_t length = gzip_bytes(text, strlen(text), &packed);
+    const char *path = write_bytes(relative, packed, length);
+    free(packed);
+    return path;
+}
+
+/* gzip files (pbrt-v4 reads .pbrt.gz and .ply.gz) are recognised by their
+ * magic bytes, whatever their name; corrupt or truncated data is an error,
+ * and the size limit applies to the inflated data. */
+static void test_gzip_files(void **state)
+{
+    (void)state;
+    const char *ply =
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    write_gzip("gz/mesh.ply.gz", ply);
+    write_gzip("gz/named-plainly.ply", ply);
+    write_gzip("gz/part.pbrt.gz", "Translate 0 0 2\nShape \"plymesh\" \"string filename\" \"mesh.ply.gz\"\n");
+    const char *main_path =
+        write_gzip("gz/main.pbrt.gz", WORLD "Include \"part.pbrt.gz\"\n"
+                                            "Shape \"plymesh\" \"string filename\" \"named-plainly.ply\"\n");
+    Scene s;
+    if (scene_load(main_path, NULL, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.triangle_count, 2);
+    assert_vec3(vertex(&s, 0, 1), 1, 0, 2);
+    assert_vec3(vertex(&s, 1, 2), 0, 1, 2); /* the Translate of part.pbrt.gz still applies */
+    scene_destroy(&s);
+
+    /* Two members, as `cat a.gz b.gz` makes: the text of both. */
+    unsigned char *first, *second;
+    size_t first_length = gzip_bytes(WORLD, strlen(WORLD), &first);
+    size_t second_length = gzip_bytes(TRIANGLE, strlen(TRIANGLE), &second);
+    unsigned char both[1024];
+    assert_true(first_length + second_length <= sizeof both);
+    memcpy(both, first, first_length);
+    memcpy(both + first_length, second, second_length);
+    assert_int_equal(
+        scene_load(write_bytes("gz/two.pbrt", both, first_length + second_length), NULL, &s, error, sizeof error), 0);
+    assert_int_equal(s.triangle_count, 1);
+    scene_destroy(&s);
+
+    /* Corrupt and truncated data. */
+    unsigned char *packed;
+    size_t length = gzip_bytes(ply, strlen(ply), &packed);
+    write_bytes("gz/truncated.ply", packed, length / 2);
+    memset(packed + 10, 0xff, 8); /* the first deflate block's header and codes */
+    write_bytes("gz/corrupt.ply", packed, length);
+    free(packed);
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"gz/corrupt.ply\"\n", 2,
+               "gz/corrupt.ply\": cannot read: corrupt gzip data: invalid");
+    load_fails(WORLD "Shape \"plymesh\" \"string filename\" \"gz/truncated.ply\"\n", 2,
+               "cannot read: corrupt gzip data: the file ends inside the compressed stream");
+    free(first);
+    free(second);
+
+    /* A small file that inflates to far more than the limit stops there. */
+    size_t big = (size_t)1 << 22;
+    char *zeros = calloc(big, 1);
+    length = gzip_bytes(zeros, big, &packed);
+    free(zeros);
+    assert_true(length < 8192);
+    const char *bomb = write_bytes("gz/bomb.ply", packed, length);
+    free(packed);
+    char *data, why[128];
+    size_t size;
+    assert_int_equal(scene_read_file(bomb, big - 1, &data, &size, why, sizeof why), -1);
+    assert_string_equal(why, "over the 4194303 bytes limit once uncompressed");
+    assert_null(data);
+    assert_int_equal(scene_read_file(bomb, big, &data, &size, why, sizeof why), 0);
+    assert_int_equal(size, big);
+    assert_int_equal(data[big - 1], 0);
+    free(data);
+}
+
 static void test_ply_errors(void **state)
 {
     (void)state;
@@ -1103,6 +1339,102 @@ static void test_include_and_import(void **state)
     assert_int_equal(s.materials[s.shapes[1].material].type, SCENE_MATERIAL_DIELECTRIC);
     scene_destroy(&s);
     load_fails(WORLD "\nInclude \"inc/none.pbrt\"\n", 3, "none.pbrt");
+}
+
+/* pbrt-v4 resolves a relative path against the main file's directory
+ * (ResolveFilename); gmonrt then tries the including file's directory. A
+ * missing file is reported under the main file's directory. */
+static void test_paths_resolve_as_pbrt(void **state)
+{
+    (void)state;
+    Scene s;
+    write_text("res/part.pbrt", "Translate 5 0 0\n");
+    write_text("res/sub/part.pbrt", "Translate 9 0 0\n");
+    write_text("res/sub/child.pbrt", "Include \"part.pbrt\"\n" TRIANGLE);
+    write_text("res/sub/only.pbrt", "Translate 7 0 0\n");
+    write_text("res/sub/child2.pbrt", "Include \"only.pbrt\"\n" TRIANGLE);
+    const char *main_path =
+        write_text("res/main.pbrt",
+                   WORLD "AttributeBegin\nInclude \"sub/child.pbrt\"\nAttributeEnd\nInclude \"sub/child2.pbrt\"\n");
+    SceneLoadOptions options = {0};
+    if (scene_load(main_path, &options, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_vec3(vertex(&s, 0, 0), 6, 0, 0); /* res/part.pbrt, as pbrt-v4 reads it */
+    assert_vec3(vertex(&s, 1, 0), 8, 0, 0); /* only beside child2.pbrt */
+    scene_destroy(&s);
+
+    write_text("res/sub/mesh.pbrt", "Shape \"plymesh\" \"string filename\" \"mesh.ply\"\n");
+    main_path = write_text("res/main2.pbrt", WORLD "Include \"sub/mesh.pbrt\"\n");
+    assert_int_equal(scene_load(main_path, &options, &s, error, sizeof error), -1);
+    char expected[600];
+    snprintf(expected, sizeof expected, "%s:1: Shape \"plymesh\": \"%s\": cannot read: No such file",
+             temp_path("res/sub/mesh.pbrt"), temp_path("res/mesh.ply"));
+    if (strncmp(error, expected, strlen(expected)) != 0)
+        fail_msg("error \"%s\"; expected \"%s\"", error, expected);
+}
+
+/* A file included twice says the same warning twice: it is kept once. */
+static void test_warnings_once(void **state)
+{
+    (void)state;
+    Scene s;
+    write_text("twice/disk.pbrt", "Shape \"disk\"\n");
+    assert_int_equal(
+        load_text("twice/main.pbrt", WORLD "Include \"disk.pbrt\"\nInclude \"disk.pbrt\"\nShape \"disk\"\n", &s, 1), 0);
+    assert_int_equal(s.warning_count, 2); /* disk.pbrt:1 once, main.pbrt:4 */
+    scene_destroy(&s);
+}
+
+/* Check mode: every unsupported feature and every missing file is recorded
+ * (kind, file, line, message, substitute or path) and parsing goes on. */
+static void test_check_mode(void **state)
+{
+    (void)state;
+    write_text("check/inc.pbrt", "Shape \"cylinder\"\n");
+    const char *text = "Camera \"perspective\" \"float lensradius\" 0.5\n" WORLD "Shape \"disk\"\n"
+                       "Shape \"plymesh\" \"string filename\" \"geometry/gone.ply\"\n"
+                       "Include \"gone.pbrt\"\n"
+                       "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"textures/gone.png\"\n"
+                       "Include \"inc.pbrt\"\nInclude \"inc.pbrt\"\n" TRIANGLE;
+    const char *path = write_text("check/main.pbrt", text);
+    SceneLoadOptions options = {.check = 1};
+    Scene s;
+    if (scene_load(path, &options, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.triangle_count, 1); /* parsing went on to the end */
+    assert_int_equal(s.warning_count, 0);
+    assert_int_equal(s.diagnostic_count, 7);
+    const struct {
+        SceneDiagnosticKind kind;
+        const char *file;
+        int line;
+        const char *message, *detail; /* the substitute, or the missing path */
+    } expected[] = {
+        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 1, "lensradius 0.5 is not supported", "a pinhole camera"},
+        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 3, "Shape \"disk\" is not supported", "skipped"},
+        {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 4, "Shape \"plymesh\"", "check/geometry/gone.ply"},
+        {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 5, "Include", "check/gone.pbrt"},
+        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 6, "Texture is not supported", "skipped"},
+        {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 6, "Texture \"t\"", "check/textures/gone.png"},
+        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/inc.pbrt", 1, "Shape \"cylinder\"", "skipped"}, /* once */
+    };
+    for (size_t i = 0; i < 7; ++i) {
+        const SceneDiagnostic *d = &s.diagnostics[i];
+        int missing = expected[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE;
+        const char *detail = missing ? d->path : d->substitute;
+        if (d->kind != expected[i].kind || strcmp(d->file, temp_path(expected[i].file)) != 0 ||
+            d->line != expected[i].line || !strstr(d->message, expected[i].message) || !detail ||
+            !strstr(detail, missing ? temp_path(expected[i].detail) : expected[i].detail) ||
+            (missing ? d->substitute != NULL : d->path != NULL))
+            fail_msg("diagnostic %zu: kind %d, %s:%d, \"%s\", \"%s\"", i, (int)d->kind, d->file, d->line, d->message,
+                     detail ? detail : "(null)");
+    }
+    scene_destroy(&s);
+    /* A file that cannot be read for another reason is still an error. */
+    write_text("check/bad.ply", "ply\nformat ascii 1.0\nend_header\n");
+    path = write_text("check/main2.pbrt", WORLD "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n");
+    assert_int_equal(scene_load(path, &options, &s, error, sizeof error), -1);
+    assert_non_null(strstr(error, "bad.ply"));
 }
 
 /* Only regular files are read, up to a size limit: /dev/zero would be read
@@ -1218,6 +1550,9 @@ int main(void)
         cmocka_unit_test(test_rotate),
         cmocka_unit_test(test_transform_concat_identity),
         cmocka_unit_test(test_attribute_and_transform_blocks),
+        cmocka_unit_test(test_coordinate_systems),
+        cmocka_unit_test(test_active_transform),
+        cmocka_unit_test(test_integrators),
         cmocka_unit_test(test_materials),
         cmocka_unit_test(test_named_materials),
         cmocka_unit_test(test_area_lights_and_orientation),
@@ -1237,7 +1572,11 @@ int main(void)
         cmocka_unit_test(test_ply_ascii),
         cmocka_unit_test(test_ply_binary),
         cmocka_unit_test(test_ply_errors),
+        cmocka_unit_test(test_gzip_files),
         cmocka_unit_test(test_include_and_import),
+        cmocka_unit_test(test_paths_resolve_as_pbrt),
+        cmocka_unit_test(test_warnings_once),
+        cmocka_unit_test(test_check_mode),
         cmocka_unit_test(test_error_in_included_file),
         cmocka_unit_test(test_only_regular_files_are_read),
         cmocka_unit_test(test_every_truncation_fails_cleanly),

@@ -188,12 +188,24 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     memset(summary, 0, sizeof *summary);
     render_scene_init(out);
     Scene scene;
-    SceneLoadOptions options = {allow_unsupported};
+    SceneLoadOptions options = {.allow_unsupported = allow_unsupported};
     if (scene_load(path, &options, &scene, error, error_size))
         return -1;
     for (size_t i = 0; i < scene.warning_count && !quiet; ++i)
         fprintf(stderr, "%s\n", scene.warnings[i]); /* "file:line: warning: ..." */
+    for (size_t i = 0; i < scene.note_count && !quiet; ++i)
+        fprintf(stderr, "%s\n", scene.notes[i]); /* "file:line: note: ..." */
+    int result = scene_convert(&scene, path, width, height, quiet, out, summary, error, error_size);
+    scene_destroy(&scene);
+    return result;
+}
 
+int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,
+                  SceneSummary *summary, char *error, size_t error_size)
+{
+    memset(summary, 0, sizeof *summary);
+    render_scene_init(out);
+    const Scene scene = *in; /* a shallow copy: the body reads scene.field */
     if (scene.film_filename)
         snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
     if (scene.sampler)
@@ -215,7 +227,6 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     for (size_t i = 0; i < scene.light_count && !failed; ++i)
         failed = add_light(out, &scene.lights[i], error, error_size);
     if (failed < 0) {
-        scene_destroy(&scene);
         render_scene_destroy(out);
         return -1;
     }
@@ -248,7 +259,6 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
             render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
                                     light ? light->radiance : NULL, light && light->two_sided, shape->flip_normal) != 0;
     }
-    scene_destroy(&scene);
     if (failed) {
         snprintf(error, error_size, "%s: out of memory converting the scene", path);
         render_scene_destroy(out);

@@ -28,8 +28,14 @@
 
 typedef enum { PUSHED_ATTRIBUTES, PUSHED_TRANSFORM, PUSHED_OBJECT } PushKind;
 
+/* Which of the two transforms (at the shutter's start and end time) the
+ * transform directives change: ActiveTransform StartTime, EndTime or All. */
+enum { ACTIVE_START = 1, ACTIVE_END = 2, ACTIVE_ALL = 3 };
+
 typedef struct {
-    mat4 ctm;     /* object to world (camera before WorldBegin) */
+    mat4 ctm;     /* object to world (camera before WorldBegin), at the start time: what is rendered */
+    mat4 ctm_end; /* the same at the end time (pbrt-v4 animates between them); only compared with ctm */
+    int active_transforms;
     int material; /* index into the scene's materials; -1: pbrt's default */
     int has_area_light;
     float area_radiance[3];
@@ -46,6 +52,12 @@ typedef struct {
     int material;
 } NamedMaterial;
 
+/* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
+typedef struct {
+    char *name;
+    mat4 start, end;
+} NamedTransform;
+
 typedef struct {
     Scene *scene;
     Diagnostics diag;
@@ -57,6 +69,9 @@ typedef struct {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
+    NamedTransform *coordinate_systems;
+    size_t coordinate_system_count, coordinate_system_capacity;
+    int motion_warned; /* one warning for all animated transforms */
     int default_material;
     size_t material_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity, triangle_capacity,
         sphere_capacity;
@@ -557,12 +572,21 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
 
 static int parse_file(Parser *p, const char *path, const char *from_file, int from_line);
 
+static int same_matrix(mat4 a, mat4 b)
+{
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (a[c][r] != b[c][r])
+                return 0;
+    return 1;
+}
+
 /* After a transform directive: products of finite numbers can overflow. */
 static int check_transform(Parser *p, Lexer *lex, const Token *d)
 {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
-            if (!isfinite(p->state.ctm[c][r])) {
+            if (!isfinite(p->state.ctm[c][r]) || !isfinite(p->state.ctm_end[c][r])) {
                 char name[32];
                 directive_name(d, name, sizeof name);
                 return scene_error(&p->diag, lex->path, d->line,
@@ -571,9 +595,48 @@ static int check_transform(Parser *p, Lexer *lex, const Token *d)
     return 0;
 }
 
+/* Before a shape, light or camera takes the CTM: when its start and end
+ * transforms differ it moves, which gmonrt does not render. It renders the
+ * start time, with one warning for the whole scene. */
+static int warn_if_moving(Parser *p, Lexer *lex, const Token *d)
+{
+    if (p->motion_warned || same_matrix(p->state.ctm, p->state.ctm_end))
+        return 0;
+    p->motion_warned = 1;
+    char name[32];
+    directive_name(d, name, sizeof name);
+    return scene_warn(&p->diag, lex->path, d->line,
+                      "%s: its transforms at the start and end times differ (ActiveTransform): motion is not "
+                      "rendered, the scene is rendered at the start time",
+                      name);
+}
+
+/* The transforms a transform directive changes (ActiveTransform); returns
+ * how many of out[0..1] it filled. */
+static int active_transforms(Parser *p, mat4 *out[2])
+{
+    int n = 0;
+    if (p->state.active_transforms & ACTIVE_START)
+        out[n++] = &p->state.ctm;
+    if (p->state.active_transforms & ACTIVE_END)
+        out[n++] = &p->state.ctm_end;
+    return n;
+}
+
 static int apply_transform(Parser *p, Lexer *lex, const Token *d, mat4 m)
 {
-    glm_mat4_mul(p->state.ctm, m, p->state.ctm);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_mat4_mul(*active[i], m, *active[i]);
+    return check_transform(p, lex, d);
+}
+
+/* Sets the active transforms to m. */
+static int set_transform(Parser *p, Lexer *lex, const Token *d, mat4 m)
+{
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_mat4_copy(m, *active[i]);
     return check_transform(p, lex, d);
 }
 
@@ -614,7 +677,9 @@ static int on_translate(Parser *p, Lexer *lex, const Token *d)
     if (read_numbers(p, lex, d, 3, 0, v))
         return -1;
     vec3 t = {(float)v[0], (float)v[1], (float)v[2]};
-    glm_translate(p->state.ctm, t);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_translate(*active[i], t);
     return check_transform(p, lex, d);
 }
 
@@ -624,7 +689,9 @@ static int on_scale(Parser *p, Lexer *lex, const Token *d)
     if (read_numbers(p, lex, d, 3, 0, v))
         return -1;
     vec3 s = {(float)v[0], (float)v[1], (float)v[2]};
-    glm_scale(p->state.ctm, s);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_scale(*active[i], s);
     return check_transform(p, lex, d);
 }
 
@@ -636,7 +703,9 @@ static int on_rotate(Parser *p, Lexer *lex, const Token *d)
     vec3 axis = {(float)v[1], (float)v[2], (float)v[3]};
     if (glm_vec3_norm(axis) == 0.0f)
         return scene_error(&p->diag, lex->path, d->line, "Rotate: the axis is zero");
-    glm_rotate(p->state.ctm, (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_rotate(*active[i], (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
     return check_transform(p, lex, d);
 }
 
@@ -657,8 +726,7 @@ static int on_transform(Parser *p, Lexer *lex, const Token *d)
     mat4 m;
     if (read_matrix(p, lex, d, m))
         return -1;
-    glm_mat4_copy(m, p->state.ctm);
-    return 0;
+    return set_transform(p, lex, d, m);
 }
 
 static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
@@ -671,9 +739,96 @@ static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
 
 static int on_identity(Parser *p, Lexer *lex, const Token *d)
 {
-    (void)lex, (void)d;
-    glm_mat4_identity(p->state.ctm);
+    mat4 identity = GLM_MAT4_IDENTITY_INIT;
+    return set_transform(p, lex, d, identity);
+}
+
+/* The named coordinate system, or NULL. */
+static NamedTransform *find_coordinate_system(Parser *p, const char *name, size_t length)
+{
+    for (size_t i = 0; i < p->coordinate_system_count; ++i)
+        if (strlen(p->coordinate_systems[i].name) == length && memcmp(p->coordinate_systems[i].name, name, length) == 0)
+            return &p->coordinate_systems[i];
+    return NULL;
+}
+
+/* Names (or renames) a coordinate system: CoordinateSystem, and pbrt-v4's
+ * "camera" at Camera and "world" at WorldBegin. */
+static int define_coordinate_system(Parser *p, const char *name, size_t length, mat4 start, mat4 end)
+{
+    NamedTransform *named = find_coordinate_system(p, name, length);
+    if (!named) {
+        char *copy = scene_strndup(name, length);
+        if (!copy || scene_reserve((void **)&p->coordinate_systems, &p->coordinate_system_capacity,
+                                   p->coordinate_system_count + 1, sizeof *p->coordinate_systems)) {
+            free(copy);
+            return -1;
+        }
+        named = &p->coordinate_systems[p->coordinate_system_count++];
+        named->name = copy;
+    }
+    glm_mat4_copy(start, named->start);
+    glm_mat4_copy(end, named->end);
     return 0;
+}
+
+static int on_coordinate_system(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (expect_string(p, lex, d, "the coordinate system's name", &name))
+        return -1;
+    if (define_coordinate_system(p, name.text, name.length, p->state.ctm, p->state.ctm_end))
+        return out_of_memory(p, lex->path, d->line);
+    return 0;
+}
+
+/* pbrt-v4: the CTM becomes the named one (both times, whatever is active);
+ * an unknown name is a warning and leaves the CTM as it was. */
+static int on_coord_sys_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (expect_string(p, lex, d, "the coordinate system's name", &name))
+        return -1;
+    const NamedTransform *named = find_coordinate_system(p, name.text, name.length);
+    if (!named) {
+        char shown[64];
+        token_describe(&name, shown, sizeof shown);
+        return scene_warn(&p->diag, lex->path, d->line,
+                          "CoordSysTransform: no coordinate system named %s (pbrt-v4 defines \"camera\" at Camera "
+                          "and \"world\" at WorldBegin); the transform is unchanged",
+                          shown);
+    }
+    glm_mat4_copy((vec4 *)named->start, p->state.ctm);
+    glm_mat4_copy((vec4 *)named->end, p->state.ctm_end);
+    return check_transform(p, lex, d);
+}
+
+static int on_active_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    (void)d;
+    Token which;
+    if (lexer_next(lex, &which))
+        return -1;
+    if (token_is(&which, "All"))
+        p->state.active_transforms = ACTIVE_ALL;
+    else if (token_is(&which, "StartTime"))
+        p->state.active_transforms = ACTIVE_START;
+    else if (token_is(&which, "EndTime"))
+        p->state.active_transforms = ACTIVE_END;
+    else {
+        char shown[64];
+        token_describe(&which, shown, sizeof shown);
+        return scene_error(&p->diag, lex->path, which.line,
+                           "ActiveTransform: expected All, StartTime or EndTime, got %s", shown);
+    }
+    return 0;
+}
+
+/* The shutter times the two transforms belong to: only the start is rendered. */
+static int on_transform_times(Parser *p, Lexer *lex, const Token *d)
+{
+    double times[2];
+    return read_numbers(p, lex, d, 2, 0, times) || require_world(p, lex, d, 0) ? -1 : 0;
 }
 
 static int on_reverse_orientation(Parser *p, Lexer *lex, const Token *d)
@@ -711,9 +866,11 @@ static int pop_state(Parser *p, Lexer *lex, const Token *d, PushKind kind)
         return scene_error(&p->diag, lex->path, d->line, "%s closes the %s at %s:%d", name, push_name(saved->kind),
                            saved->file, saved->line);
     p->depth--;
-    if (kind == PUSHED_TRANSFORM)
+    if (kind == PUSHED_TRANSFORM) {
         glm_mat4_copy(saved->ctm, p->state.ctm);
-    else
+        glm_mat4_copy(saved->ctm_end, p->state.ctm_end);
+        p->state.active_transforms = saved->active_transforms;
+    } else
         p->state = *saved;
     return 0;
 }
@@ -779,6 +936,10 @@ static int on_world_begin(Parser *p, Lexer *lex, const Token *d)
                            p->stack[p->depth - 1].line);
     p->in_world = 1;
     glm_mat4_identity(p->state.ctm);
+    glm_mat4_identity(p->state.ctm_end);
+    p->state.active_transforms = ACTIVE_ALL;
+    if (define_coordinate_system(p, "world", 5, p->state.ctm, p->state.ctm_end))
+        return out_of_memory(p, lex->path, d->line);
     return 0;
 }
 
@@ -795,6 +956,8 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the camera type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
+    if (result == 0)
+        result = warn_if_moving(p, lex, d);
     if (result == 0 && !token_is(&type, "perspective")) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
@@ -832,6 +995,9 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     if (result == 0) {
         glm_mat4_copy(p->state.ctm, p->camera_from_world);
         glm_mat4_copy(world_from_camera, p->world_from_camera);
+        /* pbrt-v4's "camera" space; a moving camera is rendered at the start time. */
+        if (define_coordinate_system(p, "camera", 6, world_from_camera, world_from_camera))
+            result = out_of_memory(p, lex->path, d->line);
         p->scene->camera.fov = fov;
         p->camera_file = lex->path;
         p->camera_line = d->line;
@@ -908,6 +1074,83 @@ static int on_sampler(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
+/* pbrt-v4's integrators whose expected image is the path tracer's (for a
+ * scene without participating media, which gmonrt does not support), and
+ * their parameters that only change how fast they converge. */
+static const struct {
+    const char *name;
+    const char *tuning[6];
+} same_image_integrators[] = {
+    {"path", {NULL}},
+    {"volpath", {NULL}},
+    {"simplevolpath", {NULL}},
+    {"bdpt", {NULL}},
+    {"mlt", {"bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma", NULL}},
+    {"sppm", {"photonsperiteration", "radius", "seed", NULL}},
+    {"simplepath", {"samplelights", "samplebsdf", NULL}},
+    {"lightpath", {NULL}},
+    {"randomwalk", {NULL}},
+};
+
+/* Which integrator renders the scene: the path tracer, with a note where
+ * pbrt-v4 would use another one with the same expected image, else an
+ * unsupported feature (ambientocclusion, aov, ...: their images differ). */
+static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token *type, ParamList *params)
+{
+    char shown[64];
+    token_describe(type, shown, sizeof shown);
+    for (size_t i = 0; i < sizeof same_image_integrators / sizeof same_image_integrators[0]; ++i) {
+        if (!token_is(type, same_image_integrators[i].name))
+            continue;
+        for (const char *const *tuning = same_image_integrators[i].tuning; *tuning; ++tuning)
+            params_ignore(params, *tuning);
+        int visualize_strategies = 0, visualize_weights = 0; /* bdpt's images of single strategies */
+        if (strcmp(same_image_integrators[i].name, "bdpt") == 0 &&
+            (params_get_bool(params, "visualizestrategies", &visualize_strategies) < 0 ||
+             params_get_bool(params, "visualizeweights", &visualize_weights) < 0))
+            return -1;
+        if (visualize_strategies || visualize_weights)
+            return scene_unsupported(&p->diag, lex->path, d->line, "the path tracer's image is rendered",
+                                     "Integrator %s: \"visualizestrategies\" and \"visualizeweights\" are "
+                                     "not supported",
+                                     shown);
+        if (token_is(type, "path"))
+            return 0;
+        const char *media = strstr(same_image_integrators[i].name, "vol")
+                                ? " without participating media (which gmonrt does not support)"
+                                : "";
+        return scene_note(&p->diag, lex->path, d->line,
+                          "Integrator %s is rendered by the path tracer (\"path\"): the expected image is the same%s",
+                          shown, media);
+    }
+    return scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
+                             "Integrator %s is not supported: its image differs from the path tracer's "
+                             "(path, volpath, simplevolpath, bdpt, mlt, sppm, simplepath, lightpath, randomwalk are)",
+                             shown);
+}
+
+/* Integrator "lightsampler": pbrt-v4's bvh (its default), power or uniform.
+ * Recorded; gmonrt's next-event estimation picks lights by power. */
+static int read_light_sampler(Parser *p, Lexer *lex, const Token *d, ParamList *params)
+{
+    const char *light_sampler = NULL;
+    int found = params_get_string(params, "lightsampler", &light_sampler);
+    if (found <= 0)
+        return found; /* absent, or an error */
+    if (strcmp(light_sampler, "bvh") != 0 && strcmp(light_sampler, "power") != 0 &&
+        strcmp(light_sampler, "uniform") != 0)
+        return scene_error(&p->diag, lex->path, d->line,
+                           "Integrator: \"lightsampler\" \"%s\" is not bvh, power or uniform", light_sampler);
+    if (replace_string(p, lex->path, d->line, &p->scene->light_sampler, light_sampler))
+        return -1;
+    if (strcmp(light_sampler, "power") == 0)
+        return 0;
+    return scene_note(&p->diag, lex->path, d->line,
+                      "Integrator: \"lightsampler\" \"%s\" is replaced by picking lights in proportion to their "
+                      "power (pbrt-v4's \"power\"): the expected image is the same",
+                      light_sampler);
+}
+
 static int on_integrator(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -915,15 +1158,14 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the integrator type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
-    if (result == 0 && !token_is(&type, "path"))
-        result = scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
-                                   "Integrator: only \"path\" is supported");
+    if (result == 0)
+        result = choose_integrator(p, lex, d, &type, &params);
     int max_depth = p->scene->max_depth, regularize = 0;
     if (result == 0 && (params_get_int(&params, "maxdepth", &max_depth) < 0 ||
                         params_get_bool(&params, "regularize", &regularize) < 0))
         result = -1;
     if (result == 0)
-        params_ignore(&params, "lightsampler"); /* the renderer picks lights its own way */
+        result = read_light_sampler(p, lex, d, &params);
     if (result == 0 && max_depth < 0)
         result = scene_error(&p->diag, lex->path, d->line, "Integrator: maxdepth must not be negative");
     if (result == 0)
@@ -1111,6 +1353,8 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the light type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
+    if (result == 0)
+        result = warn_if_moving(p, lex, d);
     const int is_point = token_is(&type, "point"), is_spot = token_is(&type, "spot");
     const int is_distant = token_is(&type, "distant"), is_infinite = token_is(&type, "infinite");
     const int is_goniometric = token_is(&type, "goniometric"), is_projection = token_is(&type, "projection");
@@ -1266,9 +1510,15 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         }
         if (!result) {
             light.filename = resolve_path(p, lex->path, filename);
-            if (!light.filename)
+            int missing =
+                light.filename ? scene_missing_file(&p->diag, lex->path, d->line, light.filename, params.owner) : -1;
+            if (missing < 0)
                 result = out_of_memory(p, lex->path, d->line);
-            else if (!file_exists(light.filename))
+            else if (missing) { /* check mode: listed, and the light skipped */
+                free(light.filename);
+                params_free(&params);
+                return 0;
+            } else if (!file_exists(light.filename))
                 result =
                     scene_error(&p->diag, lex->path, d->line, "%s: cannot find \"%s\"", params.owner, light.filename);
         }
@@ -1407,18 +1657,20 @@ static int file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
-/* Resolves a file named in `file`: relative to that file's directory, or
- * failing that to the main file's (pbrt-v4's own rule). */
+/* Resolves a file named in `file` as pbrt-v4 does (ResolveFilename):
+ * relative to the main file's directory. When nothing is there, gmonrt also
+ * tries the directory of the file naming it (pbrt-v4 would try the working
+ * directory); when that fails too, the path is pbrt-v4's, for messages. */
 static char *resolve_path(Parser *p, const char *file, const char *name)
 {
-    char *path = path_relative_to(file, name);
+    char *path = path_relative_to(p->main_path, name);
     if (path && !file_exists(path)) {
-        char *fallback = path_relative_to(p->main_path, name);
-        if (fallback && file_exists(fallback)) {
+        char *beside = path_relative_to(file, name);
+        if (beside && file_exists(beside)) {
             free(path);
-            return fallback;
+            return beside;
         }
-        free(fallback);
+        free(beside);
     }
     return path;
 }
@@ -1433,6 +1685,11 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
     char *path = resolve_path(p, lex->path, filename);
     if (!path)
         return out_of_memory(p, lex->path, d->line);
+    int missing = scene_missing_file(&p->diag, lex->path, d->line, path, params->owner);
+    if (missing) {
+        free(path);
+        return missing < 0 ? -1 : 0; /* check mode: the shape is skipped */
+    }
     PlyMesh mesh;
     char message[256], owner[1024]; /* messages name the PLY file, their vertex and face numbers its elements' */
     snprintf(owner, sizeof owner, "%s: \"%s\"", params->owner, path);
@@ -1454,6 +1711,8 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the shape type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
+    if (result == 0 && !p->skipping_object)
+        result = warn_if_moving(p, lex, d);
     if (result == 0 && !p->skipping_object) {
         if (token_is(&type, "sphere"))
             result = shape_sphere(p, lex, d, &params);
@@ -1479,17 +1738,47 @@ static int on_include(Parser *p, Lexer *lex, const Token *d)
     free(relative);
     if (!path)
         return out_of_memory(p, lex->path, d->line);
-    int result = parse_file(p, path, lex->path, d->line);
+    char name_shown[32];
+    directive_name(d, name_shown, sizeof name_shown);
+    int result = scene_missing_file(&p->diag, lex->path, d->line, path, name_shown);
+    if (result == 0)
+        result = parse_file(p, path, lex->path, d->line);
     free(path);
-    return result;
+    return result < 0 ? -1 : 0;
+}
+
+/* Texture "name" "type" "class" params: unsupported (the texture issue),
+ * but read, so that check mode lists a missing image file. */
+static int on_texture(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name, type, texture_class;
+    ParamList params;
+    if (expect_string(p, lex, d, "the texture's name", &name) || expect_string(p, lex, d, "the texture's type", &type))
+        return -1;
+    int result = read_typed_directive(p, lex, d, "the texture class", &texture_class, &params);
+    if (result == 0)
+        result = scene_unsupported(&p->diag, lex->path, d->line, "skipped", "Texture is not supported");
+    const char *filename = NULL;
+    if (result == 0 && params_get_string(&params, "filename", &filename) < 0)
+        result = -1;
+    if (result == 0 && filename) {
+        char *path = resolve_path(p, lex->path, filename), owner[100];
+        char shown[64];
+        token_describe(&name, shown, sizeof shown);
+        snprintf(owner, sizeof owner, "Texture %s", shown);
+        result =
+            path ? scene_missing_file(&p->diag, lex->path, d->line, path, owner) : out_of_memory(p, lex->path, d->line);
+        free(path);
+    }
+    params_free(&params);
+    return result < 0 ? -1 : 0;
 }
 
 /* pbrt directives this reader does not implement. With allow_unsupported
  * they are skipped with their arguments (ObjectBegin/End/Instance have
  * handlers: they must skip the shapes in between). */
 static const char *const unsupported_directives[] = {
-    "Texture",         "MakeNamedMedium", "MediumInterface", "CoordinateSystem", "CoordSysTransform",
-    "ActiveTransform", "TransformTimes",  "Option",          "ColorSpace",       "Attribute",
+    "MakeNamedMedium", "MediumInterface", "Option", "ColorSpace", "Attribute",
 };
 
 static int skip_directive(Parser *p, Lexer *lex, const Token *d)
@@ -1498,7 +1787,6 @@ static int skip_directive(Parser *p, Lexer *lex, const Token *d)
     directive_name(d, name, sizeof name);
     if (scene_unsupported(&p->diag, lex->path, d->line, "skipped", "%s is not supported", name))
         return -1;
-    int bare_words = token_is(d, "ActiveTransform") ? 1 : 0; /* ActiveTransform All|StartTime|EndTime */
     for (;;) {
         Token t;
         double number;
@@ -1508,7 +1796,7 @@ static int skip_directive(Parser *p, Lexer *lex, const Token *d)
             return 0;
         int is_value =
             t.kind != TOKEN_WORD || token_number(&t, &number) == 0 || token_is(&t, "true") || token_is(&t, "false");
-        if (!is_value && bare_words-- <= 0)
+        if (!is_value)
             return 0; /* the next directive */
         lexer_next(lex, &t);
     }
@@ -1525,6 +1813,11 @@ static const struct {
     {"Transform", on_transform},
     {"ConcatTransform", on_concat_transform},
     {"Identity", on_identity},
+    {"CoordinateSystem", on_coordinate_system},
+    {"CoordSysTransform", on_coord_sys_transform},
+    {"ActiveTransform", on_active_transform},
+    {"TransformTimes", on_transform_times},
+    {"Texture", on_texture},
     {"ReverseOrientation", on_reverse_orientation},
     {"AttributeBegin", on_attribute_begin},
     {"AttributeEnd", on_attribute_end},
@@ -1694,10 +1987,13 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     p.diag.error = error;
     p.diag.error_size = error_size;
     p.diag.allow_unsupported = options ? options->allow_unsupported : 0;
+    p.diag.check = options ? options->check : 0;
     p.diag.scene = scene;
     p.default_material = -1;
     p.state.material = -1;
     glm_mat4_identity(p.state.ctm);
+    glm_mat4_identity(p.state.ctm_end);
+    p.state.active_transforms = ACTIVE_ALL;
     glm_mat4_identity(p.camera_from_world);
     glm_mat4_identity(p.world_from_camera);
 
@@ -1709,7 +2005,10 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->camera.fov = 90.0f;
     scene->film_filename = scene_strndup("pbrt.exr", 8);
     scene->sampler = scene_strndup("zsobol", 6);
-    int result = scene->film_filename && scene->sampler ? 0 : scene_error(&p.diag, path, 0, "out of memory");
+    scene->light_sampler = scene_strndup("bvh", 3);
+    int result = scene->film_filename && scene->sampler && scene->light_sampler
+                     ? 0
+                     : scene_error(&p.diag, path, 0, "out of memory");
 
     if (result == 0)
         result = parse_file(&p, path, NULL, 0);
@@ -1721,6 +2020,9 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
+    for (size_t i = 0; i < p.coordinate_system_count; ++i)
+        free(p.coordinate_systems[i].name);
+    free(p.coordinate_systems);
     free(p.stack);
     for (size_t i = 0; i < p.path_count; ++i)
         free(p.paths[i]);

@@ -22,7 +22,26 @@ typedef struct {
      * the README lists (unknown material: grey diffuse; unknown shape or
      * light: skipped; lensradius > 0: pinhole; ...). */
     int allow_unsupported;
+    /* `gmonrt check`: go on past every unsupported feature (using its
+     * substitute) and every missing file (skipping what needs it), and
+     * record each in Scene.diagnostics instead of a warning or an error. */
+    int check;
 } SceneLoadOptions;
+
+typedef enum {
+    SCENE_DIAGNOSTIC_UNSUPPORTED,  /* a feature gmonrt lacks */
+    SCENE_DIAGNOSTIC_MISSING_FILE, /* a file the scene names that does not exist */
+} SceneDiagnosticKind;
+
+/* What check mode records, once for each distinct one. */
+typedef struct {
+    SceneDiagnosticKind kind;
+    char *file; /* the scene file naming it */
+    int line;   /* 0: the file as a whole */
+    char *message;
+    char *substitute; /* unsupported: what --allow-unsupported uses instead; missing: NULL */
+    char *path;       /* missing: the path pbrt-v4 would open; unsupported: NULL */
+} SceneDiagnostic;
 
 /* A perspective camera. pbrt's camera space is left-handed: +z looks into
  * the scene, +x is the image's right and +y its top (as viewed). */
@@ -126,10 +145,11 @@ typedef struct {
     SceneCamera camera;
     unsigned width, height; /* Film xresolution, yresolution */
     char *film_filename;
-    char *sampler;  /* the Sampler's name as written; the renderer samples independently */
-    unsigned spp;   /* Sampler pixelsamples */
-    int max_depth;  /* Integrator maxdepth */
-    int regularize; /* Integrator "regularize": recorded, not applied */
+    char *sampler;       /* the Sampler's name as written; the renderer samples independently */
+    unsigned spp;        /* Sampler pixelsamples */
+    int max_depth;       /* Integrator maxdepth */
+    int regularize;      /* Integrator "regularize": recorded, not applied */
+    char *light_sampler; /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
 
     SceneMaterial *materials;
     size_t material_count;
@@ -149,8 +169,12 @@ typedef struct {
     SceneLight *lights;
     size_t light_count;
 
-    char **warnings; /* "file:line: ..." lines, for the renderer to print */
+    char **warnings; /* "file:line: warning: ..." lines, each once, for the renderer to print */
     size_t warning_count;
+    char **notes; /* "file:line: note: ..." lines: what is done differently without changing the image */
+    size_t note_count;
+    SceneDiagnostic *diagnostics; /* check mode only */
+    size_t diagnostic_count;
 } Scene;
 
 /* Reads `path` (and the files it includes) into *scene. Returns 0, or -1 with
