@@ -50,6 +50,10 @@ int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_siz
  * or -1 with the reason (without the path) in `why`. */
 int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size);
 
+/* Resolves a file named in `file`: relative to that file's directory, or
+ * failing that to main_file's (pbrt-v4's own rule). NULL when out of memory. */
+char *scene_resolve_path(const char *file, const char *main_file, const char *name);
+
 /* A copy of text[0, length) with a terminating NUL, or NULL. */
 char *scene_strndup(const char *text, size_t length);
 
