@@ -63,3 +63,18 @@ print("glass-BK7 eta", np.trapezoid(cmfs[:, 1] * s, lam) / np.trapezoid(cmfs[:, 
 # A reflectance: 0.2 below 500 nm, 0.8 above (inline pairs 499 0.2 501 0.8).
 r = np.interp(lam, [499, 501], [0.2, 0.8])
 print("step albedo", M @ xyz(r * d65) / xyz(d65)[1])
+
+
+# The README's metal comparison: pbrt-v4 renders a metal under white (D65)
+# light at normal incidence as the RGB of its spectral Fresnel reflectance
+# R(lambda); gmonrt applies the Fresnel equations to the RGB eta and k.
+def fresnel(n, k):
+    return ((n - 1) ** 2 + k**2) / ((n + 1) ** 2 + k**2)
+
+
+for metal in ("Au",):
+    eta, k = pbrt_table(metal + ".eta"), pbrt_table(metal + ".k")
+    spectral = M @ xyz(fresnel(eta, k) * d65) / xyz(d65)[1]
+    rgb = fresnel(np.array(unbounded(eta)), np.array(unbounded(k)))
+    print("%s normal-incidence reflectance: spectral %s, from RGB eta/k %s, difference %s%%"
+          % (metal, spectral, rgb, 100 * (rgb / spectral - 1)))
