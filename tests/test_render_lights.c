@@ -95,6 +95,27 @@ static void test_point_light(void **state)
     render_and_check(&scene, 1, 4, RHO / PI * 3.0 / (1.5 * 1.5), "point light over a diffuse plane");
 }
 
+/* The film's response: its matrix scales every sample (iso 300 is 3 x the
+ * identity), and maxcomponentvalue scales a sample down to it. */
+static void test_film_response(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const double lit = RHO / PI * 3.0 / (1.5 * 1.5);
+    for (int clamp = 0; clamp <= 1; ++clamp) {
+        RenderScene scene;
+        plane_scene(&scene, 0.0f);
+        Light light = light_of(LIGHT_POINT, 3.0f);
+        light.position[2] = 1.5f;
+        assert_int_equal(render_scene_add_light(&scene, &light), 0);
+        for (int i = 0; i < 3; ++i)
+            scene.constants.film.from_radiance[i][i] = 3.0f;
+        if (clamp)
+            scene.constants.film.max_component_value = 0.25f;
+        render_and_check(&scene, 1, 4, clamp ? 0.25 : 3.0 * lit, clamp ? "film clamp" : "film matrix 3 I");
+    }
+}
+
 /* A spot light pointing down: full intensity inside the inner cone,
  * pbrt-v4's smoothstep between the cones, nothing outside. */
 static void test_spot_light(void **state)
@@ -293,9 +314,13 @@ static void test_equal_area_mapping(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_equal_area_mapping),   cmocka_unit_test(test_point_light),
-        cmocka_unit_test(test_spot_light),           cmocka_unit_test(test_distant_light),
-        cmocka_unit_test(test_vertex_normals_shade), cmocka_unit_test(test_goniometric_and_projection_lights),
+        cmocka_unit_test(test_equal_area_mapping),
+        cmocka_unit_test(test_point_light),
+        cmocka_unit_test(test_spot_light),
+        cmocka_unit_test(test_distant_light),
+        cmocka_unit_test(test_vertex_normals_shade),
+        cmocka_unit_test(test_film_response),
+        cmocka_unit_test(test_goniometric_and_projection_lights),
         cmocka_unit_test(test_environment_image),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);

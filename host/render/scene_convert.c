@@ -222,6 +222,16 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     render_scene_set_camera(out, scene.camera.position, scene.camera.forward, scene.camera.right, scene.camera.up,
                             tan_half[0], tan_half[1], width, height);
     out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
+    FilmData *film = &out->constants.film;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            film->from_radiance[r][c] = scene.film_from_radiance[r][c];
+    film->max_component_value = scene.max_component_value;
+    if (scene.max_component_value < INFINITY && !quiet)
+        fprintf(stderr,
+                "note: %s: Film \"maxcomponentvalue\" %g: every sample whose largest component exceeds it is "
+                "scaled down to it before it is accumulated, so every estimator sees the clamped samples\n",
+                path, (double)scene.max_component_value);
 
     int failed = 0;
     for (size_t i = 0; i < scene.light_count && !failed; ++i)

@@ -8,6 +8,7 @@
 #include "scene/ply.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/spectrum.h"
 
 #include <cglm/cglm.h>
 
@@ -81,6 +82,9 @@ typedef struct {
     mat4 camera_from_world, world_from_camera;
     const char *camera_file;
     int camera_line;
+    /* The film's sensor settings and the camera's shutter, combined into
+     * the film matrix at the end (Film may come before or after Camera). */
+    float film_iso, film_white_balance, shutter_open, shutter_close;
 } Parser;
 
 typedef int (*Handler)(Parser *p, Lexer *lex, const Token *directive);
@@ -165,7 +169,9 @@ static int read_typed_directive(Parser *p, Lexer *lex, const Token *directive, c
     directive_name(directive, name, sizeof name);
     token_describe(type, shown, sizeof shown);
     snprintf(owner, sizeof owner, "%s %s", name, shown);
-    return params_parse(lex, owner, params);
+    int result = params_parse(lex, owner, params);
+    params->main_file = p->main_path; /* after params_parse, which clears the list */
+    return result;
 }
 
 static void transform_point(mat4 m, const float in[3], float out[3])
@@ -505,7 +511,7 @@ static int read_roughness(ParamList *params, SceneMaterial *m, int line, Parser 
 
 static int read_eta(ParamList *params, float *eta, int line, Parser *p)
 {
-    if (params_get_float(params, "eta", eta) < 0)
+    if (params_get_eta(params, "eta", eta) < 0)
         return -1;
     if (!(*eta > 0.0f))
         return scene_error(&p->diag, params->file, line, "%s: eta must be positive", params->owner);
@@ -518,7 +524,7 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
 {
     default_material(m);
     if (strcmp(type, "diffuse") == 0) {
-        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0)
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
             return -1;
     } else if (strcmp(type, "dielectric") == 0) {
         m->type = SCENE_MATERIAL_DIELECTRIC;
@@ -531,9 +537,9 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         m->type = SCENE_MATERIAL_CONDUCTOR;
         memcpy(m->conductor_eta, copper_eta, sizeof copper_eta);
         memcpy(m->conductor_k, copper_k, sizeof copper_k);
-        int has_eta = params_get_rgb(params, "eta", 0, m->conductor_eta);
-        int has_k = params_get_rgb(params, "k", 0, m->conductor_k);
-        int has_reflectance = params_get_rgb(params, "reflectance", 1, m->reflectance);
+        int has_eta = params_get_spectrum(params, "eta", SPECTRUM_UNBOUNDED, m->conductor_eta);
+        int has_k = params_get_spectrum(params, "k", SPECTRUM_UNBOUNDED, m->conductor_k);
+        int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance);
         if (has_eta < 0 || has_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
             return -1;
         if (has_reflectance && (has_eta || has_k))
@@ -544,8 +550,8 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
             memset(m->reflectance, 0, sizeof m->reflectance);
     } else if (strcmp(type, "coateddiffuse") == 0) {
         m->type = SCENE_MATERIAL_COATED_DIFFUSE;
-        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0 || read_eta(params, &m->eta, line, p) ||
-            read_roughness(params, m, line, p))
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
+            read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
             return -1;
         /* The renderer approximates the layered BSDF; these only tune
          * pbrt's stochastic evaluation of a clear coating. */
@@ -967,8 +973,8 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     if (result == 0 &&
         (params_get_float(&params, "fov", &fov) < 0 || params_get_float(&params, "lensradius", &lens_radius) < 0 ||
          params_get_float(&params, "focaldistance", &ignored) < 0 ||
-         params_get_float(&params, "shutteropen", &ignored) < 0 ||
-         params_get_float(&params, "shutterclose", &ignored) < 0))
+         params_get_float(&params, "shutteropen", &p->shutter_open) < 0 ||
+         params_get_float(&params, "shutterclose", &p->shutter_close) < 0))
         result = -1;
     if (result == 0 && !(fov > 0.0f && fov < 180.0f))
         result =
@@ -1020,30 +1026,76 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
     ParamList params;
+    Scene *s = p->scene;
     int result = read_typed_directive(p, lex, d, "the film type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
-    if (result == 0 && !token_is(&type, "rgb"))
+    if (result == 0 && token_is(&type, "gbuffer")) {
+        /* pbrt-v4's gbuffer film adds geometry channels to the same RGB. */
+        result =
+            scene_warn(&p->diag, lex->path, d->line, "Film \"gbuffer\": rendered as \"rgb\" (no geometry channels)");
+        params_ignore(&params, "coordinatesystem");
+    } else if (result == 0 && !token_is(&type, "rgb")) {
         result = scene_unsupported(&p->diag, lex->path, d->line, "an \"rgb\" film is used",
-                                   "Film: only \"rgb\" is supported");
-    int width = (int)p->scene->width, height = (int)p->scene->height;
-    const char *filename = NULL;
+                                   "Film: only \"rgb\" and \"gbuffer\" are supported");
+    }
+    int width = (int)s->width, height = (int)s->height, save_fp16 = s->save_fp16;
+    const char *filename = NULL, *sensor = "cie1931";
+    float iso = 100.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
     if (result == 0 &&
         (params_get_int(&params, "xresolution", &width) < 0 || params_get_int(&params, "yresolution", &height) < 0 ||
-         params_get_string(&params, "filename", &filename) < 0))
+         params_get_string(&params, "filename", &filename) < 0 || params_get_float(&params, "iso", &iso) < 0 ||
+         params_get_float(&params, "whitebalance", &white_balance) < 0 ||
+         params_get_string(&params, "sensor", &sensor) < 0 ||
+         params_get_float(&params, "maxcomponentvalue", &max_component) < 0 ||
+         params_get_float(&params, "diagonal", &diagonal) < 0 || params_get_bool(&params, "savefp16", &save_fp16) < 0))
         result = -1;
     if (result == 0 && (width < 1 || height < 1 || width > 65536 || height > 65536))
         result = scene_error(&p->diag, lex->path, d->line, "Film: resolution %d x %d is out of range", width, height);
+    if (result == 0 && !(iso > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: iso %g must be positive", (double)iso);
+    if (result == 0 && (white_balance < 0.0f || white_balance > 1e5f))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "Film: whitebalance %g K is not 0 (none) or a temperature up to 100000 K",
+                             (double)white_balance);
+    if (result == 0 && !(max_component > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: maxcomponentvalue %g must be positive",
+                             (double)max_component);
+    if (result == 0 && !(diagonal > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: diagonal %g must be positive", (double)diagonal);
+    if (result == 0 && strcmp(sensor, "cie1931") != 0) {
+        result = scene_unsupported(&p->diag, lex->path, d->line, "the \"cie1931\" sensor is used",
+                                   "Film: sensor \"%s\" is not supported (only \"cie1931\")", sensor);
+        if (white_balance == 0.0f)
+            white_balance = 6500.0f; /* pbrt-v4's default for a camera sensor */
+    }
     if (result == 0)
         result = params_check_unused(&params);
     if (result == 0 && filename)
-        result = replace_string(p, lex->path, d->line, &p->scene->film_filename, filename);
+        result = replace_string(p, lex->path, d->line, &s->film_filename, filename);
     if (result == 0) {
-        p->scene->width = (unsigned)width;
-        p->scene->height = (unsigned)height;
+        s->width = (unsigned)width;
+        s->height = (unsigned)height;
+        s->max_component_value = max_component;
+        s->save_fp16 = save_fp16;
+        s->film_diagonal = diagonal;
+        p->film_iso = iso;
+        p->film_white_balance = white_balance;
     }
     params_free(&params);
     return result;
+}
+
+/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter. */
+static int finish_film(Parser *p)
+{
+    double exposure = (double)p->shutter_close - (double)p->shutter_open;
+    if (!(exposure > 0.0))
+        return scene_error(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
+                           "Camera: shutterclose %g must be after shutteropen %g (the film's exposure time)",
+                           (double)p->shutter_close, (double)p->shutter_open);
+    spectrum_film_from_radiance(exposure * p->film_iso / 100.0, p->film_white_balance, p->scene->film_from_radiance);
+    return 0;
 }
 
 static int on_sampler(Parser *p, Lexer *lex, const Token *d)
@@ -1297,8 +1349,9 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
     }
     float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
     int two_sided = 0;
-    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0 ||
-                        params_get_bool(&params, "twosided", &two_sided) < 0))
+    if (result == 0 &&
+        (params_get_spectrum(&params, "L", SPECTRUM_ILLUMINANT, L) < 0 ||
+         params_get_float(&params, "scale", &scale) < 0 || params_get_bool(&params, "twosided", &two_sided) < 0))
         result = -1;
     if (result == 0 && scale < 0.0f)
         result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: scale must not be negative");
@@ -1317,7 +1370,6 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
-static int file_exists(const char *path);
 static char *resolve_path(Parser *p, const char *file, const char *name);
 
 /* A direction through the CTM's linear part, in double. */
@@ -1385,7 +1437,7 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     mat4 *ctm = &p->state.ctm;
     result = params_get_float(&params, "scale", &scale) < 0;
     if (!result && (is_point || is_spot || is_goniometric))
-        result = params_get_rgb(&params, "I", 0, L) < 0;
+        result = params_get_spectrum(&params, "I", SPECTRUM_ILLUMINANT, L) < 0;
     if (!result && (is_point || is_spot || is_imaged))
         result = params_get_float(&params, "power", &power) < 0;
     if (!result && is_imaged)
@@ -1399,7 +1451,7 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
                                  (double)light.fov);
     }
     if (!result && (is_distant || is_infinite))
-        result = (has_L = params_get_rgb(&params, "L", 0, L)) < 0 ||
+        result = (has_L = params_get_spectrum(&params, "L", SPECTRUM_ILLUMINANT, L)) < 0 ||
                  params_get_float(&params, "illuminance", &illuminance) < 0;
     if (!result && is_infinite) {
         /* A portal only helps pbrt sample the image: the light is the same. */
@@ -1518,7 +1570,7 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
                 free(light.filename);
                 params_free(&params);
                 return 0;
-            } else if (!file_exists(light.filename))
+            } else if (!scene_file_exists(light.filename))
                 result =
                     scene_error(&p->diag, lex->path, d->line, "%s: cannot find \"%s\"", params.owner, light.filename);
         }
@@ -1634,45 +1686,13 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     return result;
 }
 
-/* A path relative to the directory of `from` (a file), unless absolute. */
-static char *path_relative_to(const char *from, const char *name)
-{
-    if (name[0] == '/' || !from)
-        return scene_strndup(name, strlen(name));
-    const char *slash = strrchr(from, '/');
-    size_t dir = slash ? (size_t)(slash - from) + 1 : 0;
-    size_t length = strlen(name);
-    char *path = malloc(dir + length + 1);
-    if (path) {
-        memcpy(path, from, dir);
-        memcpy(path + dir, name, length + 1);
-    }
-    return path;
-}
-
-/* stat, not open: opening a FIFO could block. */
-static int file_exists(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
 /* Resolves a file named in `file` as pbrt-v4 does (ResolveFilename):
  * relative to the main file's directory. When nothing is there, gmonrt also
  * tries the directory of the file naming it (pbrt-v4 would try the working
  * directory); when that fails too, the path is pbrt-v4's, for messages. */
 static char *resolve_path(Parser *p, const char *file, const char *name)
 {
-    char *path = path_relative_to(p->main_path, name);
-    if (path && !file_exists(path)) {
-        char *beside = path_relative_to(file, name);
-        if (beside && file_exists(beside)) {
-            free(path);
-            return beside;
-        }
-        free(beside);
-    }
-    return path;
+    return scene_resolve_path(file, p->main_path, name);
 }
 
 static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
@@ -2004,6 +2024,11 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->max_depth = 5;
     scene->camera.fov = 90.0f;
     scene->film_filename = scene_strndup("pbrt.exr", 8);
+    scene->max_component_value = INFINITY;
+    scene->save_fp16 = 1;
+    scene->film_diagonal = 35.0f;
+    p.film_iso = 100.0f;
+    p.shutter_close = 1.0f;
     scene->sampler = scene_strndup("zsobol", 6);
     scene->light_sampler = scene_strndup("bvh", 3);
     int result = scene->film_filename && scene->sampler && scene->light_sampler
@@ -2014,6 +2039,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = parse_file(&p, path, NULL, 0);
     if (result == 0)
         result = finish_camera(&p);
+    if (result == 0)
+        result = finish_film(&p);
     if (result == 0)
         result = check_precision(&p);
 

@@ -334,3 +334,40 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
     *size = length;
     return 0;
 }
+
+/* stat, not open: opening a FIFO could block. */
+int scene_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* A path relative to the directory of `from` (a file), unless absolute. */
+static char *path_relative_to(const char *from, const char *name)
+{
+    if (name[0] == '/' || !from)
+        return scene_strndup(name, strlen(name));
+    const char *slash = strrchr(from, '/');
+    size_t dir = slash ? (size_t)(slash - from) + 1 : 0;
+    size_t length = strlen(name);
+    char *path = malloc(dir + length + 1);
+    if (path) {
+        memcpy(path, from, dir);
+        memcpy(path + dir, name, length + 1);
+    }
+    return path;
+}
+
+char *scene_resolve_path(const char *file, const char *main_file, const char *name)
+{
+    char *path = path_relative_to(main_file, name);
+    if (path && !scene_file_exists(path)) {
+        char *beside = path_relative_to(file, name);
+        if (beside && scene_file_exists(beside)) {
+            free(path);
+            return beside;
+        }
+        free(beside);
+    }
+    return path;
+}

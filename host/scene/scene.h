@@ -145,11 +145,22 @@ typedef struct {
     SceneCamera camera;
     unsigned width, height; /* Film xresolution, yresolution */
     char *film_filename;
-    char *sampler;       /* the Sampler's name as written; the renderer samples independently */
-    unsigned spp;        /* Sampler pixelsamples */
-    int max_depth;       /* Integrator maxdepth */
-    int regularize;      /* Integrator "regularize": recorded, not applied */
-    char *light_sampler; /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
+    /* The film's sensor reduced to what an RGB renderer applies to each
+     * sample (host/scene/README.md, "Film"): the image's linear sRGB is
+     * film_from_radiance[row][column] times the sample's radiance (the
+     * sensor's response, white balance and pbrt-v4's imaging ratio
+     * shutter time * iso / 100 combined; identity for the default film).
+     * pbrt-v4 scales a sample whose largest sensor component (XYZ for the
+     * default sensor) exceeds max_component_value down to it. */
+    float film_from_radiance[3][3];
+    float max_component_value; /* INFINITY when not given */
+    int save_fp16;             /* Film "savefp16", pbrt-v4's default 1 */
+    float film_diagonal;       /* mm (default 35): recorded, only pbrt's realistic camera reads it */
+    char *sampler;             /* the Sampler's name as written; the renderer samples independently */
+    unsigned spp;              /* Sampler pixelsamples */
+    int max_depth;             /* Integrator maxdepth */
+    int regularize;            /* Integrator "regularize": recorded, not applied */
+    char *light_sampler;       /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
 
     SceneMaterial *materials;
     size_t material_count;

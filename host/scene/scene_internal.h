@@ -76,6 +76,13 @@ int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_
  * reason in `why` (corrupt data: "corrupt gzip data: <zlib's message>"). */
 int scene_read_gzip(int fd, size_t most, char **buffer, size_t *length, char *why, size_t why_size);
 
+/* Resolves a file named in `file`: relative to main_file's directory, as pbrt-v4's
+ * ResolveFilename, or when nothing is there to that file's own directory. NULL when out of memory. */
+char *scene_resolve_path(const char *file, const char *main_file, const char *name);
+
+/* Whether something is at `path` (stat, not open: opening a FIFO could block). */
+int scene_file_exists(const char *path);
+
 /* A copy of text[0, length) with a terminating NUL, or NULL. */
 char *scene_strndup(const char *text, size_t length);
 

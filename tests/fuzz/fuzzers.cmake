@@ -27,6 +27,9 @@ add_library(fuzz_code STATIC
   host/scene/parser.c
   host/scene/ply.c
   host/scene/scene.c
+  host/scene/spectrum.c
+  host/scene/spectrum_cie_data.c
+  host/scene/spectrum_data.c
   host/render/scene_convert.c
   host/render/render_scene.c
   host/render/bvh.c
