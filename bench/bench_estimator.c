@@ -646,7 +646,7 @@ static int time_render(ClDevice *device, const Options *o, double *seconds)
         return -1;
     }
     int status = -1;
-    scene.params.flags = RENDER_NEE; /* as gmonrt renders by default */
+    scene.constants.integrator.flags = RENDER_NEE; /* as gmonrt renders by default */
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "bench_estimator: %s\n", error);
         goto done;

@@ -83,8 +83,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_render: %s\n", error);
         return 1;
     }
-    scene.params.max_depth = (uint32_t)max_depth;
-    scene.params.flags = bsdf_only ? 0u : RENDER_NEE;
+    scene.constants.integrator.max_depth = (uint32_t)max_depth;
+    scene.constants.integrator.flags = bsdf_only ? 0u : RENDER_NEE;
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "bench_render: %s\n", error);
         return 1;

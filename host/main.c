@@ -3,6 +3,7 @@
  * default) to one EXR plus a PNG preview. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "cli/check.h"
 #include "cli/checkpoints.h"
 #include "cli/devices.h"
 #include "cli/estimate.h"
@@ -99,8 +100,8 @@ static int render(const Options *o)
     if (!o->quiet && summary.regularize)
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)
-        scene.params.max_depth = (uint32_t)o->max_depth;
-    scene.params.flags = o->bsdf_only ? 0u : RENDER_NEE;
+        scene.constants.integrator.max_depth = (uint32_t)o->max_depth;
+    scene.constants.integrator.flags = o->bsdf_only ? 0u : RENDER_NEE;
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
         goto done;
@@ -115,8 +116,8 @@ static int render(const Options *o)
 
     Checkpoints checkpoints;
     if (o->checkpoints) {
-        if (checkpoints_open(&checkpoints, o->checkpoints, o->reference, scene.params.width, scene.params.height, error,
-                             sizeof error)) {
+        if (checkpoints_open(&checkpoints, o->checkpoints, o->reference, scene.constants.camera.width,
+                             scene.constants.camera.height, error, sizeof error)) {
             fprintf(stderr, "gmonrt: %s\n", error);
             goto done;
         }
@@ -139,7 +140,8 @@ static int render(const Options *o)
         settings.checkpoint_user = &checkpoints;
     }
     Progress progress;
-    progress_init(&progress, o->quiet, (uint64_t)scene.params.width * scene.params.height, o->time_budget);
+    progress_init(&progress, o->quiet, (uint64_t)scene.constants.camera.width * scene.constants.camera.height,
+                  o->time_budget);
     settings.progress = on_progress;
     settings.progress_user = &progress;
 
@@ -213,6 +215,8 @@ int main(int argc, char **argv)
         return estimate_command(&options);
     case COMMAND_MERGE:
         return merge_command(&options);
+    case COMMAND_CHECK:
+        return check_command(&options);
     case COMMAND_RENDER:
         break;
     }

@@ -20,7 +20,7 @@ typedef struct {
     float b[3];
     int32_t material; /* index into the material array */
     float c[3];
-    int32_t emitter; /* index into the emitter array, or -1 */
+    int32_t light; /* index into the light array (an area light), or -1 */
 } Primitive;
 
 /* The BVH, an 8-wide tree flattened into an array of BvhNode blocks (block 0
@@ -55,7 +55,8 @@ typedef union {
 
 /* Primitive.kind: the shape in the low byte, flags above it. */
 #define PRIM_KIND_MASK 0xffu
-#define PRIM_FLIP_NORMAL 0x100u /* ReverseOrientation (or a handedness swap) */
+#define PRIM_FLIP_NORMAL 0x100u    /* ReverseOrientation (or a handedness swap) */
+#define PRIM_SHADING_NORMAL 0x200u /* a triangle with vertex normals, in shading_normals */
 
 /* With one shape kind in the build (feature_mask.h) the test folds away. */
 KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
@@ -86,44 +87,136 @@ typedef struct {
 
 #define SMOOTH_ALPHA 1e-3f
 
-/* An area light: one emitting primitive. 32 bytes. */
+/* Light types (Light.type). Area lights are emitting primitives; the
+ * infinite lights come first in the light array (BackgroundData). */
+#define LIGHT_AREA 0u
+#define LIGHT_POINT 1u
+#define LIGHT_SPOT 2u
+#define LIGHT_DISTANT 3u
+#define LIGHT_UNIFORM_INFINITE 4u
+#define LIGHT_IMAGE_INFINITE 5u
+#define LIGHT_GONIOMETRIC 6u
+#define LIGHT_PROJECTION 7u
+
+/* One light, any type. 128 bytes.
+ * - area: `radiance` leaves `primitive` (of `area`) on its front, or both
+ *   sides when two_sided;
+ * - point: intensity `radiance` at `position`;
+ * - spot: as point, within a cone around `direction` (unit, the way it
+ *   shines), fully bright inside cos_falloff_start and smoothly falling to 0
+ *   at cos_total_width (pbrt-v4's smoothstep);
+ * - distant: radiance `radiance` arriving from `direction` (unit, toward the
+ *   light);
+ * - uniform infinite: radiance `radiance` from every direction;
+ * - image infinite: `radiance` scales the image of image_width x
+ *   image_height RGB texels at texels[image_offset...] (pbrt-v4's
+ *   equal-area octahedral square, row 0 at the top), looked up at the
+ *   direction in light space (the rows light_from_world[0..2] rotate a world
+ *   direction into it); its sampling distribution is at
+ *   distributions[distribution_offset...] (lights.h);
+ * - goniometric: a point light whose intensity `radiance` is scaled by its
+ *   image (the same square, grey as RGB) at the light-space direction;
+ * - projection: a point light projecting its image (image_width x
+ *   image_height RGB texels, row 0 at the top) along light-space +z: a
+ *   light-space direction w lands at (w.x / w.z, w.y / w.z) of the screen
+ *   [-screen_half[0], screen_half[0]] x [-screen_half[1], screen_half[1]].
+ * Every light has its chance of being picked and the running sum of the
+ * chances (inclusive) over the light array. */
 typedef struct {
-    float radiance[3];
-    int32_t primitive; /* index into the (BVH-ordered) primitive array */
+    uint32_t type;
+    int32_t primitive;
     float area;
     uint32_t two_sided;
-    float pick_probability; /* chance that light sampling picks it */
-    float pick_cdf;         /* running sum of pick probabilities, inclusive */
-} Emitter;
+    float radiance[3];
+    float pick_probability;
+    float position[3];
+    float pick_cdf;
+    float direction[3];
+    float cos_falloff_start;
+    float light_from_world[3][3]; /* rows */
+    float cos_total_width;
+    uint32_t image_width, image_height, image_offset, distribution_offset;
+    float screen_half[2]; /* projection */
+} Light;
 
-/* Render parameters, one per render. 96 bytes. The camera looks along
- * `forward`; `right` and `up` are scaled by the tangents of the half fields
- * of view, so a pixel's ray is forward + x * right + y * up for x, y in
- * [-1, 1] (x to the right, y up in the image). */
+/* An image light's sampling distribution over the square, at
+ * distributions[distribution_offset...]: [0] the mean of the function f
+ * over the square, then the marginal CDF of the rows (height + 1 values),
+ * one CDF per row (width + 1 values each), and f itself (width * height,
+ * row by row). f is the texel's channel average, so it is positive
+ * wherever the light is. DISTRIBUTION_FUNCTION is where f starts. */
+#define DISTRIBUTION_FUNCTION(width, height) (1u + ((height) + 1u) + (height) * ((width) + 1u))
+
+/* The constants of one render, by concern. 160 bytes in all. The camera
+ * looks along `forward`; `right` and `up` are scaled by the tangents of the
+ * half fields of view, so a pixel's ray is forward + x * right + y * up for
+ * x, y in [-1, 1] (x to the right, y up in the image). */
+typedef struct {
+    float position[3];
+    uint32_t width;
+    float right[3];
+    uint32_t height;
+    float up[3];
+    uint32_t pad0;
+    float forward[3];
+    uint32_t pad1;
+} CameraData;
+
+/* What the film does to each sample's radiance (linear sRGB) before it is
+ * accumulated: the sensor's response as a 3x3 matrix (rows, padded; the
+ * identity for pbrt-v4's default film), then, as pbrt-v4's
+ * "maxcomponentvalue", a sample whose largest component exceeds
+ * max_component_value is scaled down to it (INFINITY: never). */
+typedef struct {
+    float from_radiance[3][4];
+    float max_component_value;
+    uint32_t pad[3];
+} FilmData;
+
 #define RENDER_NEE 1u /* next-event estimation with MIS; else BSDF sampling only */
 
 typedef struct {
-    float camera_position[3];
-    uint32_t width;
-    float camera_right[3];
-    uint32_t height;
-    float camera_up[3];
     uint32_t max_depth;
-    float camera_forward[3];
-    uint32_t seed;
-    float environment[3]; /* constant infinite light radiance */
-    uint32_t emitter_count;
-    float environment_pick; /* chance light sampling picks the environment */
     uint32_t flags;
-    uint32_t pad[2];
-} RenderParams;
+    uint32_t light_count;
+    uint32_t seed;
+} IntegratorData;
+
+/* The infinite lights: lights[0, infinite_count) of the light array. */
+typedef struct {
+    uint32_t infinite_count;
+    uint32_t pad[3];
+} BackgroundData;
+
+typedef struct {
+    CameraData camera;
+    FilmData film;
+    IntegratorData integrator;
+    BackgroundData background;
+} SceneConstants;
+
+/* The scene's arrays, in the order the path tracer takes them after the
+ * constants: ARRAY(name, element type). The kernel's signature, the
+ * kernel's Scene and the host's upload (host/render/scene_upload.c) all
+ * come from this one list. `distributions` holds the lights' sampling
+ * distributions, `texels` their images (RGB floats), `shading_normals`
+ * the vertex normals of triangles flagged PRIM_SHADING_NORMAL (9 floats a
+ * primitive, in the BVH's order; empty when no triangle has them). */
+#define GMON_SCENE_ARRAYS(ARRAY)                                                                                       \
+    ARRAY(nodes, BvhNode)                                                                                              \
+    ARRAY(primitives, Primitive)                                                                                       \
+    ARRAY(materials, Material)                                                                                         \
+    ARRAY(lights, Light)                                                                                               \
+    ARRAY(distributions, float)                                                                                        \
+    ARRAY(texels, float)                                                                                               \
+    ARRAY(shading_normals, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
 _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
 _Static_assert(sizeof(Material) == 64, "Material must match the kernel's layout");
-_Static_assert(sizeof(Emitter) == 32, "Emitter must match the kernel's layout");
-_Static_assert(sizeof(RenderParams) == 96, "RenderParams must match the kernel's layout");
+_Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
+_Static_assert(sizeof(SceneConstants) == 160, "SceneConstants must match the kernel's layout");
 #endif
 
 #endif

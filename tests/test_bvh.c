@@ -27,7 +27,7 @@ static Primitive *random_scene(int count, int sphere_every, TestRng *rng)
     for (int i = 0; i < count; ++i) {
         float centre[3] = {uniform(rng, -10, 10), uniform(rng, -10, 10), uniform(rng, -10, 10)};
         p[i].material = i % 3;
-        p[i].emitter = -1;
+        p[i].light = -1;
         if (sphere_every && i % sphere_every == 0) {
             p[i].kind = PRIM_SPHERE;
             memcpy(p[i].a, centre, sizeof centre);

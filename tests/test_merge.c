@@ -240,14 +240,14 @@ static void test_mismatches_are_refused(void **state)
 
     /* Options applied after the scene is read are named. */
     RenderScene shallow = scene;
-    shallow.params.max_depth = 1;
+    shallow.constants.integrator.max_depth = 1;
     render_part_of(&shallow, "depth1.exr", 4, 4, 5, 3);
-    shallow.params.max_depth = scene.params.max_depth;
-    shallow.params.flags = 0; /* --integrator bsdf */
+    shallow.constants.integrator.max_depth = scene.constants.integrator.max_depth;
+    shallow.constants.integrator.flags = 0; /* --integrator bsdf */
     render_part_of(&shallow, "bsdf.exr", 4, 4, 5, 3);
     const char *depth[] = {"m5.exr", "depth1.exr"}, *bsdf[] = {"m5.exr", "bsdf.exr"};
     char expected[64];
-    snprintf(expected, sizeof expected, "differ in maxdepth (%u vs 1)", scene.params.max_depth);
+    snprintf(expected, sizeof expected, "differ in maxdepth (%u vs 1)", scene.constants.integrator.max_depth);
     merge_refused(depth, 2, expected);
     merge_refused(bsdf, 2, "differ in integrator (path vs bsdf)");
 

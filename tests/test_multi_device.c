@@ -336,7 +336,7 @@ static void test_feature_mask_follows_scene_and_outputs(void **state)
     snprintf(path, sizeof path, "%s/scenes/cornell-diffuse.pbrt", GMON_SOURCE_DIR);
     SceneSummary summary;
     assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &diffuse, &summary, error, sizeof error), 0);
-    diffuse.params.flags = 0; /* BSDF sampling only */
+    diffuse.constants.integrator.flags = 0; /* BSDF sampling only */
     assert_int_equal(render_scene_finalize(&diffuse, error, sizeof error), 0);
     uint32_t features = render_scene_features(&diffuse);
     assert_int_equal(features & (FEATURE_DIELECTRIC | FEATURE_CONDUCTOR | FEATURE_COATED_DIFFUSE | FEATURE_ROUGH |

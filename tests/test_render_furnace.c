@@ -36,8 +36,8 @@ static void look_along_z(RenderScene *scene, float z, float tan_half_fov)
 static void render_and_check(RenderScene *scene, int nee, unsigned max_depth, double expected, const char *name)
 {
     char error[256];
-    scene->params.max_depth = max_depth;
-    scene->params.flags = nee ? RENDER_NEE : 0u;
+    scene->constants.integrator.max_depth = max_depth;
+    scene->constants.integrator.flags = nee ? RENDER_NEE : 0u;
     assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
     RenderSettings settings;
     render_settings_default(&settings);
@@ -108,8 +108,8 @@ static void test_diffuse_sphere_in_environment(void **state)
         int material = render_scene_add_material(&scene, &m);
         const float centre[3] = {0, 0, 0};
         assert_int_equal(render_scene_add_sphere(&scene, centre, 1.0f, material, NULL, 0, 0), 0);
-        for (int c = 0; c < 3; ++c)
-            scene.params.environment[c] = 2.0f;
+        const float sky[3] = {2.0f, 2.0f, 2.0f};
+        assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
         look_along_z(&scene, -3.0f, 0.15f); /* the sphere fills the view */
         render_and_check(&scene, nee, 8, 1.6, nee ? "diffuse sphere in environment, NEE" : "diffuse sphere, BSDF");
         render_scene_destroy(&scene);
@@ -131,8 +131,8 @@ static void test_glass_sphere_in_environment(void **state)
     int material = render_scene_add_material(&scene, &glass);
     const float centre[3] = {0, 0, 0};
     assert_int_equal(render_scene_add_sphere(&scene, centre, 1.0f, material, NULL, 0, 0), 0);
-    for (int c = 0; c < 3; ++c)
-        scene.params.environment[c] = 1.0f;
+    const float sky[3] = {1.0f, 1.0f, 1.0f};
+    assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
     look_along_z(&scene, -3.0f, 0.3f);
     render_and_check(&scene, 1, 200, 1.0, "glass sphere in environment");
     render_scene_destroy(&scene);

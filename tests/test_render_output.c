@@ -223,7 +223,7 @@ static void test_nee_and_bsdf_sampling_agree(void **state)
         for (int nee = 0; nee <= 1; ++nee) {
             RenderScene scene;
             load(scenes[s], 32, &scene);
-            scene.params.flags = nee ? RENDER_NEE : 0u;
+            scene.constants.integrator.flags = nee ? RENDER_NEE : 0u;
             RenderSettings settings;
             render_settings_default(&settings);
             settings.sample_count = 126; /* a multiple of M: equal set counts */

@@ -64,25 +64,24 @@ static int convert(const char *path, RenderScene *scene)
  * probabilities that add up to 1. */
 static void assert_finite(const RenderScene *scene)
 {
-    const RenderParams *p = &scene->params;
+    const CameraData *p = &scene->constants.camera;
     for (int k = 0; k < 3; ++k)
-        assert_true(isfinite(p->camera_position[k]) && isfinite(p->camera_forward[k]) && isfinite(p->camera_right[k]) &&
-                    isfinite(p->camera_up[k]) && isfinite(p->environment[k]));
+        assert_true(isfinite(p->position[k]) && isfinite(p->forward[k]) && isfinite(p->right[k]) && isfinite(p->up[k]));
     for (int i = 0; i < scene->bvh.primitive_count; ++i) {
         const Primitive *prim = &scene->bvh.primitives[i];
         for (int k = 0; k < 3; ++k)
             assert_true(isfinite(prim->a[k]) && isfinite(prim->b[k]) && isfinite(prim->c[k]));
     }
     double total = 0.0;
-    for (int i = 0; i < scene->emitter_count; ++i) {
-        const Emitter *e = &scene->emitters[i];
-        assert_true(isfinite(e->area) && e->area > 0.0f);
+    for (int i = 0; i < scene->light_count; ++i) {
+        const Light *e = &scene->lights[i];
+        assert_true(e->type != LIGHT_AREA || (isfinite(e->area) && e->area > 0.0f));
         for (int k = 0; k < 3; ++k)
             assert_true(isfinite(e->radiance[k]));
         assert_true(isfinite(e->pick_probability));
         total += e->pick_probability;
     }
-    if (scene->emitter_count > 0)
+    if (scene->light_count > 0)
         assert_true(fabs(total - 1.0) < 1e-5);
 }
 
@@ -148,7 +147,7 @@ static void test_geometry_at_the_limits_converts(void **state)
     if (result)
         fail_msg("%s", error);
     assert_int_equal(scene.primitive_count, 2);
-    assert_int_equal(scene.emitter_count, 2);
+    assert_int_equal(scene.light_count, 2);
     assert_finite(&scene);
     render_scene_destroy(&scene);
 }

@@ -1,23 +1,52 @@
 #include "render/render_scene.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 void render_scene_init(RenderScene *scene)
 {
     memset(scene, 0, sizeof *scene);
-    scene->params.max_depth = 5;
-    scene->params.flags = RENDER_NEE;
+    scene->constants.integrator.max_depth = 5;
+    scene->constants.integrator.flags = RENDER_NEE;
+    for (int i = 0; i < 3; ++i)
+        scene->constants.film.from_radiance[i][i] = 1.0f;
+    scene->constants.film.max_component_value = INFINITY;
 }
 
 void render_scene_destroy(RenderScene *scene)
 {
     free(scene->materials);
     free(scene->primitives);
-    free(scene->emitters);
+    free(scene->lights);
+    free(scene->distributions);
+    free(scene->texels);
+    free(scene->vertex_normals);
+    free(scene->shading_normals);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
+}
+
+RenderSceneArrays render_scene_arrays(const RenderScene *scene)
+{
+    RenderSceneArrays a;
+    a.nodes = scene->bvh.nodes;
+    a.nodes_count = (size_t)scene->bvh.node_count;
+    a.primitives = scene->bvh.primitives;
+    a.primitives_count = (size_t)scene->bvh.primitive_count;
+    a.materials = scene->materials;
+    a.materials_count = (size_t)scene->material_count;
+    a.lights = scene->lights;
+    a.lights_count = (size_t)scene->light_count;
+    a.distributions = scene->distributions;
+    a.distributions_count = scene->distribution_count;
+    a.texels = scene->texels;
+    a.texels_count = scene->texel_count;
+    a.shading_normals = scene->shading_normals;
+    a.shading_normals_count = scene->shading_normals ? 9 * (size_t)scene->bvh.primitive_count : 0;
+    return a;
 }
 
 /* Grows *array (of `size`-byte items) to hold one more; 0 on success. */
@@ -50,18 +79,18 @@ static int add_primitive(RenderScene *scene, const Primitive *p, const float *em
         return -1;
     Primitive *added = &scene->primitives[scene->primitive_count];
     *added = *p;
-    added->emitter = -1;
+    added->light = -1;
     if (emission && (emission[0] > 0.0f || emission[1] > 0.0f || emission[2] > 0.0f)) {
-        if (reserve_one((void **)&scene->emitters, scene->emitter_count, &scene->emitter_capacity,
-                        sizeof *scene->emitters))
+        Light light;
+        memset(&light, 0, sizeof light);
+        light.type = LIGHT_AREA;
+        memcpy(light.radiance, emission, sizeof light.radiance);
+        light.primitive = scene->primitive_count; /* remapped after the BVH build */
+        light.area = area;
+        light.two_sided = two_sided ? 1u : 0u;
+        if (render_scene_add_light(scene, &light))
             return -1;
-        Emitter *e = &scene->emitters[scene->emitter_count];
-        memset(e, 0, sizeof *e);
-        memcpy(e->radiance, emission, sizeof e->radiance);
-        e->primitive = scene->primitive_count; /* remapped after the BVH build */
-        e->area = area;
-        e->two_sided = two_sided ? 1u : 0u;
-        added->emitter = scene->emitter_count++;
+        added->light = scene->light_count - 1;
     }
     scene->primitive_count++;
     return 0;
@@ -101,19 +130,249 @@ int render_scene_add_sphere(RenderScene *scene, const float centre[3], float rad
     return add_primitive(scene, &p, emission, two_sided, (float)(4.0 * 3.14159265358979323846 * radius * radius));
 }
 
+int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3])
+{
+    int last = scene->primitive_count - 1;
+    if ((size_t)scene->primitive_capacity > scene->vertex_normal_capacity) {
+        size_t capacity = (size_t)scene->primitive_capacity;
+        float *grown = realloc(scene->vertex_normals, capacity * 9 * sizeof *grown);
+        if (!grown)
+            return -1;
+        memset(grown + 9 * scene->vertex_normal_capacity, 0,
+               (capacity - scene->vertex_normal_capacity) * 9 * sizeof *grown);
+        scene->vertex_normals = grown;
+        scene->vertex_normal_capacity = capacity;
+    }
+    float *v = scene->vertex_normals + 9 * (size_t)last;
+    memcpy(v, na, 3 * sizeof *v);
+    memcpy(v + 3, nb, 3 * sizeof *v);
+    memcpy(v + 6, nc, 3 * sizeof *v);
+    scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
+}
+
+int render_scene_add_light(RenderScene *scene, const Light *light)
+{
+    if (reserve_one((void **)&scene->lights, scene->light_count, &scene->light_capacity, sizeof *scene->lights))
+        return -1;
+    scene->lights[scene->light_count++] = *light;
+    return 0;
+}
+
+int render_scene_add_infinite_light(RenderScene *scene, const float radiance[3])
+{
+    Light light;
+    memset(&light, 0, sizeof light);
+    light.type = LIGHT_UNIFORM_INFINITE;
+    light.primitive = -1;
+    memcpy(light.radiance, radiance, sizeof light.radiance);
+    return render_scene_add_light(scene, &light);
+}
+
+/* Grows a float array by `more` values; returns where they start, or NULL. */
+static float *grow_floats(float **array, size_t *count, size_t *capacity, size_t more)
+{
+    if (more > SIZE_MAX / sizeof(float) - *count)
+        return NULL;
+    if (*count + more > *capacity) {
+        size_t grown = *capacity * 2 > *count + more ? *capacity * 2 : *count + more;
+        float *p = realloc(*array, grown * sizeof(float));
+        if (!p)
+            return NULL;
+        *array = p;
+        *capacity = grown;
+    }
+    float *start = *array + *count;
+    *count += more;
+    return start;
+}
+
+/* Writes a CDF of n values f (n + 1 entries, 0 to 1); uniform when f sums to 0. */
+static double write_cdf(const double *f, size_t n, float *cdf)
+{
+    double total = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        total += f[i];
+    double running = 0.0;
+    cdf[0] = 0.0f;
+    for (size_t i = 0; i < n; ++i) {
+        running += total > 0.0 ? f[i] / total : 1.0 / (double)n;
+        cdf[i + 1] = (float)running;
+    }
+    cdf[n] = 1.0f;
+    return total;
+}
+
+/* The piecewise-constant distribution of an image light at d (layout in
+ * scene_types.h). Returns 0, or -1 when out of memory. */
+static int write_distribution(const float *rgb, uint32_t width, uint32_t height, float *d)
+{
+    size_t texels = (size_t)width * height;
+    double *f = malloc(texels * sizeof *f), *rows = malloc(height * sizeof *rows);
+    if (!f || !rows) {
+        free(f);
+        free(rows);
+        return -1;
+    }
+    float *function = d + DISTRIBUTION_FUNCTION((size_t)width, (size_t)height);
+    for (size_t i = 0; i < texels; ++i) {
+        f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0;
+        function[i] = (float)f[i];
+    }
+    for (uint32_t y = 0; y < height; ++y)
+        rows[y] = write_cdf(f + (size_t)y * width, width, d + 1 + (height + 1u) + (size_t)y * (width + 1u));
+    d[0] = (float)(write_cdf(rows, height, d + 1) / (double)texels);
+    free(f);
+    free(rows);
+    return 0;
+}
+
+int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
+                                 const float *rgb, char *error, size_t error_size)
+{
+    /* Goniometric and projection lights are delta lights: never sampled by
+     * their image, so they need no distribution. */
+    int infinite = light->type != LIGHT_GONIOMETRIC && light->type != LIGHT_PROJECTION;
+    size_t texels = (size_t)width * height;
+    size_t distribution = infinite ? DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + texels : 0;
+    if (width == 0 || height == 0 || scene->texel_count + 3 * texels > UINT32_MAX ||
+        scene->distribution_count + distribution > UINT32_MAX) {
+        snprintf(error, error_size, "a light image of %ux%u texels is too large", width, height);
+        return -1;
+    }
+    Light added = *light;
+    added.type = infinite ? LIGHT_IMAGE_INFINITE : light->type;
+    added.primitive = -1;
+    added.image_width = width;
+    added.image_height = height;
+    added.image_offset = (uint32_t)scene->texel_count;
+    added.distribution_offset = (uint32_t)scene->distribution_count;
+    float *t = grow_floats(&scene->texels, &scene->texel_count, &scene->texel_capacity, 3 * texels);
+    float *d = t && infinite ? grow_floats(&scene->distributions, &scene->distribution_count,
+                                           &scene->distribution_capacity, distribution)
+                             : NULL;
+    if (!t || (infinite && (!d || write_distribution(rgb, width, height, d))) ||
+        render_scene_add_light(scene, &added)) {
+        snprintf(error, error_size, "out of memory for a light image of %ux%u texels", width, height);
+        return -1;
+    }
+    memcpy(t, rgb, 3 * texels * sizeof *t);
+    return 0;
+}
+
 void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3], const float right[3],
                              const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
                              unsigned height)
 {
-    RenderParams *p = &scene->params;
+    CameraData *p = &scene->constants.camera;
     for (int i = 0; i < 3; ++i) {
-        p->camera_position[i] = position[i];
-        p->camera_forward[i] = forward[i];
-        p->camera_right[i] = right[i] * tan_half_fov_x;
-        p->camera_up[i] = up[i] * tan_half_fov_y;
+        p->position[i] = position[i];
+        p->forward[i] = forward[i];
+        p->right[i] = right[i] * tan_half_fov_x;
+        p->up[i] = up[i] * tan_half_fov_y;
     }
     p->width = width;
     p->height = height;
+}
+
+static int is_infinite(const Light *light)
+{
+    return light->type == LIGHT_UNIFORM_INFINITE || light->type == LIGHT_IMAGE_INFINITE;
+}
+
+static double luminance(const float rgb[3])
+{
+    return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+}
+
+/* The radius of the sphere around the primitives' bounding box. */
+static double scene_radius(const Bvh *bvh)
+{
+    double lower[3] = {INFINITY, INFINITY, INFINITY}, upper[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < bvh->primitive_count; ++i) {
+        const Primitive *p = &bvh->primitives[i];
+        for (int k = 0; k < 3; ++k) {
+            double lo = p->a[k], hi = p->a[k];
+            if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
+                lo -= p->b[0];
+                hi += p->b[0];
+            } else {
+                double b = p->a[k] + (double)p->b[k], c = p->a[k] + (double)p->c[k];
+                lo = fmin(lo, fmin(b, c));
+                hi = fmax(hi, fmax(b, c));
+            }
+            lower[k] = fmin(lower[k], lo);
+            upper[k] = fmax(upper[k], hi);
+        }
+    }
+    if (bvh->primitive_count == 0)
+        return 0.0;
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+        d2 += (upper[k] - lower[k]) * (upper[k] - lower[k]);
+    return 0.5 * sqrt(d2);
+}
+
+/* pbrt-v4's power of a goniometric light (4 pi times its mean intensity)
+ * or a projection light (the screen's area times the mean of its texels
+ * times cos^3, the solid angle of a texel over its screen area). */
+static double image_light_power(const RenderScene *scene, const Light *light)
+{
+    const float *t = scene->texels + light->image_offset;
+    uint32_t w = light->image_width, h = light->image_height;
+    double sum = 0.0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float *texel = t + 3 * ((size_t)y * w + x);
+            float rgb[3] = {texel[0] * light->radiance[0], texel[1] * light->radiance[1],
+                            texel[2] * light->radiance[2]};
+            double weight = 1.0;
+            if (light->type == LIGHT_PROJECTION) {
+                double sx = (2.0 * (x + 0.5) / w - 1.0) * light->screen_half[0];
+                double sy = (2.0 * (y + 0.5) / h - 1.0) * light->screen_half[1];
+                weight = pow(1.0 / sqrt(sx * sx + sy * sy + 1.0), 3.0);
+            }
+            sum += luminance(rgb) * weight;
+        }
+    double mean = sum / ((double)w * h);
+    const double pi = 3.14159265358979323846;
+    return light->type == LIGHT_PROJECTION ? 4.0 * light->screen_half[0] * light->screen_half[1] * mean
+                                           : 4.0 * pi * mean;
+}
+
+/* pbrt-v4's light power (Light::Phi), by luminance. */
+static double light_power(const RenderScene *scene, const Light *light, double radius)
+{
+    const double pi = 3.14159265358979323846;
+    double L = luminance(light->radiance);
+    switch (light->type) {
+    case LIGHT_AREA:
+        return pi * (light->two_sided ? 2.0 : 1.0) * light->area * L;
+    case LIGHT_POINT:
+        return 4.0 * pi * L;
+    case LIGHT_SPOT:
+        return 2.0 * pi * L *
+               ((1.0 - light->cos_falloff_start) + (light->cos_falloff_start - light->cos_total_width) / 2.0);
+    case LIGHT_DISTANT:
+        return pi * radius * radius * L;
+    case LIGHT_UNIFORM_INFINITE:
+        return 4.0 * pi * pi * radius * radius * L;
+    case LIGHT_IMAGE_INFINITE: {
+        const float *t = scene->texels + light->image_offset;
+        size_t n = (size_t)light->image_width * light->image_height;
+        double sum = 0.0;
+        for (size_t i = 0; i < n; ++i) {
+            float rgb[3] = {t[3 * i] * light->radiance[0], t[3 * i + 1] * light->radiance[1],
+                            t[3 * i + 2] * light->radiance[2]};
+            sum += luminance(rgb);
+        }
+        return 4.0 * pi * pi * radius * radius * sum / (double)n;
+    }
+    case LIGHT_GONIOMETRIC:
+    case LIGHT_PROJECTION:
+        return image_light_power(scene, light);
+    }
+    return 0.0;
 }
 
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
@@ -121,33 +380,68 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     bvh_destroy(&scene->bvh);
     if (bvh_build(scene->primitives, scene->primitive_count, &scene->bvh, error, error_size))
         return -1;
-    /* The BVH reordered the primitives: point emitters at the new places. */
-    for (int i = 0; i < scene->bvh.primitive_count; ++i)
-        if (scene->bvh.primitives[i].emitter >= 0)
-            scene->emitters[scene->bvh.primitives[i].emitter].primitive = i;
+    /* Infinite lights first (the kernel loops over them on escape), the
+     * others after, each keeping its order. */
+    int n = scene->light_count;
+    int *new_index = malloc((size_t)(n ? n : 1) * sizeof *new_index);
+    Light *ordered = malloc((size_t)(n ? n : 1) * sizeof *ordered);
+    if (!new_index || !ordered) {
+        free(new_index);
+        free(ordered);
+        snprintf(error, error_size, "out of memory ordering the lights");
+        return -1;
+    }
+    int next = 0, infinite = 0;
+    for (int pass = 0; pass < 2; ++pass)
+        for (int i = 0; i < n; ++i)
+            if (is_infinite(&scene->lights[i]) == (pass == 0)) {
+                new_index[i] = next;
+                ordered[next++] = scene->lights[i];
+                infinite += pass == 0;
+            }
+    if (n > 0)
+        memcpy(scene->lights, ordered, (size_t)n * sizeof *ordered);
+    free(ordered);
+    /* The BVH reordered the primitives: point area lights at the new places. */
+    for (int i = 0; i < scene->bvh.primitive_count; ++i) {
+        Primitive *p = &scene->bvh.primitives[i];
+        if (p->light >= 0) {
+            p->light = new_index[p->light];
+            scene->lights[p->light].primitive = i;
+        }
+    }
+    free(new_index);
+
+    /* Vertex normals follow their primitives into the BVH's order. */
+    free(scene->shading_normals);
+    scene->shading_normals = NULL;
+    if (scene->vertex_normals && scene->bvh.primitive_count > 0) {
+        size_t count = (size_t)scene->bvh.primitive_count;
+        scene->shading_normals = calloc(9 * count, sizeof *scene->shading_normals);
+        if (!scene->shading_normals) {
+            snprintf(error, error_size, "out of memory for the vertex normals");
+            return -1;
+        }
+        for (size_t i = 0; i < count; ++i)
+            if (scene->bvh.primitives[i].kind & PRIM_SHADING_NORMAL)
+                memcpy(scene->shading_normals + 9 * i, scene->vertex_normals + 9 * (size_t)scene->bvh.order[i],
+                       9 * sizeof *scene->shading_normals);
+    }
 
     /* Pick lights in proportion to their power. */
-    double total = 0.0;
-    for (int i = 0; i < scene->emitter_count; ++i) {
-        const Emitter *e = &scene->emitters[i];
-        double luminance = 0.2126 * e->radiance[0] + 0.7152 * e->radiance[1] + 0.0722 * e->radiance[2];
-        total += luminance * e->area * (e->two_sided ? 2.0 : 1.0);
-    }
+    double radius = scene_radius(&scene->bvh), total = 0.0;
+    for (int i = 0; i < n; ++i)
+        total += light_power(scene, &scene->lights[i], radius);
     double running = 0.0;
-    for (int i = 0; i < scene->emitter_count; ++i) {
-        Emitter *e = &scene->emitters[i];
-        double luminance = 0.2126 * e->radiance[0] + 0.7152 * e->radiance[1] + 0.0722 * e->radiance[2];
-        double power = luminance * e->area * (e->two_sided ? 2.0 : 1.0);
-        double p = total > 0.0 ? power / total : 1.0 / scene->emitter_count;
+    for (int i = 0; i < n; ++i) {
+        Light *light = &scene->lights[i];
+        double p = total > 0.0 ? light_power(scene, light, radius) / total : 1.0 / n;
         running += p;
-        e->pick_probability = (float)p;
-        e->pick_cdf = i + 1 == scene->emitter_count ? 2.0f : (float)running; /* the last catches u = 1 - eps */
+        light->pick_probability = (float)p;
+        light->pick_cdf = i + 1 == n ? 2.0f : (float)running; /* the last catches u = 1 - eps */
     }
-    RenderParams *params = &scene->params;
-    int has_environment =
-        params->environment[0] > 0.0f || params->environment[1] > 0.0f || params->environment[2] > 0.0f;
-    params->emitter_count = (uint32_t)scene->emitter_count;
-    params->environment_pick = has_environment ? (scene->emitter_count > 0 ? 0.5f : 1.0f) : 0.0f;
+    scene->constants.integrator.light_count = (uint32_t)n;
+    scene->constants.background.infinite_count = (uint32_t)infinite;
     return 0;
 }
 
@@ -168,12 +462,28 @@ uint32_t render_scene_features(const RenderScene *scene)
         if (m->type != MAT_DIFFUSE && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA))
             features |= FEATURE_ROUGH;
     }
-    if (scene->emitter_count > 0)
-        features |= FEATURE_AREA_LIGHTS;
-    const float *environment = scene->params.environment;
-    if (environment[0] > 0.0f || environment[1] > 0.0f || environment[2] > 0.0f)
-        features |= FEATURE_ENVIRONMENT;
-    if (scene->params.flags & RENDER_NEE)
+    static const uint32_t by_light[] = {
+        [LIGHT_AREA] = FEATURE_AREA_LIGHTS,
+        [LIGHT_POINT] = FEATURE_POINT_LIGHTS,
+        [LIGHT_SPOT] = FEATURE_SPOT_LIGHTS,
+        [LIGHT_DISTANT] = FEATURE_DISTANT_LIGHTS,
+        [LIGHT_UNIFORM_INFINITE] = FEATURE_ENVIRONMENT,
+        [LIGHT_IMAGE_INFINITE] = FEATURE_ENVIRONMENT_MAP,
+        [LIGHT_GONIOMETRIC] = FEATURE_GONIOMETRIC_LIGHTS,
+        [LIGHT_PROJECTION] = FEATURE_PROJECTION_LIGHTS,
+    };
+    for (int i = 0; i < scene->light_count; ++i)
+        features |= by_light[scene->lights[i].type];
+    if (scene->constants.integrator.flags & RENDER_NEE)
         features |= FEATURE_NEE;
+    if (scene->shading_normals)
+        features |= FEATURE_SHADING_NORMALS;
+    const FilmData *film = &scene->constants.film;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (film->from_radiance[i][j] != (i == j ? 1.0f : 0.0f))
+                features |= FEATURE_FILM_MATRIX;
+    if (film->max_component_value < INFINITY)
+        features |= FEATURE_FILM_CLAMP;
     return features;
 }

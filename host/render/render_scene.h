@@ -1,6 +1,7 @@
-/* The scene as the kernels see it: primitives, materials, area lights and
- * render parameters, with the BVH built by render_scene_finalize. Filled by
- * the scene reader (or directly by tests). */
+/* The scene as the kernels see it: primitives, materials, lights (with
+ * their images and sampling distributions) and the render constants, with
+ * the BVH built by render_scene_finalize. Filled by the scene reader (or
+ * directly by tests). */
 #ifndef HOST_RENDER_RENDER_SCENE_H
 #define HOST_RENDER_RENDER_SCENE_H
 
@@ -12,15 +13,33 @@
 #include <stdint.h>
 
 typedef struct {
-    RenderParams params;
+    SceneConstants constants;
     Material *materials;
     int material_count, material_capacity;
     Primitive *primitives;
     int primitive_count, primitive_capacity;
-    Emitter *emitters;
-    int emitter_count, emitter_capacity;
-    Bvh bvh; /* valid after render_scene_finalize; owns the ordered primitives */
+    Light *lights; /* as added; render_scene_finalize puts the infinite ones first */
+    int light_count, light_capacity;
+    float *distributions;
+    size_t distribution_count, distribution_capacity;
+    float *texels;
+    size_t texel_count, texel_capacity;
+    float *vertex_normals;         /* 9 a primitive in input order, or NULL: none has any */
+    size_t vertex_normal_capacity; /* in primitives */
+    float *shading_normals;        /* vertex_normals in the BVH's order (render_scene_finalize) */
+    Bvh bvh;                       /* valid after render_scene_finalize; owns the ordered primitives */
 } RenderScene;
+
+/* The arrays of kernels/scene_types.h's list, as the path tracer takes them. */
+#define RENDER_SCENE_ARRAY(name, type)                                                                                 \
+    const type *name;                                                                                                  \
+    size_t name##_count;
+typedef struct {
+    GMON_SCENE_ARRAYS(RENDER_SCENE_ARRAY)
+} RenderSceneArrays;
+#undef RENDER_SCENE_ARRAY
+
+RenderSceneArrays render_scene_arrays(const RenderScene *scene);
 
 void render_scene_init(RenderScene *scene);
 void render_scene_destroy(RenderScene *scene);
@@ -36,14 +55,37 @@ int render_scene_add_triangle(RenderScene *scene, const float a[3], const float 
 int render_scene_add_sphere(RenderScene *scene, const float centre[3], float radius, int material,
                             const float *emission, int two_sided, int flip_normal);
 
+/* Gives the triangle just added vertex normals (unit, world space, on the
+ * front's side): the kernel interpolates them as its shading normal.
+ * Returns 0, or -1 when out of memory. */
+int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3]);
+
+/* Adds a light that is not an area light (point, spot, distant, uniform
+ * infinite: Light's fields as scene_types.h describes them; pick fields are
+ * computed by render_scene_finalize). Returns 0, or -1 when out of memory. */
+int render_scene_add_light(RenderScene *scene, const Light *light);
+
+/* A uniform infinite light of the given radiance. */
+int render_scene_add_infinite_light(RenderScene *scene, const float radiance[3]);
+
+/* An image infinite light: `light` gives the radiance scale and the
+ * rotation light_from_world; `rgb` the width x height RGB texels of an
+ * equal-area square (row 0 at the top), non-negative and finite. Copies the
+ * texels and builds the sampling distribution. Returns 0, or -1 with a
+ * message. */
+int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
+                                 const float *rgb, char *error, size_t error_size);
+
 /* The camera: position, unit forward/right/up (right to the image's right,
  * up to its top) and the tangents of the half fields of view. */
 void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3], const float right[3],
                              const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
                              unsigned height);
 
-/* Builds the BVH and the light-picking distribution (by emitted power).
- * Returns 0, or -1 with a message. */
+/* Builds the BVH, orders the lights (infinite first) and gives each its
+ * chance of being picked, in proportion to its power as pbrt-v4's "power"
+ * light sampler (infinite and distant lights by the power they send
+ * through the scene's bounding sphere). Returns 0, or -1 with a message. */
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
 
 /* The feature mask (kernels/feature_mask.h) of what rendering the scene uses. */

@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L
 #include "render/renderer.h"
+#include "render/scene_upload.h"
 
 #include "render/memory_check.h"
 
@@ -51,8 +52,6 @@ EstimatorImages render_output_images(const RenderOutput *o)
     return images;
 }
 
-#define SCENE_BUFFERS 5 /* params, nodes, primitives, materials, emitters */
-
 /* The sums and counters of pixels, as planes of `pixels` values: the
  * accumulators' planes, the rejected counts (REJECTED_PLANES: non-finite,
  * rounded), then the ray counts. */
@@ -79,47 +78,6 @@ typedef struct {
     double pass_seconds;
     uint64_t unsaved_samples; /* pixel samples since the last host copy */
 } Worker;
-
-/* The path tracer's scene buffers (params, nodes, primitives, materials,
- * emitters), exactly as uploaded; the scene hash is taken from them. */
-typedef struct {
-    RenderParams params;
-    const void *data[SCENE_BUFFERS];
-    size_t bytes[SCENE_BUFFERS];
-} SceneUpload;
-
-static void scene_upload_init(SceneUpload *u, const RenderScene *scene, const RenderSettings *s)
-{
-    u->params = scene->params;
-    u->params.seed = s->seed;
-    const void *data[SCENE_BUFFERS] = {&u->params, scene->bvh.nodes, scene->bvh.primitives, scene->materials,
-                                       scene->emitters};
-    const size_t bytes[SCENE_BUFFERS] = {sizeof u->params, (size_t)scene->bvh.node_count * sizeof(BvhNode),
-                                         (size_t)scene->bvh.primitive_count * sizeof(Primitive),
-                                         (size_t)scene->material_count * sizeof(Material),
-                                         (size_t)scene->emitter_count * sizeof(Emitter)};
-    memcpy(u->data, data, sizeof data);
-    memcpy(u->bytes, bytes, sizeof bytes);
-}
-
-static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
-{
-    const unsigned char *bytes = data;
-    for (size_t i = 0; i < size; ++i)
-        hash = (hash ^ bytes[i]) * 0x100000001b3ull;
-    return hash;
-}
-
-/* What determines every sample: the uploaded buffers (scene, camera,
- * resolution, max depth, integrator, seed) and M. */
-static void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t size)
-{
-    uint64_t hash = 0xcbf29ce484222325ull;
-    for (int i = 0; i < SCENE_BUFFERS; ++i)
-        hash = fnv1a(hash, u->data[i], u->bytes[i]);
-    hash = fnv1a(hash, &sets, sizeof sets);
-    snprintf(hex, size, "%016llx", (unsigned long long)hash);
-}
 
 typedef struct {
     const RenderScene *scene;
@@ -240,13 +198,6 @@ static int injected_fault(int index)
     return 0;
 }
 
-static cl_mem upload(ClDevice *device, const void *data, size_t bytes, cl_int *err)
-{
-    static const uint64_t zero = 0; /* OpenCL refuses empty buffers */
-    return clCreateBuffer(device->context, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, bytes ? bytes : sizeof zero,
-                          bytes ? (void *)data : (void *)&zero, err);
-}
-
 /* Builds the programs and uploads the scene. Returns 0, or -1 after
  * dropping the worker. */
 static int start_worker(Render *r, Worker *w, const char *options)
@@ -275,20 +226,13 @@ static int start_worker(Render *r, Worker *w, const char *options)
     }
     w->report->build_seconds = now_seconds() - start;
 
-    for (int i = 0; i < SCENE_BUFFERS; ++i) {
-        w->scene[i] = upload(w->device, r->upload.data[i], r->upload.bytes[i], &err);
-        if (err != CL_SUCCESS) {
-            drop_worker(r, w, "cannot allocate the scene's buffers");
-            return -1;
-        }
-        w->scene_bytes += r->upload.bytes[i] ? r->upload.bytes[i] : sizeof(uint64_t);
-        CL_CHECK(clSetKernelArg(w->kernel, (cl_uint)i, sizeof(cl_mem), &w->scene[i]), failed);
+    if (scene_upload_create(&r->upload, w->device->context, w->kernel, w->scene) != CL_SUCCESS) {
+        drop_worker(r, w, "cannot allocate the scene's buffers");
+        return -1;
     }
+    w->scene_bytes = scene_upload_bytes(&r->upload);
     track_peak(r, w, 0);
     return 0;
-failed:
-    drop_on_cl_error(r, w, "setting the path tracer's arguments");
-    return -1;
 }
 
 /* Copies a worker's state to (write = 0) or from (write = 1) a host copy of
@@ -441,21 +385,14 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
             ++failures;
             continue;
         }
-        cl_ulong first = first_sample, first_pixel = w->first, pixel_count = w->count;
-        cl_mem state[3] = {w->accumulators, w->rejected, w->rays};
+        RenderPassArguments args = {w->accumulators, w->rejected, w->rays,  first_sample, count,
+                                    w->first,        w->count,    w->first, w->count};
         /* A fixed work-group size (the kernel skips items past the end):
          * PoCL compiles a kernel per work-group size, on first use, and a
          * size of the runtime's choosing would follow every new share. */
         size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
         size_t global = (w->count + local - 1) / local * local;
-        for (cl_uint a = 0; a < 3; ++a)
-            CL_CHECK(clSetKernelArg(w->kernel, 5 + a, sizeof(cl_mem), &state[a]), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 8, sizeof first, &first), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 9, sizeof count, &count), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 10, sizeof first_pixel, &first_pixel), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 11, sizeof pixel_count, &pixel_count), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 12, sizeof first_pixel, &first_pixel), failed);
-        CL_CHECK(clSetKernelArg(w->kernel, 13, sizeof pixel_count, &pixel_count), failed);
+        CL_CHECK(scene_upload_bind_pass(w->kernel, &args), failed);
         CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, &local, 0, NULL, &w->pass),
                  failed);
         CL_CHECK(clFlush(w->device->queue), failed);
@@ -610,8 +547,7 @@ static int check_memory(const Render *r, ClDevice *devices, int device_count, ch
     const int images = pass_image_count(r->estimator.passes, r->estimator.with_stderr);
     const uint64_t state = render_bytes_per_pixel((size_t)r->sets), image = EST_CHANNELS * sizeof(float) * images;
     uint64_t scene = 0;
-    for (int i = 0; i < SCENE_BUFFERS; ++i)
-        scene += r->upload.bytes[i];
+    scene += scene_upload_bytes(&r->upload);
     const int copies = host_copies(device_count);
     uint64_t host = (copies * state + image) * r->pixels + scene;
     const uint64_t share = (r->pixels + (size_t)device_count - 1) / (size_t)device_count;
@@ -637,7 +573,8 @@ static int check_memory(const Render *r, ClDevice *devices, int device_count, ch
                  "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels), but %.2f "
                  "GiB is available (%s): lower --resolution or --sets, or ask for the mean alone (--estimators mean)",
                  gib(host), (unsigned long long)state, r->sets, copies == 1 ? "once" : "twice",
-                 (unsigned long long)image, r->scene->params.width, r->scene->params.height, gib(available), source);
+                 (unsigned long long)image, r->scene->constants.camera.width, r->scene->constants.camera.height,
+                 gib(available), source);
         return -1;
     }
     return 0;
@@ -674,20 +611,20 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     memset(&r, 0, sizeof r);
     r.scene = scene;
     r.settings = s;
-    scene_upload_init(&r.upload, scene, s);
+    scene_upload_init(&r.upload, scene, s->seed);
     /* Only the mean needs no sets: one sum per pixel. */
     r.sets = (s->estimator.passes & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ? m : 1;
     r.estimator = s->estimator;
     r.estimator.set_count = r.sets;
     r.estimator.first_sample = s->first_sample;
-    r.pixels = (size_t)scene->params.width * scene->params.height;
+    r.pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
     r.planes = accumulator_planes((uint32_t)r.sets);
     scene_upload_hash(&r.upload, r.sets, out->scene_hash, sizeof out->scene_hash);
-    out->max_depth = scene->params.max_depth;
-    out->integrator = (scene->params.flags & RENDER_NEE) ? "path" : "bsdf";
+    out->max_depth = scene->constants.integrator.max_depth;
+    out->integrator = (scene->constants.integrator.flags & RENDER_NEE) ? "path" : "bsdf";
     r.worker_count = device_count;
-    out->width = scene->params.width;
-    out->height = scene->params.height;
+    out->width = scene->constants.camera.width;
+    out->height = scene->constants.camera.height;
     out->set_count = r.sets;
     out->estimator = r.estimator;
     out->seed = s->seed;
