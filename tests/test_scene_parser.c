@@ -548,7 +548,7 @@ static void test_area_lights_and_orientation(void **state)
     scene_destroy(&s);
     load_fails(WORLD "AreaLightSource \"diffuse\" \"blackbody L\" [ 0 ]\n", 2, "not positive");
     load_fails(WORLD "AreaLightSource \"diffuse\" \"rgb L\" [ 1 -1 1 ]\n", 2, "negative");
-    load_fails(WORLD "AreaLightSource \"diffuse\" \"float power\" 10\n", 2, "float power");
+    load_fails(WORLD "AreaLightSource \"diffuse\" \"float power\" -10\n", 2, "power must be positive");
     load_fails(WORLD "AreaLightSource \"projector\"\n", 2, "projector");
     /* L * scale must fit a float (an infinite radiance renders black). */
     load_fails(WORLD "\nAreaLightSource \"diffuse\" \"rgb L\" [ 3e38 1 1 ] \"float scale\" 10\n", 3,

@@ -6,6 +6,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static Material convert_material(const SceneMaterial *in)
@@ -47,6 +48,52 @@ static Material convert_material(const SceneMaterial *in)
         break;
     }
     return m;
+}
+
+/* Each area light's radiance, with "power" applied over its shape's area
+ * (malloc'd; NULL when out of memory or there are none). */
+static float (*area_light_emission(const Scene *scene))[3]
+{
+    if (scene->area_light_count == 0)
+        return NULL;
+    float(*emission)[3] = malloc(scene->area_light_count * sizeof *emission);
+    double *area = calloc(scene->area_light_count, sizeof *area);
+    if (!emission || !area) {
+        free(emission);
+        free(area);
+        return NULL;
+    }
+    for (size_t i = 0; i < scene->triangle_count; ++i) {
+        const SceneTriangle *t = &scene->triangles[i];
+        int light = scene->shapes[t->shape].area_light;
+        if (light < 0)
+            continue;
+        const float *a = &scene->positions[3 * (size_t)t->vertex[0]], *b = &scene->positions[3 * (size_t)t->vertex[1]],
+                    *c = &scene->positions[3 * (size_t)t->vertex[2]];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2], z = e1[0] * e2[1] - e1[1] * e2[0];
+        area[light] += 0.5 * sqrt(x * x + y * y + z * z);
+    }
+    for (size_t i = 0; i < scene->sphere_count; ++i) {
+        int light = scene->shapes[scene->spheres[i].shape].area_light;
+        double r = scene->spheres[i].radius;
+        if (light >= 0)
+            area[light] += 4.0 * 3.14159265358979323846 * r * r;
+    }
+    for (size_t i = 0; i < scene->area_light_count; ++i) {
+        const SceneAreaLight *light = &scene->area_lights[i];
+        double k = 1.0;
+        if (light->power > 0.0f && area[i] > 0.0)
+            k = light->power / (3.14159265358979323846 * (light->two_sided ? 2.0 : 1.0) * area[i]);
+        for (int c = 0; c < 3; ++c)
+            emission[i][c] = (float)(light->radiance[c] * k);
+    }
+    free(area);
+    return emission;
 }
 
 static int is_zero(const float v[3])
@@ -245,6 +292,8 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;
         failed = render_scene_add_material(out, &m) < 0;
     }
+    float(*emission)[3] = area_light_emission(&scene);
+    failed = scene.area_light_count > 0 && !emission;
     for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
         const SceneTriangle *t = &scene.triangles[i];
         const SceneShape *shape = &scene.shapes[t->shape];
@@ -257,18 +306,20 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         int flip = shape->flip_normal, shaded = n[0] && !is_zero(n[0]) && !is_zero(n[1]) && !is_zero(n[2]);
         if (shaded) /* pbrt-v4 turns the geometric normal to the vertex normals' side */
             flip = faces_against(v, n) ? !shape->flip_normal : shape->flip_normal;
-        failed = render_scene_add_triangle(out, v[0], v[1], v[2], shape->material, light ? light->radiance : NULL,
-                                           light && light->two_sided, flip) != 0 ||
+        failed = render_scene_add_triangle(out, v[0], v[1], v[2], shape->material,
+                                           light ? emission[shape->area_light] : NULL, light && light->two_sided,
+                                           flip) != 0 ||
                  (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
     }
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
         const SceneShape *shape = &scene.shapes[sphere->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed =
-            render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
-                                    light ? light->radiance : NULL, light && light->two_sided, shape->flip_normal) != 0;
+        failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
+                                         light ? emission[shape->area_light] : NULL, light && light->two_sided,
+                                         shape->flip_normal) != 0;
     }
+    free(emission);
     if (failed) {
         snprintf(error, error_size, "%s: out of memory converting the scene", path);
         render_scene_destroy(out);

@@ -42,6 +42,7 @@ typedef struct {
     int has_area_light;
     float area_radiance[3];
     int area_two_sided;
+    float area_power; /* "power", or -1 */
     int reverse_orientation;
     /* Where this state was pushed (kept on the stack only). */
     PushKind kind;
@@ -357,6 +358,7 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
         SceneAreaLight *light = &s->area_lights[s->area_light_count];
         memcpy(light->radiance, p->state.area_radiance, sizeof light->radiance);
         light->two_sided = p->state.area_two_sided;
+        light->power = p->state.area_power;
         light->shape = (int)s->shape_count;
         shape->area_light = (int)s->area_light_count++;
     }
@@ -1370,14 +1372,17 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
         params_free(&params);
         return result;
     }
-    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f, power = -1.0f;
     int two_sided = 0;
     if (result == 0 &&
         (params_get_spectrum(&params, "L", SPECTRUM_ILLUMINANT, L) < 0 ||
-         params_get_float(&params, "scale", &scale) < 0 || params_get_bool(&params, "twosided", &two_sided) < 0))
+         params_get_float(&params, "scale", &scale) < 0 || params_get_bool(&params, "twosided", &two_sided) < 0 ||
+         params_get_float(&params, "power", &power) < 0))
         result = -1;
     if (result == 0 && scale < 0.0f)
         result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: scale must not be negative");
+    if (result == 0 && !(power == -1.0f || power > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: power must be positive");
     if (result == 0)
         result = params_check_unused(&params);
     double radiance[3] = {(double)L[0] * scale, (double)L[1] * scale, (double)L[2] * scale};
@@ -1388,6 +1393,7 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
         for (int k = 0; k < 3; ++k)
             p->state.area_radiance[k] = (float)radiance[k];
         p->state.area_two_sided = two_sided;
+        p->state.area_power = power;
     }
     params_free(&params);
     return result;

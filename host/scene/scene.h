@@ -107,11 +107,14 @@ typedef struct {
     uint32_t shape;
 } SceneSphere;
 
-/* AreaLightSource "diffuse" on one shape: radiance = L * scale. */
+/* AreaLightSource "diffuse" on one shape: radiance = L * scale, or with
+ * "power" P, L * scale * P / (pi * sides * the shape's area), pbrt-v4's
+ * rule, applied by the renderer's conversion (it knows the area). */
 typedef struct {
     float radiance[3];
     int two_sided;
-    int shape; /* index into Scene.shapes */
+    float power; /* -1: none */
+    int shape;   /* index into Scene.shapes */
 } SceneAreaLight;
 
 /* LightSource directives (area lights are SceneAreaLight). pbrt-v4's
