@@ -1,10 +1,8 @@
 /* Kernel specialization: the host computes one bit mask of what a render
- * uses (shapes, materials, lights, integrator mode) from the scene, and
- * builds the path tracer with
- * -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_* macros
- * (0 or 1) for `#if` guards and constant conditions, so code a render does
- * not need is compiled out. Without the define (host code, tests, the
- * all-features build) every feature is in. */
+ * uses (shapes, materials, lights, integrator mode, camera, pixel filter)
+ * from the scene, and builds the path tracer with -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_*
+ * macros (0 or 1) for `#if` guards and constant conditions, so code a render does not need is compiled out. Without the
+ * define (host code, tests, the all-features build) every feature is in. */
 #ifndef KERNELS_FEATURES_H
 #define KERNELS_FEATURES_H
 
@@ -25,7 +23,10 @@
 #define FEATURE_ENVIRONMENT_MAP 0x20000u /* an infinite light with an image */
 #define FEATURE_FILM_MATRIX 0x40000u     /* a film that is not the identity on radiance */
 #define FEATURE_FILM_CLAMP 0x80000u      /* Film "maxcomponentvalue" */
-#define FEATURES_ALL 0xffff0u
+#define FEATURE_THIN_LENS 0x100000u      /* a camera with lensradius > 0 */
+#define FEATURE_ORTHOGRAPHIC 0x200000u   /* Camera "orthographic" */
+#define FEATURE_PIXEL_FILTER 0x400000u   /* a filter other than the box of radius 0.5 */
+#define FEATURES_ALL 0x7ffff0u
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -49,5 +50,8 @@
 #define GMON_HAS_INFINITE_LIGHTS (GMON_HAS_ENVIRONMENT || GMON_HAS_ENVIRONMENT_MAP)
 #define GMON_HAS_FILM_MATRIX GMON_HAS(FEATURE_FILM_MATRIX)
 #define GMON_HAS_FILM_CLAMP GMON_HAS(FEATURE_FILM_CLAMP)
+#define GMON_HAS_THIN_LENS GMON_HAS(FEATURE_THIN_LENS)
+#define GMON_HAS_ORTHOGRAPHIC GMON_HAS(FEATURE_ORTHOGRAPHIC)
+#define GMON_HAS_PIXEL_FILTER GMON_HAS(FEATURE_PIXEL_FILTER)
 
 #endif
