@@ -298,6 +298,217 @@ static void test_filter_sampling_reproduces_weights(void **state)
     }
 }
 
+/* ------------------------------------------------------------ renders */
+
+static Material black(void)
+{
+    Material m;
+    memset(&m, 0, sizeof m);
+    m.type = MAT_DIFFUSE;
+    return m;
+}
+
+/* Renders emitters seen directly (max depth 0, BSDF sampling only) and
+ * returns the mean image (RGB); free with render_output_free. */
+static const float *render(RenderScene *scene, uint64_t samples, RenderOutput *out)
+{
+    scene->constants.integrator.max_depth = 0;
+    scene->constants.integrator.flags = 0;
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = samples;
+    settings.seed = 3;
+    if (renderer_run(&test_device, 1, scene, &settings, out, error, sizeof error) != 0)
+        fail_msg("%s", error);
+    assert_int_equal(out->rejected_total, 0);
+    return (const float *)out->pass[PASS_MEAN];
+}
+
+/* Two small emitting spheres seen through a thin lens focused at 10, each
+ * centred on a pixel: the one at 10 stays sharp (all its light in its
+ * pixel), the one at 5 spreads into the circle of confusion, of radius
+ * R |z - F| / (F z) on the image plane at distance 1. That radius is
+ * measured from the image's second moment about the centroid: a uniform
+ * disk of radius c has c^2 / 2, the sphere's own disk (radius a) adds
+ * a^2 / 2, and pixels (a box filter) add 1/6 (Sheppard's correction:
+ * 1/12 an axis). The lens moves light without making or losing it: the
+ * blurred image holds the sphere's pi a^2 square pixels of radiance. */
+static void test_thin_lens_focus(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { SIZE = 48, SAMPLES = 2048 };
+    const float tan_half = 0.1f, lens_radius = 0.25f, focus = 10.0f, sphere_radii[2] = {0.01f, 0.05f};
+    const double pixels_per_tangent = SIZE / (2.0 * tan_half);
+    /* Pixel centres (12.5, 24.5) and (36.5, 24.5), at depths 10 and 5. */
+    const double centres[2][2] = {{12.5, 24.5}, {36.5, 24.5}}, depths[2] = {10.0, 5.0};
+    RenderScene scene;
+    render_scene_init(&scene);
+    Material m = black();
+    int material = render_scene_add_material(&scene, &m);
+    const float radiance[3] = {1, 1, 1};
+    for (int k = 0; k < 2; ++k) {
+        float centre[3] = {(float)((centres[k][0] - SIZE / 2.0) / pixels_per_tangent * depths[k]),
+                           (float)((SIZE / 2.0 - centres[k][1]) / pixels_per_tangent * depths[k]), (float)depths[k]};
+        assert_int_equal(render_scene_add_sphere(&scene, centre, sphere_radii[k], material, radiance, 0, 0), 0);
+    }
+    const float origin[3] = {0, 0, 0}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
+    RenderCamera camera = render_camera_pinhole(origin, forward, right, up, tan_half, tan_half, SIZE, SIZE);
+    camera.lens_radius = lens_radius;
+    camera.focal_distance = focus;
+    render_scene_set_camera(&scene, &camera);
+    assert_true(render_scene_features(&scene) & FEATURE_THIN_LENS);
+    RenderOutput out;
+    const float *image = render(&scene, SAMPLES, &out);
+    double radius[2], energy[2], peak[2], own[2];
+    for (int k = 0; k < 2; ++k) {
+        /* Each sphere's half of the image (columns < 24 or >= 24). */
+        double sum = 0.0, sx = 0.0, sy = 0.0, moment = 0.0;
+        peak[k] = 0.0;
+        for (int y = 0; y < SIZE; ++y)
+            for (int x = k * SIZE / 2; x < (k + 1) * SIZE / 2; ++x) {
+                double v = image[3 * ((size_t)y * SIZE + (size_t)x)];
+                sum += v;
+                sx += v * (x + 0.5);
+                sy += v * (y + 0.5);
+                peak[k] = fmax(peak[k], v);
+            }
+        sx /= sum;
+        sy /= sum;
+        for (int y = 0; y < SIZE; ++y)
+            for (int x = k * SIZE / 2; x < (k + 1) * SIZE / 2; ++x) {
+                double v = image[3 * ((size_t)y * SIZE + (size_t)x)];
+                moment += v * ((x + 0.5 - sx) * (x + 0.5 - sx) + (y + 0.5 - sy) * (y + 0.5 - sy)) / sum;
+            }
+        double z = depths[k], rho = sphere_radii[k];
+        own[k] = rho / sqrt(z * z - rho * rho) * pixels_per_tangent;
+        radius[k] = sqrt(fmax(0.0, 2.0 * (moment - 1.0 / 6.0) - own[k] * own[k]));
+        energy[k] = sum;
+        peak[k] /= sum;
+        printf("  sphere at z = %g: centroid (%.3f, %.3f), its pixel holds %.3f of its light, blur radius %.3f "
+               "pixels\n",
+               z, sx, sy, peak[k], radius[k]);
+        assert_true(fabs(sx - centres[k][0]) < 0.05 && fabs(sy - centres[k][1]) < 0.05);
+    }
+    double confusion = lens_radius * fabs(depths[1] - focus) / (focus * depths[1]) * pixels_per_tangent;
+    double area = 3.14159265358979323846 * own[1] * own[1];
+    printf("  circle of confusion at z = 5: %.3f pixels; the blurred sphere's light %.3f, expected %.3f\n", confusion,
+           energy[1], area);
+    assert_true(peak[0] > 0.99);                                 /* in focus: sharp */
+    assert_true(fabs(radius[1] - confusion) < 0.02 * confusion); /* 6 pixels */
+    assert_true(fabs(energy[1] - area) < 0.03 * area);
+    render_output_free(&out);
+    render_scene_destroy(&scene);
+}
+
+/* An orthographic camera over an emitting sphere of radius 1: every pixel
+ * wholly inside its outline (parallel projection: the disk of radius 1
+ * around its centre, wherever the sphere is along the view) is fully lit,
+ * every pixel wholly outside is black; an off-centre screen window moves
+ * the disk as pbrt's raster-to-screen transform says. */
+static void test_orthographic_projection(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { SIZE = 32 };
+    const float windows[2][4] = {{-4, 4, -4, 4}, {0, 4, -1, 3}};
+    for (int w = 0; w < 2; ++w) {
+        RenderScene scene;
+        render_scene_init(&scene);
+        Material m = black();
+        int material = render_scene_add_material(&scene, &m);
+        const float radiance[3] = {2, 2, 2}, centre[3] = {2, 1, 50};
+        assert_int_equal(render_scene_add_sphere(&scene, centre, 1.0f, material, radiance, 0, 0), 0);
+        const float origin[3] = {0, 0, 0}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
+        RenderCamera camera = render_camera_pinhole(origin, forward, right, up, 1, 1, SIZE, SIZE);
+        camera.projection = CAMERA_ORTHOGRAPHIC;
+        memcpy(camera.window, windows[w], sizeof camera.window);
+        render_scene_set_camera(&scene, &camera);
+        RenderOutput out;
+        const float *image = render(&scene, 16, &out);
+        const float *win = windows[w];
+        double pixel_x = (win[1] - win[0]) / SIZE, pixel_y = (win[3] - win[2]) / SIZE;
+        int inside = 0, outside = 0;
+        for (int y = 0; y < SIZE; ++y)
+            for (int x = 0; x < SIZE; ++x) {
+                /* The pixel's nearest and farthest points from the disk's centre. */
+                double x0 = win[0] + x * pixel_x, x1 = x0 + pixel_x, y1 = win[3] - y * pixel_y, y0 = y1 - pixel_y;
+                double nx = fmax(x0 - centre[0], fmax(0.0, centre[0] - x1)),
+                       ny = fmax(y0 - centre[1], fmax(0.0, centre[1] - y1));
+                double fx = fmax(fabs(x0 - centre[0]), fabs(x1 - centre[0])),
+                       fy = fmax(fabs(y0 - centre[1]), fabs(y1 - centre[1]));
+                float v = image[3 * ((size_t)y * SIZE + (size_t)x)];
+                if (fx * fx + fy * fy < 1.0) {
+                    assert_true(v == 2.0f);
+                    ++inside;
+                } else if (nx * nx + ny * ny > 1.0) {
+                    assert_true(v == 0.0f);
+                    ++outside;
+                }
+            }
+        printf("  window [%g, %g] x [%g, %g]: %d pixels inside the outline all lit, %d outside all black\n", win[0],
+               win[1], win[2], win[3], inside, outside);
+        assert_true(inside >= (w == 0 ? 30 : 150));
+        render_output_free(&out);
+        render_scene_destroy(&scene);
+    }
+}
+
+/* An emitter covering the right half of the view (x > 0 on the plane z =
+ * 1, the image's middle column boundary) seen through each filter: column
+ * i's mean is the filter's normalised mass beyond the edge, the integral
+ * of f over dx > W / 2 - (i + 1/2), dx the sample's offset from its
+ * pixel's centre. Mitchell and Lanczos overshoot: negative pixels before
+ * the edge, pixels above the emitter's radiance after it. */
+static void test_filter_edge_response(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { WIDTH = 32, HEIGHT = 2, SAMPLES = 8192 };
+    for (size_t k = 1; k < sizeof filters / sizeof filters[0]; ++k) {
+        const PixelFilter *f = &filters[k];
+        RenderScene scene;
+        render_scene_init(&scene);
+        Material m = black();
+        int material = render_scene_add_material(&scene, &m);
+        const float radiance[3] = {1, 1, 1};
+        const float a[3] = {0, -50, 1}, b[3] = {50, -50, 1}, c[3] = {50, 50, 1}, d[3] = {0, 50, 1};
+        assert_int_equal(render_scene_add_triangle(&scene, a, b, c, material, radiance, 1, 0), 0);
+        assert_int_equal(render_scene_add_triangle(&scene, a, c, d, material, radiance, 1, 0), 0);
+        const float origin[3] = {0, 0, 0}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
+        RenderCamera camera =
+            render_camera_pinhole(origin, forward, right, up, 1.0f, (float)HEIGHT / WIDTH, WIDTH, HEIGHT);
+        render_scene_set_camera(&scene, &camera);
+        assert_int_equal(render_scene_set_filter(&scene, f, error, sizeof error), 0);
+        assert_true(render_scene_features(&scene) & FEATURE_PIXEL_FILTER);
+        double weight = scene.constants.filter.weight;
+        RenderOutput out;
+        const float *image = render(&scene, SAMPLES, &out);
+        double r = f->radius[0], total = filter_integral(f, 0, -r, r, 0), magnitude = filter_integral(f, 0, -r, r, 1);
+        double lowest = 1.0, highest = 0.0;
+        for (int x = 0; x < WIDTH; ++x) {
+            double edge = WIDTH / 2.0 - (x + 0.5), mean = 0.0;
+            for (int y = 0; y < HEIGHT; ++y)
+                mean += image[3 * ((size_t)y * WIDTH + (size_t)x)] / HEIGHT;
+            double expected = edge >= r ? 0.0 : edge <= -r ? 1.0 : filter_integral(f, 0, edge, r, 0) / total;
+            double bright = edge >= r ? 0.0 : edge <= -r ? 1.0 : filter_integral(f, 0, edge, r, 1) / magnitude;
+            double variance = weight * weight * bright - expected * expected; /* of one sample */
+            double tolerance = 5.0 * sqrt(fmax(variance, 0.0) / (SAMPLES * HEIGHT)) + 2e-3;
+            if (fabs(mean - expected) > tolerance)
+                fail_msg("%s: column %d: %.4f, expected %.4f (tolerance %.4f)", filter_names[k], x, mean, expected,
+                         tolerance);
+            lowest = fmin(lowest, mean);
+            highest = fmax(highest, mean);
+        }
+        printf("  %-16s edge response matches; columns range over [%.4f, %.4f]\n", filter_names[k], lowest, highest);
+        int signed_filter = f->type == PIXEL_FILTER_MITCHELL || f->type == PIXEL_FILTER_LANCZOS;
+        assert_true(signed_filter ? (lowest < 0.0 && highest > 1.0) : (lowest == 0.0 && highest == 1.0));
+        render_output_free(&out);
+        render_scene_destroy(&scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -305,6 +516,9 @@ int main(void)
         cmocka_unit_test(test_screen_window_and_orthographic_rays),
         cmocka_unit_test(test_thin_lens_rays),
         cmocka_unit_test(test_filter_sampling_reproduces_weights),
+        cmocka_unit_test(test_thin_lens_focus),
+        cmocka_unit_test(test_orthographic_projection),
+        cmocka_unit_test(test_filter_edge_response),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

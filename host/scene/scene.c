@@ -1,5 +1,5 @@
 /* The Scene's lifetime, diagnostics, and the small conversions the renderer
- * needs (fields of view, roughness to alpha). */
+ * needs (fields of view, screen windows, roughness to alpha). */
 #define _POSIX_C_SOURCE 200809L /* open, fstat, O_CLOEXEC */
 
 #include "scene/scene_internal.h"

@@ -26,6 +26,7 @@ add_library(fuzz_code STATIC
   host/scene/scene.c
   host/render/scene_convert.c
   host/render/render_scene.c
+  host/render/pixel_filter.c
   host/render/bvh.c
   host/io/exr_image.c
   tests/fuzz/fuzz_input.c)
