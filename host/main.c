@@ -3,6 +3,7 @@
  * default) to one EXR plus a PNG preview. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "cli/check.h"
 #include "cli/checkpoints.h"
 #include "cli/devices.h"
 #include "cli/estimate.h"
@@ -214,6 +215,8 @@ int main(int argc, char **argv)
         return estimate_command(&options);
     case COMMAND_MERGE:
         return merge_command(&options);
+    case COMMAND_CHECK:
+        return check_command(&options);
     case COMMAND_RENDER:
         break;
     }

@@ -20,13 +20,16 @@
 #define FEATURE_POINT_LIGHTS 0x4000u
 #define FEATURE_SPOT_LIGHTS 0x8000u
 #define FEATURE_DISTANT_LIGHTS 0x10000u
-#define FEATURE_ENVIRONMENT_MAP 0x20000u /* an infinite light with an image */
-#define FEATURE_FILM_MATRIX 0x40000u     /* a film that is not the identity on radiance */
-#define FEATURE_FILM_CLAMP 0x80000u      /* Film "maxcomponentvalue" */
-#define FEATURE_THIN_LENS 0x100000u      /* a camera with lensradius > 0 */
-#define FEATURE_ORTHOGRAPHIC 0x200000u   /* Camera "orthographic" */
-#define FEATURE_PIXEL_FILTER 0x400000u   /* a filter other than the box of radius 0.5 */
-#define FEATURES_ALL 0x7ffff0u
+#define FEATURE_ENVIRONMENT_MAP 0x20000u  /* an infinite light with an image */
+#define FEATURE_FILM_MATRIX 0x40000u      /* a film that is not the identity on radiance */
+#define FEATURE_FILM_CLAMP 0x80000u       /* Film "maxcomponentvalue" */
+#define FEATURE_SHADING_NORMALS 0x100000u /* meshes with vertex normals */
+#define FEATURE_GONIOMETRIC_LIGHTS 0x200000u
+#define FEATURE_PROJECTION_LIGHTS 0x400000u
+#define FEATURE_THIN_LENS 0x800000u     /* a camera with lensradius > 0 */
+#define FEATURE_ORTHOGRAPHIC 0x1000000u /* Camera "orthographic" */
+#define FEATURE_PIXEL_FILTER 0x2000000u /* a filter other than the box of radius 0.5 */
+#define FEATURES_ALL 0x3fffff0u
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -50,6 +53,9 @@
 #define GMON_HAS_INFINITE_LIGHTS (GMON_HAS_ENVIRONMENT || GMON_HAS_ENVIRONMENT_MAP)
 #define GMON_HAS_FILM_MATRIX GMON_HAS(FEATURE_FILM_MATRIX)
 #define GMON_HAS_FILM_CLAMP GMON_HAS(FEATURE_FILM_CLAMP)
+#define GMON_HAS_SHADING_NORMALS GMON_HAS(FEATURE_SHADING_NORMALS)
+#define GMON_HAS_GONIOMETRIC_LIGHTS GMON_HAS(FEATURE_GONIOMETRIC_LIGHTS)
+#define GMON_HAS_PROJECTION_LIGHTS GMON_HAS(FEATURE_PROJECTION_LIGHTS)
 #define GMON_HAS_THIN_LENS GMON_HAS(FEATURE_THIN_LENS)
 #define GMON_HAS_ORTHOGRAPHIC GMON_HAS(FEATURE_ORTHOGRAPHIC)
 #define GMON_HAS_PIXEL_FILTER GMON_HAS(FEATURE_PIXEL_FILTER)

@@ -79,6 +79,25 @@ KERNEL_FN Vec3 infinite_light_radiance(const Scene *scene, __global const Light 
     return vec3_from_global(light->radiance);
 }
 
+/* A goniometric or projection light's RGB factor along light-space w. */
+KERNEL_FN Vec3 light_image_factor(const Scene *scene, __global const Light *light, Vec3 w)
+{
+    float u, v;
+    if (GMON_HAS_PROJECTION_LIGHTS && (!GMON_HAS_GONIOMETRIC_LIGHTS || light->type == LIGHT_PROJECTION)) {
+        if (w.z < 1e-3f)
+            return vec3(0.0f, 0.0f, 0.0f);
+        float x = w.x / (w.z * light->screen_half[0]), y = w.y / (w.z * light->screen_half[1]);
+        if (!(fabs(x) <= 1.0f && fabs(y) <= 1.0f))
+            return vec3(0.0f, 0.0f, 0.0f);
+        u = 0.5f * (x + 1.0f);
+        v = 0.5f * (y + 1.0f);
+    } else {
+        equal_area_sphere_to_square(w, &u, &v);
+    }
+    __global const float *rgb = scene->texels + light->image_offset + 3u * image_texel(light, u, v);
+    return vec3(rgb[0], rgb[1], rgb[2]);
+}
+
 KERNEL_FN float smooth_step(float a, float b, float x)
 {
     if (a == b)
@@ -94,7 +113,9 @@ KERNEL_FN int light_sample(const Scene *scene, __global const Light *light, Vec3
     s->is_delta = 0;
     s->distance = INFINITY;
     uint type = light->type;
-    if ((GMON_HAS_POINT_LIGHTS && type == LIGHT_POINT) || (GMON_HAS_SPOT_LIGHTS && type == LIGHT_SPOT)) {
+    if ((GMON_HAS_POINT_LIGHTS && type == LIGHT_POINT) || (GMON_HAS_SPOT_LIGHTS && type == LIGHT_SPOT) ||
+        (GMON_HAS_GONIOMETRIC_LIGHTS && type == LIGHT_GONIOMETRIC) ||
+        (GMON_HAS_PROJECTION_LIGHTS && type == LIGHT_PROJECTION)) {
         Vec3 to_light = v_sub(vec3_from_global(light->position), p);
         float distance2 = v_dot(to_light, to_light);
         if (distance2 == 0.0f)
@@ -106,6 +127,11 @@ KERNEL_FN int light_sample(const Scene *scene, __global const Light *light, Vec3
             falloff = smooth_step(light->cos_total_width, light->cos_falloff_start,
                                   -v_dot(s->wi, vec3_from_global(light->direction)));
         s->radiance = v_scale(vec3_from_global(light->radiance), falloff / distance2);
+        if ((GMON_HAS_GONIOMETRIC_LIGHTS || GMON_HAS_PROJECTION_LIGHTS) &&
+            (type == LIGHT_GONIOMETRIC || type == LIGHT_PROJECTION))
+            s->radiance =
+                v_mul(s->radiance,
+                      light_image_factor(scene, light, rotate_rows(light->light_from_world, v_scale(s->wi, -1.0f))));
         s->pdf = 1.0f;
         s->is_delta = 1;
         return falloff > 0.0f;

@@ -93,9 +93,11 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
             break;
 
         __global const Material *material = scene->materials + prim->material;
-        Vec3 s, t;
-        v_basis(n, &s, &t);
-        Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, n));
+        /* The BSDF's frame is the shading normal's; rays leave by the
+         * geometric one. */
+        Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
+        v_basis(ns, &s, &t);
+        Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));
         uint dim = 2 + depth * DIMS_PER_BOUNCE;
 
         /* Next-event estimation (not for perfectly smooth surfaces). */
@@ -105,7 +107,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
             LightSample ls;
             if (sample_light(scene, p, n, rng_uniform(key, dim), rng_uniform(key, dim + 1), rng_uniform(key, dim + 2),
                              &ls, rays)) {
-                Vec3 wi = vec3(v_dot(ls.wi, s), v_dot(ls.wi, t), v_dot(ls.wi, n));
+                Vec3 wi = vec3(v_dot(ls.wi, s), v_dot(ls.wi, t), v_dot(ls.wi, ns));
                 float bsdf_pdf = 0.0f;
                 Vec3 f = bsdf_eval(material, wo, wi, &bsdf_pdf);
                 float weight = ls.is_delta ? 1.0f : power_heuristic(ls.pdf, bsdf_pdf);
@@ -123,7 +125,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
         specular_bounce = bs.is_delta;
         if (bs.is_transmission)
             eta_scale *= bs.etap * bs.etap;
-        direction = v_normalize(v_add(v_add(v_scale(s, bs.wi.x), v_scale(t, bs.wi.y)), v_scale(n, bs.wi.z)));
+        direction = v_normalize(v_add(v_add(v_scale(s, bs.wi.x), v_scale(t, bs.wi.y)), v_scale(ns, bs.wi.z)));
         origin = offset_origin(p, n, direction);
 
         /* Russian roulette on the throughput without the radiance scaling

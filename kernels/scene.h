@@ -29,6 +29,25 @@ KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
     return (p->kind & PRIM_FLIP_NORMAL) ? v_scale(n, -1.0f) : n;
 }
 
+/* The shading normal at a hit: a triangle's vertex normals interpolated
+ * at the hit's barycentrics, turned to the side of the geometric normal n
+ * (pbrt-v4 turns the geometric one; the two agree on which side is the
+ * front, as the scene reader orients meshes by their vertex normals), or n. */
+KERNEL_FN Vec3 shading_normal(const Scene *scene, const Hit *hit, __global const Primitive *p, Vec3 n)
+{
+    if (!GMON_HAS_SHADING_NORMALS || !(p->kind & PRIM_SHADING_NORMAL))
+        return n;
+    __global const float *v = scene->shading_normals + 9 * (size_t)hit->primitive;
+    float b0 = 1.0f - hit->u - hit->v;
+    Vec3 ns = vec3(b0 * v[0] + hit->u * v[3] + hit->v * v[6], b0 * v[1] + hit->u * v[4] + hit->v * v[7],
+                   b0 * v[2] + hit->u * v[5] + hit->v * v[8]);
+    float length2 = v_dot(ns, ns);
+    if (!(length2 > 0.0f))
+        return n;
+    ns = v_scale(ns, 1.0f / sqrt(length2));
+    return v_dot(ns, n) < 0.0f ? v_scale(ns, -1.0f) : ns;
+}
+
 /* A point uniformly distributed over a primitive's area. */
 KERNEL_FN Vec3 sample_primitive(__global const Primitive *p, float u1, float u2)
 {

@@ -55,7 +55,8 @@ typedef union {
 
 /* Primitive.kind: the shape in the low byte, flags above it. */
 #define PRIM_KIND_MASK 0xffu
-#define PRIM_FLIP_NORMAL 0x100u /* ReverseOrientation (or a handedness swap) */
+#define PRIM_FLIP_NORMAL 0x100u    /* ReverseOrientation (or a handedness swap) */
+#define PRIM_SHADING_NORMAL 0x200u /* a triangle with vertex normals, in shading_normals */
 
 /* With one shape kind in the build (feature_mask.h) the test folds away. */
 KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
@@ -94,6 +95,8 @@ typedef struct {
 #define LIGHT_DISTANT 3u
 #define LIGHT_UNIFORM_INFINITE 4u
 #define LIGHT_IMAGE_INFINITE 5u
+#define LIGHT_GONIOMETRIC 6u
+#define LIGHT_PROJECTION 7u
 
 /* One light, any type. 128 bytes.
  * - area: `radiance` leaves `primitive` (of `area`) on its front, or both
@@ -110,7 +113,13 @@ typedef struct {
  *   equal-area octahedral square, row 0 at the top), looked up at the
  *   direction in light space (the rows light_from_world[0..2] rotate a world
  *   direction into it); its sampling distribution is at
- *   distributions[distribution_offset...] (lights.h).
+ *   distributions[distribution_offset...] (lights.h);
+ * - goniometric: a point light whose intensity `radiance` is scaled by its
+ *   image (the same square, grey as RGB) at the light-space direction;
+ * - projection: a point light projecting its image (image_width x
+ *   image_height RGB texels, row 0 at the top) along light-space +z: a
+ *   light-space direction w lands at (w.x / w.z, w.y / w.z) of the screen
+ *   [-screen_half[0], screen_half[0]] x [-screen_half[1], screen_half[1]].
  * Every light has its chance of being picked and the running sum of the
  * chances (inclusive) over the light array. */
 typedef struct {
@@ -127,7 +136,7 @@ typedef struct {
     float light_from_world[3][3]; /* rows */
     float cos_total_width;
     uint32_t image_width, image_height, image_offset, distribution_offset;
-    uint32_t pad[2];
+    float screen_half[2]; /* projection */
 } Light;
 
 /* An image light's sampling distribution over the square, at
@@ -228,14 +237,17 @@ typedef struct {
  * kernel's Scene and the host's upload (host/render/scene_upload.c) all
  * come from this one list. `distributions` holds the lights' and the
  * pixel filter's sampling distributions, `texels` the lights' images (RGB
- * floats). */
+ * floats), `shading_normals` the vertex normals of triangles flagged
+ * PRIM_SHADING_NORMAL (9 floats a primitive, in the BVH's order; empty
+ * when no triangle has them). */
 #define GMON_SCENE_ARRAYS(ARRAY)                                                                                       \
     ARRAY(nodes, BvhNode)                                                                                              \
     ARRAY(primitives, Primitive)                                                                                       \
     ARRAY(materials, Material)                                                                                         \
     ARRAY(lights, Light)                                                                                               \
     ARRAY(distributions, float)                                                                                        \
-    ARRAY(texels, float)
+    ARRAY(texels, float)                                                                                               \
+    ARRAY(shading_normals, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");

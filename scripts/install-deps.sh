@@ -6,8 +6,9 @@ packages=(
   build-essential cmake pkg-config clang clang-format
   libclang-rt-dev llvm
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
-  libopenexr-dev libpng-dev libcglm-dev libcmocka-dev
+  libopenexr-dev libpng-dev libcglm-dev libcmocka-dev zlib1g-dev
   python3 python3-venv
+  libstb-dev
 )
 
 missing=()

@@ -1,3 +1,4 @@
+#define _DEFAULT_SOURCE /* mkstemps, fdopen */
 /* Image output: EXR round trips (every layer bit for bit, metadata, exact
  * set sums), the EXR layout as OpenEXR itself sees it, errors on missing and
  * damaged files; PNG files decoded with libpng against independently
@@ -11,6 +12,7 @@
 
 #include "io/exr_image.h"
 #include "io/png_image.h"
+#include "io/image_read.h"
 
 #include <openexr.h>
 #include <png.h>
@@ -19,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 /* ------------------------------------------------------------------------
  * Helpers
@@ -668,8 +671,9 @@ static void test_exr_write_errors(void **state)
     assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
     image.metadata.attribute_count = 0;
 
-    /* RGB layer names: not the counters' or the sums', not twice. */
-    static const char *const bad_names[] = {"", "sets", "nonfinite", "rounded", "a-name-longer-than-24-byte"};
+    /* RGB layer names: not the counters' or the sums', not twice ("" is
+     * plain R, G, B). */
+    static const char *const bad_names[] = {"sets", "nonfinite", "rounded", "a-name-longer-than-24-byte"};
     for (size_t i = 0; i < sizeof bad_names / sizeof bad_names[0]; ++i) {
         image.layers[0].name = bad_names[i];
         assert_int_equal(exr_image_write("test_image_io_bad.exr", &image, error, sizeof error), IMAGE_IO_ERROR);
@@ -1009,6 +1013,61 @@ static void test_png_compressed(void **state)
     remove(path);
 }
 
+/* image_read_rgb: an EXR of plain R, G, B channels (what pbrt-v4's
+ * environment maps are), a PFM (rows stored bottom-up), a PNG (decoded
+ * from sRGB); rows come back from the top. */
+static void test_read_rgb_images(void **state)
+{
+    (void)state;
+    char error[512] = "";
+    float rgb[2 * 2 * 3] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    char exr_path[] = "/tmp/gmon-read-XXXXXX.exr";
+    close(mkstemps(exr_path, 4));
+    ExrImage image;
+    memset(&image, 0, sizeof image);
+    image.width = 2;
+    image.height = 2;
+    image.layers[image.layer_count++] = (ExrRgbLayer){"", 0, rgb};
+    if (exr_image_write(exr_path, &image, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("write failed: %s", error);
+    RgbImage read;
+    if (image_read_rgb(exr_path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    assert_int_equal(read.width, 2);
+    assert_memory_equal(read.rgb, rgb, sizeof rgb);
+    rgb_image_free(&read);
+    remove(exr_path);
+
+    char pfm_path[] = "/tmp/gmon-read-XXXXXX.pfm";
+    int fd = mkstemps(pfm_path, 4);
+    FILE *f = fdopen(fd, "wb");
+    fprintf(f, "PF\n2 2\n-1.0\n");
+    for (int y = 1; y >= 0; --y) /* bottom row first, little-endian floats */
+        assert_int_equal(fwrite(rgb + 6 * y, sizeof(float), 6, f), 6);
+    fclose(f);
+    if (image_read_rgb(pfm_path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    assert_memory_equal(read.rgb, rgb, sizeof rgb);
+    rgb_image_free(&read);
+    remove(pfm_path);
+
+    char png_path[] = "/tmp/gmon-read-XXXXXX.png";
+    close(mkstemps(png_path, 4));
+    const float linear[2 * 2 * 3] = {0, 0.001f, 0.01f, 0.1f, 0.2f, 0.3f, 0.5f, 0.7f, 0.9f, 1, 1, 1};
+    assert_int_equal(png_write_srgb(png_path, 2, 2, linear, 1.0f, error, sizeof error), IMAGE_IO_OK);
+    if (image_read_rgb(png_path, &read, error, sizeof error) != IMAGE_IO_OK)
+        fail_msg("read failed: %s", error);
+    for (int i = 0; i < 12; ++i) { /* the code written, decoded by the sRGB curve */
+        double code = png_srgb_byte(linear[i]) / 255.0;
+        double decoded = code <= 0.04045 ? code / 12.92 : pow((code + 0.055) / 1.055, 2.4);
+        assert_true(fabs(read.rgb[i] - decoded) < 1e-6);
+    }
+    rgb_image_free(&read);
+    assert_int_equal(image_read_rgb("/nonexistent.png", &read, error, sizeof error), IMAGE_IO_ERROR);
+    assert_non_null(strstr(error, "/nonexistent.png"));
+    remove(png_path);
+}
+
 static void test_png_errors(void **state)
 {
     (void)state;
@@ -1056,6 +1115,7 @@ int main(void)
         cmocka_unit_test(test_png_large_image),
         cmocka_unit_test(test_png_compressed),
         cmocka_unit_test(test_png_errors),
+        cmocka_unit_test(test_read_rgb_images),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

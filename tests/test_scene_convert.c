@@ -152,11 +152,38 @@ static void test_geometry_at_the_limits_converts(void **state)
     render_scene_destroy(&scene);
 }
 
+/* "power" P on an area light: radiance P / (pi * sides * the shape's area),
+ * the area summed over the shape's triangles (a 2 x 2 quad: 4). */
+static void test_area_light_power(void **state)
+{
+    (void)state;
+    const char *path = write_scene(
+        "power.pbrt", CAMERA "AttributeBegin\n  AreaLightSource \"diffuse\" \"float power\" 100 \"float scale\" 2\n"
+                             "  Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+                             "    \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd\n"
+                             "AreaLightSource \"diffuse\" \"float power\" 100 \"bool twosided\" true\n"
+                             "Shape \"sphere\" \"float radius\" 0.5\n");
+    RenderScene scene;
+    int result = convert(path, &scene);
+    remove(path);
+    if (result)
+        fail_msg("%s", error);
+    assert_int_equal(scene.light_count, 3);
+    const double pi = 3.14159265358979323846;
+    for (int i = 0; i < scene.light_count; ++i) {
+        const Light *light = &scene.lights[i];
+        double expected = light->two_sided ? 100.0 / (pi * 2.0 * pi) : 2.0 * 100.0 / (pi * 4.0);
+        assert_true(fabs(light->radiance[1] - expected) < 1e-5 * expected);
+    }
+    render_scene_destroy(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_repository_scenes),
         cmocka_unit_test(test_overflowing_emitters_are_errors),
+        cmocka_unit_test(test_area_light_power),
         cmocka_unit_test(test_geometry_at_the_limits_converts),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

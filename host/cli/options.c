@@ -12,7 +12,8 @@ enum {
     FOR_RENDER = 1 << COMMAND_RENDER,
     FOR_ESTIMATE = 1 << COMMAND_ESTIMATE,
     FOR_MERGE = 1 << COMMAND_MERGE,
-    FOR_ALL = FOR_RENDER | FOR_ESTIMATE | FOR_MERGE,
+    FOR_CHECK = 1 << COMMAND_CHECK,
+    FOR_ALL = FOR_RENDER | FOR_ESTIMATE | FOR_MERGE, /* every command that renders or estimates */
 };
 
 /* Every flag: the subcommands that take it and its --help lines. A flag
@@ -97,14 +98,15 @@ static const Flag flags[] = {
      "build the kernels with every feature instead of only\nwhat the scene and outputs use (for comparisons)"},
     {"--help", NULL, FOR_RENDER,
      "this text (`gmonrt estimate --help`, `gmonrt merge --help`:\nthose subcommands' flags)"},
-    {NULL, NULL, FOR_ESTIMATE | FOR_MERGE, "Help"},
-    {"--help", NULL, FOR_ESTIMATE | FOR_MERGE, "this text"},
-    {"-h", NULL, FOR_ALL, NULL},
+    {NULL, NULL, FOR_ESTIMATE | FOR_MERGE | FOR_CHECK, "Help"},
+    {"--help", NULL, FOR_ESTIMATE | FOR_MERGE | FOR_CHECK, "this text"},
+    {"-h", NULL, FOR_ALL | FOR_CHECK, NULL},
 };
 
 static const char render_intro[] = "usage: gmonrt [options] [scene.pbrt]\n"
                                    "       gmonrt estimate [options] render.exr\n"
                                    "       gmonrt merge [options] part1.exr part2.exr ...\n"
+                                   "       gmonrt check scene.pbrt\n"
                                    "       gmonrt --list-devices\n"
                                    "\n"
                                    "Renders a pbrt-v4 scene with an OpenCL path tracer and writes the mean, MoN and\n"
@@ -114,7 +116,9 @@ static const char render_intro[] = "usage: gmonrt [options] [scene.pbrt]\n"
                                    "with --write-sets (for example with another Gini mode). `merge` combines\n"
                                    "EXRs written with --write-sets from disjoint sample ranges (--first-sample,\n"
                                    "--spp) of one scene, seed and M into the render of their union: exactly\n"
-                                   "the set sums, and so the estimates, of one render over all the samples.\n";
+                                   "the set sums, and so the estimates, of one render over all the samples.\n"
+                                   "`check` lists what a scene needs that gmonrt lacks or that is missing\n"
+                                   "(exit 0: nothing; 3: only missing files; 1: an unsupported feature).\n";
 static const char render_exit[] = "Exit status: 0 success; 1 render or I/O failure; 2 bad command line. Ctrl-C\n"
                                   "(SIGINT), SIGTERM and SIGHUP (sent by `timeout`, Slurm's time limit, a closed\n"
                                   "terminal) stop the render after its pass and write the image of the samples\n"
@@ -130,6 +134,18 @@ static const char merge_intro[] = "usage: gmonrt merge [options] part1.exr part2
                                   "Combines EXRs written with --write-sets from disjoint sample ranges of one\n"
                                   "scene, seed and M into the render of their union (the sums stay in the file,\n"
                                   "so it can be merged again).\n";
+static const char check_intro[] = "usage: gmonrt check scene.pbrt\n"
+                                  "\n"
+                                  "Reads and converts a pbrt-v4 scene without rendering it (no OpenCL device is\n"
+                                  "needed) and lists, one per line as file:line, every unsupported feature with\n"
+                                  "the substitute --allow-unsupported would use, then every file the scene names\n"
+                                  "that is missing (Include/Import, PLY meshes, textures: a scene's text can be\n"
+                                  "checked before its geometry is downloaded), then a summary line:\n"
+                                  "\"N unsupported features, M missing files\". The scene's warnings and notes\n"
+                                  "are printed too.\n";
+static const char check_exit[] = "Exit status: 0 everything is supported and present; 1 an unsupported feature\n"
+                                 "(whether or not files are missing too), or a scene that cannot be read;\n"
+                                 "2 bad command line; 3 only files are missing.\n";
 static const char subcommand_exit[] = "Exit status: 0 success, 1 unusable input or I/O failure, 2 bad command line,\n"
                                       "128 + the signal when interrupted (existing files are left as they were).\n";
 
@@ -140,6 +156,7 @@ const char *options_help(Command command)
     size_t used = (size_t)snprintf(text, sizeof text, "%s",
                                    bit == FOR_ESTIMATE ? estimate_intro
                                    : bit == FOR_MERGE  ? merge_intro
+                                   : bit == FOR_CHECK  ? check_intro
                                                        : render_intro);
     for (size_t i = 0; i < sizeof flags / sizeof flags[0] && used < sizeof text; ++i) {
         const Flag *f = &flags[i];
@@ -161,7 +178,8 @@ const char *options_help(Command command)
         }
     }
     if (used < sizeof text)
-        snprintf(text + used, sizeof text - used, "\n%s", bit == FOR_RENDER ? render_exit : subcommand_exit);
+        snprintf(text + used, sizeof text - used, "\n%s",
+                 bit == FOR_RENDER ? render_exit : (bit == FOR_CHECK ? check_exit : subcommand_exit));
     return text;
 }
 
@@ -382,7 +400,7 @@ int options_check_preview(Options *o, char *error, size_t size)
     return 0;
 }
 
-static const char *const command_names[] = {"render", "estimate", "merge", "--list-devices"};
+static const char *const command_names[] = {"render", "estimate", "merge", "check", "--list-devices"};
 
 int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
 {
@@ -399,6 +417,9 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         first = 2;
     } else if (argc > 1 && strcmp(argv[1], "merge") == 0) {
         o->command = COMMAND_MERGE;
+        first = 2;
+    } else if (argc > 1 && strcmp(argv[1], "check") == 0) {
+        o->command = COMMAND_CHECK;
         first = 2;
     }
     const Command subcommand = o->command;
@@ -447,6 +468,8 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         return 0;
     if (o->command == COMMAND_ESTIMATE && !o->input)
         return fail(error, size, "estimate needs an EXR file written with --write-sets");
+    if (o->command == COMMAND_CHECK && !o->input)
+        return fail(error, size, "check needs a scene file");
     if (o->command == COMMAND_MERGE && o->merge_count < 1)
         return fail(error, size, "merge needs the EXR files to combine (written with --write-sets)");
     if (o->reference && !o->checkpoints)

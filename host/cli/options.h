@@ -14,6 +14,7 @@ typedef enum {
     COMMAND_RENDER,
     COMMAND_ESTIMATE, /* re-estimate a saved EXR's set sums */
     COMMAND_MERGE,    /* combine EXRs of disjoint sample ranges */
+    COMMAND_CHECK,    /* list what a scene needs that gmonrt lacks or that is missing */
     COMMAND_LIST_DEVICES,
 } Command;
 
@@ -29,7 +30,7 @@ typedef struct {
 typedef struct {
     Command command;
     int help;                                    /* --help: print options_help(command) */
-    const char *input;                           /* scene file (render) or EXR (estimate); NULL: default scene */
+    const char *input;                           /* scene file (render, check) or EXR (estimate); NULL: default scene */
     const char *merge_inputs[OPTIONS_MAX_MERGE]; /* merge: the EXRs */
     int merge_count;
     const char *outfile; /* EXR path; NULL: from the scene's Film, else render.exr */

@@ -55,7 +55,10 @@ static exr_pixel_type_t spec_pixel_type(const ChannelSpec *spec)
 static ChannelSpec rgb_channel(const char *layer_name, int rgb, int is_int, int channel)
 {
     ChannelSpec spec = {{0}, LAYER_RGB, rgb, is_int, 0, channel, 0};
-    snprintf(spec.name, sizeof spec.name, "%s.%c", layer_name, channel_letters[channel]);
+    if (layer_name[0]) /* "<layer>.R"; plain "R" for the layer "" */
+        snprintf(spec.name, sizeof spec.name, "%s.%c", layer_name, channel_letters[channel]);
+    else
+        snprintf(spec.name, sizeof spec.name, "%c", channel_letters[channel]);
     return spec;
 }
 
@@ -119,6 +122,11 @@ static int channel_from_name(const char *name, ChannelSpec *spec)
         return strcmp(name, spec->name) == 0;
     }
     size_t total = strlen(name);
+    const char *plain = total == 1 ? memchr(channel_letters, name[0], RGB_CHANNELS) : NULL;
+    if (plain) { /* R, G, B of an image without layers: the layer "" */
+        *spec = rgb_channel("", -1, 0, (int)(plain - channel_letters));
+        return 1;
+    }
     if (total < 3 || name[total - 2] != '.')
         return 0;
     const char *found = memchr(channel_letters, name[total - 1], RGB_CHANNELS);
@@ -291,7 +299,8 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
         return fail(io, "%d RGB layers given, 0..%d supported", image->layer_count, EXR_MAX_RGB_LAYERS);
     for (int i = 0; i < image->layer_count; ++i) {
         const ExrRgbLayer *layer = &image->layers[i];
-        if (!layer->name || !rgb_layer_name_is_valid(layer->name, strlen(layer->name)) || !layer->data)
+        if (!layer->name || (layer->name[0] && !rgb_layer_name_is_valid(layer->name, strlen(layer->name))) ||
+            !layer->data)
             return fail(io, "RGB layer %d has no data or an invalid name '%s'", i, layer->name ? layer->name : "");
         for (int j = 0; j < i; ++j)
             if (strcmp(layer->name, image->layers[j].name) == 0)

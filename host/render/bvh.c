@@ -367,7 +367,8 @@ int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, siz
     Builder b = {0};
     b.items = malloc((size_t)(count > 0 ? count : 1) * sizeof *b.items);
     bvh->primitives = malloc((size_t)(count > 0 ? count : 1) * sizeof *bvh->primitives);
-    if (!b.items || !bvh->primitives)
+    bvh->order = malloc((size_t)(count > 0 ? count : 1) * sizeof *bvh->order);
+    if (!b.items || !bvh->primitives || !bvh->order)
         goto out_of_memory;
     for (int i = 0; i < count; ++i) {
         Box *box = &b.items[i].box;
@@ -386,8 +387,10 @@ int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, siz
         snprintf(error, error_size, "BVH depth %d exceeds the limit %d", b.depth, BVH_MAX_DEPTH);
         goto failed;
     }
-    for (int i = 0; i < count; ++i)
+    for (int i = 0; i < count; ++i) {
+        bvh->order[i] = b.items[i].index;
         bvh->primitives[i] = primitives[b.items[i].index];
+    }
     b.primitives = bvh->primitives;
     int stack_need = 0;
     if (count == 0) { /* a root without children */
@@ -426,5 +429,6 @@ void bvh_destroy(Bvh *bvh)
 {
     free(bvh->nodes);
     free(bvh->primitives);
+    free(bvh->order);
     memset(bvh, 0, sizeof *bvh);
 }

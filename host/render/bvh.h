@@ -15,6 +15,7 @@ typedef struct {
     BvhNode *nodes; /* wide nodes and triangle packets */
     int node_count;
     Primitive *primitives; /* reordered so leaves reference ranges */
+    int *order;            /* primitives[i] is the input's primitive order[i] */
     int primitive_count;
     int depth; /* of the binary tree */
     int largest_leaf;

@@ -23,6 +23,8 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->lights);
     free(scene->distributions);
     free(scene->texels);
+    free(scene->vertex_normals);
+    free(scene->shading_normals);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -42,6 +44,8 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.distributions_count = scene->distribution_count;
     a.texels = scene->texels;
     a.texels_count = scene->texel_count;
+    a.shading_normals = scene->shading_normals;
+    a.shading_normals_count = scene->shading_normals ? 9 * (size_t)scene->bvh.primitive_count : 0;
     return a;
 }
 
@@ -124,6 +128,27 @@ int render_scene_add_sphere(RenderScene *scene, const float centre[3], float rad
     p.kind = PRIM_SPHERE | (flip_normal ? PRIM_FLIP_NORMAL : 0u);
     p.material = material;
     return add_primitive(scene, &p, emission, two_sided, (float)(4.0 * 3.14159265358979323846 * radius * radius));
+}
+
+int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3])
+{
+    int last = scene->primitive_count - 1;
+    if ((size_t)scene->primitive_capacity > scene->vertex_normal_capacity) {
+        size_t capacity = (size_t)scene->primitive_capacity;
+        float *grown = realloc(scene->vertex_normals, capacity * 9 * sizeof *grown);
+        if (!grown)
+            return -1;
+        memset(grown + 9 * scene->vertex_normal_capacity, 0,
+               (capacity - scene->vertex_normal_capacity) * 9 * sizeof *grown);
+        scene->vertex_normals = grown;
+        scene->vertex_normal_capacity = capacity;
+    }
+    float *v = scene->vertex_normals + 9 * (size_t)last;
+    memcpy(v, na, 3 * sizeof *v);
+    memcpy(v + 3, nb, 3 * sizeof *v);
+    memcpy(v + 6, nc, 3 * sizeof *v);
+    scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
 }
 
 int render_scene_add_light(RenderScene *scene, const Light *light)
@@ -216,36 +241,35 @@ static int add_distribution(RenderScene *scene, const double *f, uint32_t width,
 int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
                                  const float *rgb, char *error, size_t error_size)
 {
+    /* Goniometric and projection lights are delta lights: never sampled by
+     * their image, so they need no distribution. */
+    int infinite = light->type != LIGHT_GONIOMETRIC && light->type != LIGHT_PROJECTION;
     size_t texels = (size_t)width * height;
-    size_t distribution = DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + texels;
+    size_t distribution = infinite ? DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + texels : 0;
     if (width == 0 || height == 0 || scene->texel_count + 3 * texels > UINT32_MAX ||
         scene->distribution_count + distribution > UINT32_MAX) {
-        snprintf(error, error_size, "an environment image of %ux%u texels is too large", width, height);
+        snprintf(error, error_size, "a light image of %ux%u texels is too large", width, height);
         return -1;
     }
     Light added = *light;
-    added.type = LIGHT_IMAGE_INFINITE;
+    added.type = infinite ? LIGHT_IMAGE_INFINITE : light->type;
     added.primitive = -1;
     added.image_width = width;
     added.image_height = height;
     added.image_offset = (uint32_t)scene->texel_count;
+    added.distribution_offset = (uint32_t)scene->distribution_count;
     float *t = grow_floats(&scene->texels, &scene->texel_count, &scene->texel_capacity, 3 * texels);
-    double *f = t ? malloc(texels * sizeof *f) : NULL;
-    if (f) {
-        memcpy(t, rgb, 3 * texels * sizeof *t);
-        for (size_t i = 0; i < texels; ++i)
-            f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0;
-    }
-    if (!f || add_distribution(scene, f, width, height, &added.distribution_offset)) {
-        free(f);
-        snprintf(error, error_size, "out of memory for an environment image of %ux%u texels", width, height);
-        return -1;
-    }
+    double *f = t && infinite ? malloc(texels * sizeof *f) : NULL;
+    for (size_t i = 0; f && i < texels; ++i)
+        f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0; /* the channel average */
+    int failed = !t || (infinite && (!f || add_distribution(scene, f, width, height, &added.distribution_offset))) ||
+                 render_scene_add_light(scene, &added);
     free(f);
-    if (render_scene_add_light(scene, &added)) {
-        snprintf(error, error_size, "out of memory");
+    if (failed) {
+        snprintf(error, error_size, "out of memory for a light image of %ux%u texels", width, height);
         return -1;
     }
+    memcpy(t, rgb, 3 * texels * sizeof *t);
     return 0;
 }
 
@@ -389,6 +413,33 @@ static double scene_radius(const Bvh *bvh)
     return 0.5 * sqrt(d2);
 }
 
+/* pbrt-v4's power of a goniometric light (4 pi times its mean intensity)
+ * or a projection light (the screen's area times the mean of its texels
+ * times cos^3, the solid angle of a texel over its screen area). */
+static double image_light_power(const RenderScene *scene, const Light *light)
+{
+    const float *t = scene->texels + light->image_offset;
+    uint32_t w = light->image_width, h = light->image_height;
+    double sum = 0.0;
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float *texel = t + 3 * ((size_t)y * w + x);
+            float rgb[3] = {texel[0] * light->radiance[0], texel[1] * light->radiance[1],
+                            texel[2] * light->radiance[2]};
+            double weight = 1.0;
+            if (light->type == LIGHT_PROJECTION) {
+                double sx = (2.0 * (x + 0.5) / w - 1.0) * light->screen_half[0];
+                double sy = (2.0 * (y + 0.5) / h - 1.0) * light->screen_half[1];
+                weight = pow(1.0 / sqrt(sx * sx + sy * sy + 1.0), 3.0);
+            }
+            sum += luminance(rgb) * weight;
+        }
+    double mean = sum / ((double)w * h);
+    const double pi = 3.14159265358979323846;
+    return light->type == LIGHT_PROJECTION ? 4.0 * light->screen_half[0] * light->screen_half[1] * mean
+                                           : 4.0 * pi * mean;
+}
+
 /* pbrt-v4's light power (Light::Phi), by luminance. */
 static double light_power(const RenderScene *scene, const Light *light, double radius)
 {
@@ -417,6 +468,9 @@ static double light_power(const RenderScene *scene, const Light *light, double r
         }
         return 4.0 * pi * pi * radius * radius * sum / (double)n;
     }
+    case LIGHT_GONIOMETRIC:
+    case LIGHT_PROJECTION:
+        return image_light_power(scene, light);
     }
     return 0.0;
 }
@@ -457,6 +511,22 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
         }
     }
     free(new_index);
+
+    /* Vertex normals follow their primitives into the BVH's order. */
+    free(scene->shading_normals);
+    scene->shading_normals = NULL;
+    if (scene->vertex_normals && scene->bvh.primitive_count > 0) {
+        size_t count = (size_t)scene->bvh.primitive_count;
+        scene->shading_normals = calloc(9 * count, sizeof *scene->shading_normals);
+        if (!scene->shading_normals) {
+            snprintf(error, error_size, "out of memory for the vertex normals");
+            return -1;
+        }
+        for (size_t i = 0; i < count; ++i)
+            if (scene->bvh.primitives[i].kind & PRIM_SHADING_NORMAL)
+                memcpy(scene->shading_normals + 9 * i, scene->vertex_normals + 9 * (size_t)scene->bvh.order[i],
+                       9 * sizeof *scene->shading_normals);
+    }
 
     /* Pick lights in proportion to their power. */
     double radius = scene_radius(&scene->bvh), total = 0.0;
@@ -499,11 +569,15 @@ uint32_t render_scene_features(const RenderScene *scene)
         [LIGHT_DISTANT] = FEATURE_DISTANT_LIGHTS,
         [LIGHT_UNIFORM_INFINITE] = FEATURE_ENVIRONMENT,
         [LIGHT_IMAGE_INFINITE] = FEATURE_ENVIRONMENT_MAP,
+        [LIGHT_GONIOMETRIC] = FEATURE_GONIOMETRIC_LIGHTS,
+        [LIGHT_PROJECTION] = FEATURE_PROJECTION_LIGHTS,
     };
     for (int i = 0; i < scene->light_count; ++i)
         features |= by_light[scene->lights[i].type];
     if (scene->constants.integrator.flags & RENDER_NEE)
         features |= FEATURE_NEE;
+    if (scene->shading_normals)
+        features |= FEATURE_SHADING_NORMALS;
     const FilmData *film = &scene->constants.film;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)

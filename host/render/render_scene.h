@@ -25,7 +25,10 @@ typedef struct {
     size_t distribution_count, distribution_capacity;
     float *texels;
     size_t texel_count, texel_capacity;
-    Bvh bvh; /* valid after render_scene_finalize; owns the ordered primitives */
+    float *vertex_normals;         /* 9 a primitive in input order, or NULL: none has any */
+    size_t vertex_normal_capacity; /* in primitives */
+    float *shading_normals;        /* vertex_normals in the BVH's order (render_scene_finalize) */
+    Bvh bvh;                       /* valid after render_scene_finalize; owns the ordered primitives */
 } RenderScene;
 
 /* The arrays of kernels/scene_types.h's list, as the path tracer takes them. */
@@ -52,6 +55,11 @@ int render_scene_add_triangle(RenderScene *scene, const float a[3], const float 
                               const float *emission, int two_sided, int flip_normal);
 int render_scene_add_sphere(RenderScene *scene, const float centre[3], float radius, int material,
                             const float *emission, int two_sided, int flip_normal);
+
+/* Gives the triangle just added vertex normals (unit, world space, on the
+ * front's side): the kernel interpolates them as its shading normal.
+ * Returns 0, or -1 when out of memory. */
+int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3]);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform
  * infinite: Light's fields as scene_types.h describes them; pick fields are

@@ -1,9 +1,12 @@
 #include "render/scene_convert.h"
 
+#include "equal_area.h"
+#include "io/image_read.h"
 #include "scene/scene.h"
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static Material convert_material(const SceneMaterial *in)
@@ -45,6 +48,185 @@ static Material convert_material(const SceneMaterial *in)
         break;
     }
     return m;
+}
+
+/* Each area light's radiance, with "power" applied over its shape's area
+ * (malloc'd; NULL when out of memory or there are none). */
+static float (*area_light_emission(const Scene *scene))[3]
+{
+    if (scene->area_light_count == 0)
+        return NULL;
+    float(*emission)[3] = malloc(scene->area_light_count * sizeof *emission);
+    double *area = calloc(scene->area_light_count, sizeof *area);
+    if (!emission || !area) {
+        free(emission);
+        free(area);
+        return NULL;
+    }
+    for (size_t i = 0; i < scene->triangle_count; ++i) {
+        const SceneTriangle *t = &scene->triangles[i];
+        int light = scene->shapes[t->shape].area_light;
+        if (light < 0)
+            continue;
+        const float *a = &scene->positions[3 * (size_t)t->vertex[0]], *b = &scene->positions[3 * (size_t)t->vertex[1]],
+                    *c = &scene->positions[3 * (size_t)t->vertex[2]];
+        double e1[3], e2[3];
+        for (int k = 0; k < 3; ++k) {
+            e1[k] = (double)b[k] - a[k];
+            e2[k] = (double)c[k] - a[k];
+        }
+        double x = e1[1] * e2[2] - e1[2] * e2[1], y = e1[2] * e2[0] - e1[0] * e2[2], z = e1[0] * e2[1] - e1[1] * e2[0];
+        area[light] += 0.5 * sqrt(x * x + y * y + z * z);
+    }
+    for (size_t i = 0; i < scene->sphere_count; ++i) {
+        int light = scene->shapes[scene->spheres[i].shape].area_light;
+        double r = scene->spheres[i].radius;
+        if (light >= 0)
+            area[light] += 4.0 * 3.14159265358979323846 * r * r;
+    }
+    for (size_t i = 0; i < scene->area_light_count; ++i) {
+        const SceneAreaLight *light = &scene->area_lights[i];
+        double k = 1.0;
+        if (light->power > 0.0f && area[i] > 0.0)
+            k = light->power / (3.14159265358979323846 * (light->two_sided ? 2.0 : 1.0) * area[i]);
+        for (int c = 0; c < 3; ++c)
+            emission[i][c] = (float)(light->radiance[c] * k);
+    }
+    free(area);
+    return emission;
+}
+
+static int is_zero(const float v[3])
+{
+    return v[0] == 0.0f && v[1] == 0.0f && v[2] == 0.0f;
+}
+
+/* Whether the triangle's cross(v1 - v0, v2 - v0) points away from the sum
+ * of its vertex normals. */
+static int faces_against(const float *v[3], const float *n[3])
+{
+    double e1[3], e2[3], dot = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        e1[k] = (double)v[1][k] - v[0][k];
+        e2[k] = (double)v[2][k] - v[0][k];
+    }
+    double g[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    for (int k = 0; k < 3; ++k)
+        dot += g[k] * ((double)n[0][k] + n[1][k] + n[2][k]);
+    return dot < 0.0;
+}
+
+/* The illuminance an image light of unit scale gives a surface facing its
+ * light-space +z, as pbrt-v4 computes it for "illuminance". */
+static double image_illuminance(const RgbImage *image)
+{
+    double sum = 0.0;
+    for (uint32_t y = 0; y < image->height; ++y)
+        for (uint32_t x = 0; x < image->width; ++x) {
+            Vec3 w = equal_area_square_to_sphere((x + 0.5f) / (float)image->width, (y + 0.5f) / (float)image->height);
+            const float *rgb = image->rgb + 3 * ((size_t)y * image->width + x);
+            if (w.z > 0.0f)
+                sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) * w.z;
+        }
+    return sum * 2.0 * 3.14159265358979323846 / ((double)image->width * image->height);
+}
+
+/* The power of a goniometric or projection light of unit scale: 4 pi
+ * times the image's mean, or the screen's area times the mean of
+ * luminance times cos^3 (pbrt-v4's "power" rules). */
+static double imaged_light_power(const RgbImage *image, const Light *light)
+{
+    double sum = 0.0;
+    for (uint32_t y = 0; y < image->height; ++y)
+        for (uint32_t x = 0; x < image->width; ++x) {
+            const float *rgb = image->rgb + 3 * ((size_t)y * image->width + x);
+            if (light->type == LIGHT_GONIOMETRIC) {
+                sum += rgb[0]; /* grey by now */
+                continue;
+            }
+            double sx = (2.0 * (x + 0.5) / image->width - 1.0) * light->screen_half[0];
+            double sy = (2.0 * (y + 0.5) / image->height - 1.0) * light->screen_half[1];
+            double cos_theta = 1.0 / sqrt(sx * sx + sy * sy + 1.0);
+            sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) * cos_theta * cos_theta * cos_theta;
+        }
+    double mean = sum / ((double)image->width * image->height);
+    return light->type == LIGHT_GONIOMETRIC ? 4.0 * 3.14159265358979323846 * mean
+                                            : 4.0 * light->screen_half[0] * light->screen_half[1] * mean;
+}
+
+/* A light with an image (infinite, goniometric, projection): its file
+ * read, checked and uploaded. Returns 0 or -1. */
+static int add_image_light(RenderScene *out, const SceneLight *in, Light *light, char *error, size_t error_size)
+{
+    RgbImage image;
+    char why[512];
+    if (image_read_rgb(in->filename, &image, why, sizeof why) != IMAGE_IO_OK) {
+        snprintf(error, error_size, "%s: LightSource: %s", in->origin, why);
+        return -1;
+    }
+    int result = 0;
+    size_t n = (size_t)image.width * image.height * 3;
+    if (image.width != image.height && in->type != SCENE_LIGHT_PROJECTION) {
+        snprintf(error, error_size, "%s: LightSource: \"%s\" is %ux%u, not square: not an equal-area image", in->origin,
+                 in->filename, image.width, image.height);
+        result = -1;
+    }
+    for (size_t i = 0; i < n && !result; ++i)
+        if (!isfinite(image.rgb[i])) {
+            snprintf(error, error_size, "%s: LightSource: \"%s\" has non-finite texels", in->origin, in->filename);
+            result = -1;
+        } else if (image.rgb[i] < 0.0f) {
+            image.rgb[i] = 0.0f; /* pbrt-v4 clamps them to zero */
+        }
+    for (size_t i = 0; in->type == SCENE_LIGHT_GONIOMETRIC && i < n; i += 3) {
+        float grey = (image.rgb[i] + image.rgb[i + 1] + image.rgb[i + 2]) / 3.0f; /* pbrt-v4 averages them */
+        image.rgb[i] = image.rgb[i + 1] = image.rgb[i + 2] = grey;
+    }
+    if (in->type == SCENE_LIGHT_PROJECTION) { /* fov spans the shorter axis */
+        double t = tan(in->fov * 3.14159265358979323846 / 360.0), aspect = (double)image.width / image.height;
+        light->screen_half[0] = (float)(aspect > 1.0 ? aspect * t : t);
+        light->screen_half[1] = (float)(aspect > 1.0 ? t : t / aspect);
+    }
+    double target = in->type == SCENE_LIGHT_IMAGE ? in->illuminance : in->power;
+    if (!result && target > 0.0) {
+        double unit = in->type == SCENE_LIGHT_IMAGE ? image_illuminance(&image) : imaged_light_power(&image, light);
+        for (int c = 0; c < 3; ++c)
+            light->radiance[c] = unit > 0.0 ? (float)(light->radiance[c] * target / unit) : 0.0f;
+    }
+    if (!result && render_scene_add_image_light(out, light, image.width, image.height, image.rgb, why, sizeof why)) {
+        snprintf(error, error_size, "%s: LightSource: %s", in->origin, why);
+        result = -1;
+    }
+    rgb_image_free(&image);
+    return result;
+}
+
+/* One LightSource as the kernels take it. Returns 0, or -1 with a message. */
+static int add_light(RenderScene *out, const SceneLight *in, char *error, size_t error_size)
+{
+    static const uint32_t types[] = {
+        [SCENE_LIGHT_POINT] = LIGHT_POINT,           [SCENE_LIGHT_SPOT] = LIGHT_SPOT,
+        [SCENE_LIGHT_DISTANT] = LIGHT_DISTANT,       [SCENE_LIGHT_INFINITE] = LIGHT_UNIFORM_INFINITE,
+        [SCENE_LIGHT_IMAGE] = LIGHT_IMAGE_INFINITE,  [SCENE_LIGHT_GONIOMETRIC] = LIGHT_GONIOMETRIC,
+        [SCENE_LIGHT_PROJECTION] = LIGHT_PROJECTION,
+    };
+    Light light;
+    memset(&light, 0, sizeof light);
+    light.type = types[in->type];
+    light.primitive = -1;
+    memcpy(light.radiance, in->radiance, sizeof light.radiance);
+    memcpy(light.position, in->position, sizeof light.position);
+    memcpy(light.direction, in->direction, sizeof light.direction);
+    light.cos_falloff_start = in->cos_falloff_start;
+    light.cos_total_width = in->cos_total_width;
+    memcpy(light.light_from_world, in->light_from_world, sizeof light.light_from_world);
+    if (in->filename)
+        return add_image_light(out, in, &light, error, error_size);
+    if (render_scene_add_light(out, &light)) {
+        snprintf(error, error_size, "%s: out of memory", in->origin);
+        return -1;
+    }
+    return 0;
 }
 
 _Static_assert((int)SCENE_MAX_FILTER_RADIUS == (int)PIXEL_FILTER_MAX_RADIUS, "the parser checks the renderer's limit");
@@ -95,12 +277,24 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     memset(summary, 0, sizeof *summary);
     render_scene_init(out);
     Scene scene;
-    SceneLoadOptions options = {allow_unsupported};
+    SceneLoadOptions options = {.allow_unsupported = allow_unsupported};
     if (scene_load(path, &options, &scene, error, error_size))
         return -1;
     for (size_t i = 0; i < scene.warning_count && !quiet; ++i)
         fprintf(stderr, "%s\n", scene.warnings[i]); /* "file:line: warning: ..." */
+    for (size_t i = 0; i < scene.note_count && !quiet; ++i)
+        fprintf(stderr, "%s\n", scene.notes[i]); /* "file:line: note: ..." */
+    int result = scene_convert(&scene, path, width, height, quiet, out, summary, error, error_size);
+    scene_destroy(&scene);
+    return result;
+}
 
+int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,
+                  SceneSummary *summary, char *error, size_t error_size)
+{
+    memset(summary, 0, sizeof *summary);
+    render_scene_init(out);
+    const Scene scene = *in; /* a shallow copy: the body reads scene.field */
     if (scene.film_filename)
         snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
     if (scene.sampler)
@@ -115,38 +309,61 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     char why[256];
     if (convert_camera(&scene, width, height, out, why, sizeof why)) {
         snprintf(error, error_size, "%s: %s", path, why);
-        scene_destroy(&scene);
         render_scene_destroy(out);
         return -1;
     }
     out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
+    FilmData *film = &out->constants.film;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            film->from_radiance[r][c] = scene.film_from_radiance[r][c];
+    film->max_component_value = scene.max_component_value;
+    if (scene.max_component_value < INFINITY && !quiet)
+        fprintf(stderr,
+                "note: %s: Film \"maxcomponentvalue\" %g: every sample whose largest component exceeds it is "
+                "scaled down to it before it is accumulated, so every estimator sees the clamped samples\n",
+                path, (double)scene.max_component_value);
 
     int failed = 0;
-    if (scene.has_environment)
-        failed = render_scene_add_infinite_light(out, scene.environment) != 0;
+    for (size_t i = 0; i < scene.light_count && !failed; ++i)
+        failed = add_light(out, &scene.lights[i], error, error_size);
+    if (failed < 0) {
+        render_scene_destroy(out);
+        return -1;
+    }
     for (size_t i = 0; i < scene.material_count && !failed; ++i) {
         Material m = convert_material(&scene.materials[i]);
         summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;
         failed = render_scene_add_material(out, &m) < 0;
     }
+    float(*emission)[3] = area_light_emission(&scene);
+    failed = scene.area_light_count > 0 && !emission;
     for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
         const SceneTriangle *t = &scene.triangles[i];
         const SceneShape *shape = &scene.shapes[t->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed = render_scene_add_triangle(
-                     out, &scene.positions[3 * (size_t)t->vertex[0]], &scene.positions[3 * (size_t)t->vertex[1]],
-                     &scene.positions[3 * (size_t)t->vertex[2]], shape->material, light ? light->radiance : NULL,
-                     light && light->two_sided, shape->flip_normal) != 0;
+        const float *v[3], *n[3] = {NULL, NULL, NULL};
+        for (int k = 0; k < 3; ++k) {
+            v[k] = &scene.positions[3 * (size_t)t->vertex[k]];
+            n[k] = scene.normals ? &scene.normals[3 * (size_t)t->vertex[k]] : NULL;
+        }
+        int flip = shape->flip_normal, shaded = n[0] && !is_zero(n[0]) && !is_zero(n[1]) && !is_zero(n[2]);
+        if (shaded) /* pbrt-v4 turns the geometric normal to the vertex normals' side */
+            flip = faces_against(v, n) ? !shape->flip_normal : shape->flip_normal;
+        failed = render_scene_add_triangle(out, v[0], v[1], v[2], shape->material,
+                                           light ? emission[shape->area_light] : NULL, light && light->two_sided,
+                                           flip) != 0 ||
+                 (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
     }
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
         const SceneShape *shape = &scene.shapes[sphere->shape];
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed =
-            render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
-                                    light ? light->radiance : NULL, light && light->two_sided, shape->flip_normal) != 0;
+        failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
+                                         light ? emission[shape->area_light] : NULL, light && light->two_sided,
+                                         shape->flip_normal) != 0;
     }
-    scene_destroy(&scene);
+    free(emission);
     if (failed) {
         snprintf(error, error_size, "%s: out of memory converting the scene", path);
         render_scene_destroy(out);

@@ -5,6 +5,7 @@
 #define HOST_RENDER_SCENE_CONVERT_H
 
 #include "render/render_scene.h"
+#include "scene/scene.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -24,5 +25,10 @@ typedef struct {
  * line. */
 int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
                        RenderScene *scene, SceneSummary *summary, char *error, size_t error_size);
+
+/* The same for a scene already loaded (from `path`, named in messages);
+ * prints only the conversion's own warnings. */
+int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,
+                  SceneSummary *summary, char *error, size_t error_size);
 
 #endif

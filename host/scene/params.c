@@ -1,4 +1,5 @@
 #include "scene/params.h"
+#include "scene/scene_internal.h"
 
 #include <float.h>
 #include <math.h>
@@ -334,6 +335,119 @@ int params_get_rgb(ParamList *list, const char *name, int is_albedo, float value
     }
     for (int i = 0; i < 3; ++i)
         value[i] = (float)p->numbers[i];
+    return 1;
+}
+
+/* The spectrum a "spectrum" parameter names: built in, else an .spd file. */
+static int named_or_file_spectrum(ParamList *list, const Param *p, Spectrum *s)
+{
+    if (p->count != 1)
+        return params_error(list, p, "expected one name or file name, got %zu strings", p->count);
+    if (spectrum_named(p->strings[0], s) == 0)
+        return 0;
+    char *path = scene_resolve_path(list->file, list->main_file, p->strings[0]);
+    if (!path)
+        return params_error(list, p, "out of memory");
+    char *text = NULL, why[160];
+    size_t size = 0;
+    int result = 0;
+    if (scene_read_file(path, SCENE_MAX_TEXT_BYTES, &text, &size, why, sizeof why))
+        result = params_error(list, p, "\"%s\" is not a named spectrum, and cannot read \"%s\": %s", p->strings[0],
+                              path, why);
+    else if (spectrum_parse_spd(text, s, why, sizeof why))
+        result = params_error(list, p, "\"%s\": %s", path, why);
+    free(text);
+    free(path);
+    return result;
+}
+
+static int inline_spectrum(ParamList *list, const Param *p, Spectrum *s)
+{
+    if (p->count < 2 || p->count % 2 != 0)
+        return params_error(list, p, "expected (wavelength, value) pairs, got %zu value%s", p->count,
+                            p->count == 1 ? "" : "s");
+    size_t n = p->count / 2;
+    double *lambda = malloc(n * sizeof *lambda), *value = malloc(n * sizeof *value);
+    int result = lambda && value ? 0 : params_error(list, p, "out of memory");
+    for (size_t i = 0; result == 0 && i < n; ++i) {
+        lambda[i] = p->numbers[2 * i];
+        value[i] = p->numbers[2 * i + 1];
+        if (i > 0 && !(lambda[i] > lambda[i - 1]))
+            result = params_error(list, p, "wavelengths do not increase at pair %zu (%g after %g)", i + 1, lambda[i],
+                                  lambda[i - 1]);
+    }
+    if (result == 0)
+        spectrum_from_pairs(lambda, value, n, 1, s); /* pbrt-v4 holds the end values of inline spectra */
+    free(lambda);
+    free(value);
+    return result;
+}
+
+/* Reads a blackbody or spectrum parameter onto the grid and checks its values. */
+static int read_spectrum(ParamList *list, const Param *p, SpectrumKind kind, Spectrum *s)
+{
+    if (p->type == PARAM_BLACKBODY) {
+        if (p->count != 1)
+            return params_error(list, p, "expected one temperature, got %zu values", p->count);
+        if (!(p->numbers[0] > 0.0))
+            return params_error(list, p, "temperature %g K is not positive", p->numbers[0]);
+        spectrum_blackbody(p->numbers[0], s);
+    } else if ((p->strings ? named_or_file_spectrum(list, p, s) : inline_spectrum(list, p, s)) < 0) {
+        return -1;
+    }
+    for (int i = 0; i < SPECTRUM_SAMPLES; ++i) {
+        if (s->value[i] < 0.0)
+            return params_error(list, p, "negative value %g at %d nm", s->value[i], SPECTRUM_LAMBDA_MIN + i);
+        if (kind == SPECTRUM_ALBEDO && s->value[i] > 1.0)
+            return params_error(list, p, "reflectance %g at %d nm is above 1", s->value[i], SPECTRUM_LAMBDA_MIN + i);
+    }
+    return 0;
+}
+
+static int wrong_spectrum_type(ParamList *list, const Param *p, const char *plain)
+{
+    return params_error(list, p, "wrong type, expected \"%s %s\", \"spectrum %s\" or \"blackbody %s\"", plain, p->name,
+                        p->name, p->name);
+}
+
+int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, float rgb[3])
+{
+    Param *p = find(list, name);
+    if (!p)
+        return 0;
+    if (p->type == PARAM_RGB)
+        return params_get_rgb(list, name, kind == SPECTRUM_ALBEDO, rgb);
+    if (p->type == PARAM_TEXTURE)
+        return check(list, p, PARAM_RGB, 3) < 0 ? -1 : 0;
+    if (p->type != PARAM_SPECTRUM && p->type != PARAM_BLACKBODY)
+        return wrong_spectrum_type(list, p, "rgb");
+    Spectrum s;
+    if (read_spectrum(list, p, kind, &s))
+        return -1;
+    double value[3];
+    spectrum_to_rgb(&s, kind, value);
+    /* A spectrum outside the sRGB gamut has a negative channel (and an
+     * albedo one above 1): clipped, the renderer's radiance is never negative. */
+    for (int k = 0; k < 3; ++k) {
+        double v = value[k] < 0.0 ? 0.0 : value[k];
+        rgb[k] = (float)(kind == SPECTRUM_ALBEDO && v > 1.0 ? 1.0 : v);
+    }
+    return 1;
+}
+
+int params_get_eta(ParamList *list, const char *name, float *eta)
+{
+    Param *p = find(list, name);
+    if (!p)
+        return 0;
+    if (p->type == PARAM_FLOAT || p->type == PARAM_TEXTURE)
+        return params_get_float(list, name, eta);
+    if (p->type != PARAM_SPECTRUM && p->type != PARAM_BLACKBODY)
+        return wrong_spectrum_type(list, p, "float");
+    Spectrum s;
+    if (read_spectrum(list, p, SPECTRUM_UNBOUNDED, &s))
+        return -1;
+    *eta = (float)spectrum_eta(&s);
     return 1;
 }
 

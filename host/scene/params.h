@@ -5,6 +5,7 @@
 #define HOST_SCENE_PARAMS_H
 
 #include "scene/lexer.h"
+#include "scene/spectrum.h"
 
 #include <stddef.h>
 
@@ -39,7 +40,8 @@ typedef struct {
     Param *items;
     size_t count;
     const char *file;
-    char owner[96]; /* the directive, e.g. Shape "sphere", for messages */
+    const char *main_file; /* the scene's main file: .spd names fall back to its directory */
+    char owner[96];        /* the directive, e.g. Shape "sphere", for messages */
     Diagnostics *diag;
 } ParamList;
 
@@ -58,6 +60,16 @@ int params_get_bool(ParamList *list, const char *name, int *value);
 int params_get_string(ParamList *list, const char *name, const char **value);
 /* An "rgb" triple of non-negative values (at most 1 when is_albedo). */
 int params_get_rgb(ParamList *list, const char *name, int is_albedo, float value[3]);
+/* A spectral parameter reduced to linear sRGB by `kind` (spectrum.h):
+ * "rgb" (used as given: pbrt-v4 normalises an RGB emitter by its colour
+ * space's illuminant, whose RGB is (1, 1, 1)), "blackbody" (a temperature in
+ * kelvin), or "spectrum" given as inline (wavelength, value) pairs, a name
+ * of pbrt-v4's (metal-Au-eta, ...) or an .spd file (resolved like Include).
+ * Values must not be negative, and an albedo not above 1. */
+int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, float rgb[3]);
+/* A dielectric's "float eta", or a spectrum (a named glass such as
+ * glass-BK7) reduced to one value by spectrum_eta. */
+int params_get_eta(ParamList *list, const char *name, float *eta);
 /* Any number of values of one numeric type (P, N, indices). */
 int params_get_array(ParamList *list, const char *name, ParamType type, const Param **param);
 

@@ -8,6 +8,7 @@
 #include "scene/ply.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/spectrum.h"
 
 #include <cglm/cglm.h>
 
@@ -28,12 +29,19 @@
 
 typedef enum { PUSHED_ATTRIBUTES, PUSHED_TRANSFORM, PUSHED_OBJECT } PushKind;
 
+/* Which of the two transforms (at the shutter's start and end time) the
+ * transform directives change: ActiveTransform StartTime, EndTime or All. */
+enum { ACTIVE_START = 1, ACTIVE_END = 2, ACTIVE_ALL = 3 };
+
 typedef struct {
-    mat4 ctm;     /* object to world (camera before WorldBegin) */
+    mat4 ctm;     /* object to world (camera before WorldBegin), at the start time: what is rendered */
+    mat4 ctm_end; /* the same at the end time (pbrt-v4 animates between them); only compared with ctm */
+    int active_transforms;
     int material; /* index into the scene's materials; -1: pbrt's default */
     int has_area_light;
     float area_radiance[3];
     int area_two_sided;
+    float area_power; /* "power", or -1 */
     int reverse_orientation;
     /* Where this state was pushed (kept on the stack only). */
     PushKind kind;
@@ -46,6 +54,12 @@ typedef struct {
     int material;
 } NamedMaterial;
 
+/* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
+typedef struct {
+    char *name;
+    mat4 start, end;
+} NamedTransform;
+
 typedef struct {
     Scene *scene;
     Diagnostics diag;
@@ -57,14 +71,21 @@ typedef struct {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
+    NamedTransform *coordinate_systems;
+    size_t coordinate_system_count, coordinate_system_capacity;
+    int motion_warned; /* one warning for all animated transforms */
     int default_material;
-    size_t material_capacity, shape_capacity, area_light_capacity, vertex_capacity, triangle_capacity, sphere_capacity;
+    size_t material_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity, triangle_capacity,
+        sphere_capacity;
     char **paths; /* every file read, alive until scene_load returns (messages point at them) */
     size_t path_count, path_capacity;
     const char *main_path;
     mat4 camera_from_world, world_from_camera;
     const char *camera_file;
     int camera_line;
+    /* The film's sensor settings and the camera's shutter, combined into
+     * the film matrix at the end (Film may come before or after Camera). */
+    float film_iso, film_white_balance, shutter_open, shutter_close;
 } Parser;
 
 typedef int (*Handler)(Parser *p, Lexer *lex, const Token *directive);
@@ -149,7 +170,9 @@ static int read_typed_directive(Parser *p, Lexer *lex, const Token *directive, c
     directive_name(directive, name, sizeof name);
     token_describe(type, shown, sizeof shown);
     snprintf(owner, sizeof owner, "%s %s", name, shown);
-    return params_parse(lex, owner, params);
+    int result = params_parse(lex, owner, params);
+    params->main_file = p->main_path; /* after params_parse, which clears the list */
+    return result;
 }
 
 static void transform_point(mat4 m, const float in[3], float out[3])
@@ -333,6 +356,7 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
         SceneAreaLight *light = &s->area_lights[s->area_light_count];
         memcpy(light->radiance, p->state.area_radiance, sizeof light->radiance);
         light->two_sided = p->state.area_two_sided;
+        light->power = p->state.area_power;
         light->shape = (int)s->shape_count;
         shape->area_light = (int)s->area_light_count++;
     }
@@ -489,7 +513,7 @@ static int read_roughness(ParamList *params, SceneMaterial *m, int line, Parser 
 
 static int read_eta(ParamList *params, float *eta, int line, Parser *p)
 {
-    if (params_get_float(params, "eta", eta) < 0)
+    if (params_get_eta(params, "eta", eta) < 0)
         return -1;
     if (!(*eta > 0.0f))
         return scene_error(&p->diag, params->file, line, "%s: eta must be positive", params->owner);
@@ -502,7 +526,7 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
 {
     default_material(m);
     if (strcmp(type, "diffuse") == 0) {
-        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0)
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
             return -1;
     } else if (strcmp(type, "dielectric") == 0) {
         m->type = SCENE_MATERIAL_DIELECTRIC;
@@ -515,9 +539,9 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         m->type = SCENE_MATERIAL_CONDUCTOR;
         memcpy(m->conductor_eta, copper_eta, sizeof copper_eta);
         memcpy(m->conductor_k, copper_k, sizeof copper_k);
-        int has_eta = params_get_rgb(params, "eta", 0, m->conductor_eta);
-        int has_k = params_get_rgb(params, "k", 0, m->conductor_k);
-        int has_reflectance = params_get_rgb(params, "reflectance", 1, m->reflectance);
+        int has_eta = params_get_spectrum(params, "eta", SPECTRUM_UNBOUNDED, m->conductor_eta);
+        int has_k = params_get_spectrum(params, "k", SPECTRUM_UNBOUNDED, m->conductor_k);
+        int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance);
         if (has_eta < 0 || has_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
             return -1;
         if (has_reflectance && (has_eta || has_k))
@@ -528,8 +552,8 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
             memset(m->reflectance, 0, sizeof m->reflectance);
     } else if (strcmp(type, "coateddiffuse") == 0) {
         m->type = SCENE_MATERIAL_COATED_DIFFUSE;
-        if (params_get_rgb(params, "reflectance", 1, m->reflectance) < 0 || read_eta(params, &m->eta, line, p) ||
-            read_roughness(params, m, line, p))
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
+            read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
             return -1;
         /* The renderer approximates the layered BSDF; these only tune
          * pbrt's stochastic evaluation of a clear coating. */
@@ -556,12 +580,21 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
 
 static int parse_file(Parser *p, const char *path, const char *from_file, int from_line);
 
+static int same_matrix(mat4 a, mat4 b)
+{
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (a[c][r] != b[c][r])
+                return 0;
+    return 1;
+}
+
 /* After a transform directive: products of finite numbers can overflow. */
 static int check_transform(Parser *p, Lexer *lex, const Token *d)
 {
     for (int c = 0; c < 4; ++c)
         for (int r = 0; r < 4; ++r)
-            if (!isfinite(p->state.ctm[c][r])) {
+            if (!isfinite(p->state.ctm[c][r]) || !isfinite(p->state.ctm_end[c][r])) {
                 char name[32];
                 directive_name(d, name, sizeof name);
                 return scene_error(&p->diag, lex->path, d->line,
@@ -570,9 +603,48 @@ static int check_transform(Parser *p, Lexer *lex, const Token *d)
     return 0;
 }
 
+/* Before a shape, light or camera takes the CTM: when its start and end
+ * transforms differ it moves, which gmonrt does not render. It renders the
+ * start time, with one warning for the whole scene. */
+static int warn_if_moving(Parser *p, Lexer *lex, const Token *d)
+{
+    if (p->motion_warned || same_matrix(p->state.ctm, p->state.ctm_end))
+        return 0;
+    p->motion_warned = 1;
+    char name[32];
+    directive_name(d, name, sizeof name);
+    return scene_warn(&p->diag, lex->path, d->line,
+                      "%s: its transforms at the start and end times differ (ActiveTransform): motion is not "
+                      "rendered, the scene is rendered at the start time",
+                      name);
+}
+
+/* The transforms a transform directive changes (ActiveTransform); returns
+ * how many of out[0..1] it filled. */
+static int active_transforms(Parser *p, mat4 *out[2])
+{
+    int n = 0;
+    if (p->state.active_transforms & ACTIVE_START)
+        out[n++] = &p->state.ctm;
+    if (p->state.active_transforms & ACTIVE_END)
+        out[n++] = &p->state.ctm_end;
+    return n;
+}
+
 static int apply_transform(Parser *p, Lexer *lex, const Token *d, mat4 m)
 {
-    glm_mat4_mul(p->state.ctm, m, p->state.ctm);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_mat4_mul(*active[i], m, *active[i]);
+    return check_transform(p, lex, d);
+}
+
+/* Sets the active transforms to m. */
+static int set_transform(Parser *p, Lexer *lex, const Token *d, mat4 m)
+{
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_mat4_copy(m, *active[i]);
     return check_transform(p, lex, d);
 }
 
@@ -613,7 +685,9 @@ static int on_translate(Parser *p, Lexer *lex, const Token *d)
     if (read_numbers(p, lex, d, 3, 0, v))
         return -1;
     vec3 t = {(float)v[0], (float)v[1], (float)v[2]};
-    glm_translate(p->state.ctm, t);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_translate(*active[i], t);
     return check_transform(p, lex, d);
 }
 
@@ -623,7 +697,9 @@ static int on_scale(Parser *p, Lexer *lex, const Token *d)
     if (read_numbers(p, lex, d, 3, 0, v))
         return -1;
     vec3 s = {(float)v[0], (float)v[1], (float)v[2]};
-    glm_scale(p->state.ctm, s);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_scale(*active[i], s);
     return check_transform(p, lex, d);
 }
 
@@ -635,7 +711,9 @@ static int on_rotate(Parser *p, Lexer *lex, const Token *d)
     vec3 axis = {(float)v[1], (float)v[2], (float)v[3]};
     if (glm_vec3_norm(axis) == 0.0f)
         return scene_error(&p->diag, lex->path, d->line, "Rotate: the axis is zero");
-    glm_rotate(p->state.ctm, (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
+    mat4 *active[2];
+    for (int i = active_transforms(p, active) - 1; i >= 0; --i)
+        glm_rotate(*active[i], (float)(v[0] * 3.14159265358979323846 / 180.0), axis);
     return check_transform(p, lex, d);
 }
 
@@ -656,8 +734,7 @@ static int on_transform(Parser *p, Lexer *lex, const Token *d)
     mat4 m;
     if (read_matrix(p, lex, d, m))
         return -1;
-    glm_mat4_copy(m, p->state.ctm);
-    return 0;
+    return set_transform(p, lex, d, m);
 }
 
 static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
@@ -670,9 +747,96 @@ static int on_concat_transform(Parser *p, Lexer *lex, const Token *d)
 
 static int on_identity(Parser *p, Lexer *lex, const Token *d)
 {
-    (void)lex, (void)d;
-    glm_mat4_identity(p->state.ctm);
+    mat4 identity = GLM_MAT4_IDENTITY_INIT;
+    return set_transform(p, lex, d, identity);
+}
+
+/* The named coordinate system, or NULL. */
+static NamedTransform *find_coordinate_system(Parser *p, const char *name, size_t length)
+{
+    for (size_t i = 0; i < p->coordinate_system_count; ++i)
+        if (strlen(p->coordinate_systems[i].name) == length && memcmp(p->coordinate_systems[i].name, name, length) == 0)
+            return &p->coordinate_systems[i];
+    return NULL;
+}
+
+/* Names (or renames) a coordinate system: CoordinateSystem, and pbrt-v4's
+ * "camera" at Camera and "world" at WorldBegin. */
+static int define_coordinate_system(Parser *p, const char *name, size_t length, mat4 start, mat4 end)
+{
+    NamedTransform *named = find_coordinate_system(p, name, length);
+    if (!named) {
+        char *copy = scene_strndup(name, length);
+        if (!copy || scene_reserve((void **)&p->coordinate_systems, &p->coordinate_system_capacity,
+                                   p->coordinate_system_count + 1, sizeof *p->coordinate_systems)) {
+            free(copy);
+            return -1;
+        }
+        named = &p->coordinate_systems[p->coordinate_system_count++];
+        named->name = copy;
+    }
+    glm_mat4_copy(start, named->start);
+    glm_mat4_copy(end, named->end);
     return 0;
+}
+
+static int on_coordinate_system(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (expect_string(p, lex, d, "the coordinate system's name", &name))
+        return -1;
+    if (define_coordinate_system(p, name.text, name.length, p->state.ctm, p->state.ctm_end))
+        return out_of_memory(p, lex->path, d->line);
+    return 0;
+}
+
+/* pbrt-v4: the CTM becomes the named one (both times, whatever is active);
+ * an unknown name is a warning and leaves the CTM as it was. */
+static int on_coord_sys_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name;
+    if (expect_string(p, lex, d, "the coordinate system's name", &name))
+        return -1;
+    const NamedTransform *named = find_coordinate_system(p, name.text, name.length);
+    if (!named) {
+        char shown[64];
+        token_describe(&name, shown, sizeof shown);
+        return scene_warn(&p->diag, lex->path, d->line,
+                          "CoordSysTransform: no coordinate system named %s (pbrt-v4 defines \"camera\" at Camera "
+                          "and \"world\" at WorldBegin); the transform is unchanged",
+                          shown);
+    }
+    glm_mat4_copy((vec4 *)named->start, p->state.ctm);
+    glm_mat4_copy((vec4 *)named->end, p->state.ctm_end);
+    return check_transform(p, lex, d);
+}
+
+static int on_active_transform(Parser *p, Lexer *lex, const Token *d)
+{
+    (void)d;
+    Token which;
+    if (lexer_next(lex, &which))
+        return -1;
+    if (token_is(&which, "All"))
+        p->state.active_transforms = ACTIVE_ALL;
+    else if (token_is(&which, "StartTime"))
+        p->state.active_transforms = ACTIVE_START;
+    else if (token_is(&which, "EndTime"))
+        p->state.active_transforms = ACTIVE_END;
+    else {
+        char shown[64];
+        token_describe(&which, shown, sizeof shown);
+        return scene_error(&p->diag, lex->path, which.line,
+                           "ActiveTransform: expected All, StartTime or EndTime, got %s", shown);
+    }
+    return 0;
+}
+
+/* The shutter times the two transforms belong to: only the start is rendered. */
+static int on_transform_times(Parser *p, Lexer *lex, const Token *d)
+{
+    double times[2];
+    return read_numbers(p, lex, d, 2, 0, times) || require_world(p, lex, d, 0) ? -1 : 0;
 }
 
 static int on_reverse_orientation(Parser *p, Lexer *lex, const Token *d)
@@ -710,9 +874,11 @@ static int pop_state(Parser *p, Lexer *lex, const Token *d, PushKind kind)
         return scene_error(&p->diag, lex->path, d->line, "%s closes the %s at %s:%d", name, push_name(saved->kind),
                            saved->file, saved->line);
     p->depth--;
-    if (kind == PUSHED_TRANSFORM)
+    if (kind == PUSHED_TRANSFORM) {
         glm_mat4_copy(saved->ctm, p->state.ctm);
-    else
+        glm_mat4_copy(saved->ctm_end, p->state.ctm_end);
+        p->state.active_transforms = saved->active_transforms;
+    } else
         p->state = *saved;
     return 0;
 }
@@ -778,6 +944,10 @@ static int on_world_begin(Parser *p, Lexer *lex, const Token *d)
                            p->stack[p->depth - 1].line);
     p->in_world = 1;
     glm_mat4_identity(p->state.ctm);
+    glm_mat4_identity(p->state.ctm_end);
+    p->state.active_transforms = ACTIVE_ALL;
+    if (define_coordinate_system(p, "world", 5, p->state.ctm, p->state.ctm_end))
+        return out_of_memory(p, lex->path, d->line);
     return 0;
 }
 
@@ -811,6 +981,8 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the camera type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
+    if (result == 0)
+        result = warn_if_moving(p, lex, d);
     int orthographic = result == 0 && token_is(&type, "orthographic");
     if (result == 0 && !orthographic && !token_is(&type, "perspective")) {
         char shown[64];
@@ -823,14 +995,14 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     memset(&camera, 0, sizeof camera);
     camera.projection = orthographic ? SCENE_CAMERA_ORTHOGRAPHIC : SCENE_CAMERA_PERSPECTIVE;
     /* pbrt-v4's defaults; frame NAN: not given (the film's aspect ratio). */
-    float fov = 90.0f, lens_radius = 0.0f, focal_distance = 1e6f, frame = NAN, ignored = 0.0f;
+    float fov = 90.0f, lens_radius = 0.0f, focal_distance = 1e6f, frame = NAN;
     if (result == 0 &&
         ((!orthographic && params_get_float(&params, "fov", &fov) < 0) ||
          params_get_float(&params, "lensradius", &lens_radius) < 0 ||
          params_get_float(&params, "focaldistance", &focal_distance) < 0 ||
          params_get_float(&params, "frameaspectratio", &frame) < 0 || read_screen_window(&params, &camera) < 0 ||
-         params_get_float(&params, "shutteropen", &ignored) < 0 ||
-         params_get_float(&params, "shutterclose", &ignored) < 0))
+         params_get_float(&params, "shutteropen", &p->shutter_open) < 0 ||
+         params_get_float(&params, "shutterclose", &p->shutter_close) < 0))
         result = -1;
     if (result == 0 && !(fov > 0.0f && fov < 180.0f))
         result =
@@ -862,6 +1034,9 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     if (result == 0) {
         glm_mat4_copy(p->state.ctm, p->camera_from_world);
         glm_mat4_copy(world_from_camera, p->world_from_camera);
+        /* pbrt-v4's "camera" space; a moving camera is rendered at the start time. */
+        if (define_coordinate_system(p, "camera", 6, world_from_camera, world_from_camera))
+            result = out_of_memory(p, lex->path, d->line);
         camera.fov = fov;
         camera.lens_radius = lens_radius; /* camera space until finish_camera */
         camera.focal_distance = focal_distance;
@@ -888,30 +1063,76 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
     ParamList params;
+    Scene *s = p->scene;
     int result = read_typed_directive(p, lex, d, "the film type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
-    if (result == 0 && !token_is(&type, "rgb"))
+    if (result == 0 && token_is(&type, "gbuffer")) {
+        /* pbrt-v4's gbuffer film adds geometry channels to the same RGB. */
+        result =
+            scene_warn(&p->diag, lex->path, d->line, "Film \"gbuffer\": rendered as \"rgb\" (no geometry channels)");
+        params_ignore(&params, "coordinatesystem");
+    } else if (result == 0 && !token_is(&type, "rgb")) {
         result = scene_unsupported(&p->diag, lex->path, d->line, "an \"rgb\" film is used",
-                                   "Film: only \"rgb\" is supported");
-    int width = (int)p->scene->width, height = (int)p->scene->height;
-    const char *filename = NULL;
+                                   "Film: only \"rgb\" and \"gbuffer\" are supported");
+    }
+    int width = (int)s->width, height = (int)s->height, save_fp16 = s->save_fp16;
+    const char *filename = NULL, *sensor = "cie1931";
+    float iso = 100.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
     if (result == 0 &&
         (params_get_int(&params, "xresolution", &width) < 0 || params_get_int(&params, "yresolution", &height) < 0 ||
-         params_get_string(&params, "filename", &filename) < 0))
+         params_get_string(&params, "filename", &filename) < 0 || params_get_float(&params, "iso", &iso) < 0 ||
+         params_get_float(&params, "whitebalance", &white_balance) < 0 ||
+         params_get_string(&params, "sensor", &sensor) < 0 ||
+         params_get_float(&params, "maxcomponentvalue", &max_component) < 0 ||
+         params_get_float(&params, "diagonal", &diagonal) < 0 || params_get_bool(&params, "savefp16", &save_fp16) < 0))
         result = -1;
     if (result == 0 && (width < 1 || height < 1 || width > 65536 || height > 65536))
         result = scene_error(&p->diag, lex->path, d->line, "Film: resolution %d x %d is out of range", width, height);
+    if (result == 0 && !(iso > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: iso %g must be positive", (double)iso);
+    if (result == 0 && (white_balance < 0.0f || white_balance > 1e5f))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "Film: whitebalance %g K is not 0 (none) or a temperature up to 100000 K",
+                             (double)white_balance);
+    if (result == 0 && !(max_component > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: maxcomponentvalue %g must be positive",
+                             (double)max_component);
+    if (result == 0 && !(diagonal > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: diagonal %g must be positive", (double)diagonal);
+    if (result == 0 && strcmp(sensor, "cie1931") != 0) {
+        result = scene_unsupported(&p->diag, lex->path, d->line, "the \"cie1931\" sensor is used",
+                                   "Film: sensor \"%s\" is not supported (only \"cie1931\")", sensor);
+        if (white_balance == 0.0f)
+            white_balance = 6500.0f; /* pbrt-v4's default for a camera sensor */
+    }
     if (result == 0)
         result = params_check_unused(&params);
     if (result == 0 && filename)
-        result = replace_string(p, lex->path, d->line, &p->scene->film_filename, filename);
+        result = replace_string(p, lex->path, d->line, &s->film_filename, filename);
     if (result == 0) {
-        p->scene->width = (unsigned)width;
-        p->scene->height = (unsigned)height;
+        s->width = (unsigned)width;
+        s->height = (unsigned)height;
+        s->max_component_value = max_component;
+        s->save_fp16 = save_fp16;
+        s->film_diagonal = diagonal;
+        p->film_iso = iso;
+        p->film_white_balance = white_balance;
     }
     params_free(&params);
     return result;
+}
+
+/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter. */
+static int finish_film(Parser *p)
+{
+    double exposure = (double)p->shutter_close - (double)p->shutter_open;
+    if (!(exposure > 0.0))
+        return scene_error(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
+                           "Camera: shutterclose %g must be after shutteropen %g (the film's exposure time)",
+                           (double)p->shutter_close, (double)p->shutter_open);
+    spectrum_film_from_radiance(exposure * p->film_iso / 100.0, p->film_white_balance, p->scene->film_from_radiance);
+    return 0;
 }
 
 static int on_sampler(Parser *p, Lexer *lex, const Token *d)
@@ -942,6 +1163,83 @@ static int on_sampler(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
+/* pbrt-v4's integrators whose expected image is the path tracer's (for a
+ * scene without participating media, which gmonrt does not support), and
+ * their parameters that only change how fast they converge. */
+static const struct {
+    const char *name;
+    const char *tuning[6];
+} same_image_integrators[] = {
+    {"path", {NULL}},
+    {"volpath", {NULL}},
+    {"simplevolpath", {NULL}},
+    {"bdpt", {NULL}},
+    {"mlt", {"bootstrapsamples", "chains", "mutationsperpixel", "largestepprobability", "sigma", NULL}},
+    {"sppm", {"photonsperiteration", "radius", "seed", NULL}},
+    {"simplepath", {"samplelights", "samplebsdf", NULL}},
+    {"lightpath", {NULL}},
+    {"randomwalk", {NULL}},
+};
+
+/* Which integrator renders the scene: the path tracer, with a note where
+ * pbrt-v4 would use another one with the same expected image, else an
+ * unsupported feature (ambientocclusion, aov, ...: their images differ). */
+static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token *type, ParamList *params)
+{
+    char shown[64];
+    token_describe(type, shown, sizeof shown);
+    for (size_t i = 0; i < sizeof same_image_integrators / sizeof same_image_integrators[0]; ++i) {
+        if (!token_is(type, same_image_integrators[i].name))
+            continue;
+        for (const char *const *tuning = same_image_integrators[i].tuning; *tuning; ++tuning)
+            params_ignore(params, *tuning);
+        int visualize_strategies = 0, visualize_weights = 0; /* bdpt's images of single strategies */
+        if (strcmp(same_image_integrators[i].name, "bdpt") == 0 &&
+            (params_get_bool(params, "visualizestrategies", &visualize_strategies) < 0 ||
+             params_get_bool(params, "visualizeweights", &visualize_weights) < 0))
+            return -1;
+        if (visualize_strategies || visualize_weights)
+            return scene_unsupported(&p->diag, lex->path, d->line, "the path tracer's image is rendered",
+                                     "Integrator %s: \"visualizestrategies\" and \"visualizeweights\" are "
+                                     "not supported",
+                                     shown);
+        if (token_is(type, "path"))
+            return 0;
+        const char *media = strstr(same_image_integrators[i].name, "vol")
+                                ? " without participating media (which gmonrt does not support)"
+                                : "";
+        return scene_note(&p->diag, lex->path, d->line,
+                          "Integrator %s is rendered by the path tracer (\"path\"): the expected image is the same%s",
+                          shown, media);
+    }
+    return scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
+                             "Integrator %s is not supported: its image differs from the path tracer's "
+                             "(path, volpath, simplevolpath, bdpt, mlt, sppm, simplepath, lightpath, randomwalk are)",
+                             shown);
+}
+
+/* Integrator "lightsampler": pbrt-v4's bvh (its default), power or uniform.
+ * Recorded; gmonrt's next-event estimation picks lights by power. */
+static int read_light_sampler(Parser *p, Lexer *lex, const Token *d, ParamList *params)
+{
+    const char *light_sampler = NULL;
+    int found = params_get_string(params, "lightsampler", &light_sampler);
+    if (found <= 0)
+        return found; /* absent, or an error */
+    if (strcmp(light_sampler, "bvh") != 0 && strcmp(light_sampler, "power") != 0 &&
+        strcmp(light_sampler, "uniform") != 0)
+        return scene_error(&p->diag, lex->path, d->line,
+                           "Integrator: \"lightsampler\" \"%s\" is not bvh, power or uniform", light_sampler);
+    if (replace_string(p, lex->path, d->line, &p->scene->light_sampler, light_sampler))
+        return -1;
+    if (strcmp(light_sampler, "power") == 0)
+        return 0;
+    return scene_note(&p->diag, lex->path, d->line,
+                      "Integrator: \"lightsampler\" \"%s\" is replaced by picking lights in proportion to their "
+                      "power (pbrt-v4's \"power\"): the expected image is the same",
+                      light_sampler);
+}
+
 static int on_integrator(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -949,15 +1247,14 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the integrator type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
-    if (result == 0 && !token_is(&type, "path"))
-        result = scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
-                                   "Integrator: only \"path\" is supported");
+    if (result == 0)
+        result = choose_integrator(p, lex, d, &type, &params);
     int max_depth = p->scene->max_depth, regularize = 0;
     if (result == 0 && (params_get_int(&params, "maxdepth", &max_depth) < 0 ||
                         params_get_bool(&params, "regularize", &regularize) < 0))
         result = -1;
     if (result == 0)
-        params_ignore(&params, "lightsampler"); /* the renderer picks lights its own way */
+        result = read_light_sampler(p, lex, d, &params);
     if (result == 0 && max_depth < 0)
         result = scene_error(&p->diag, lex->path, d->line, "Integrator: maxdepth must not be negative");
     if (result == 0)
@@ -1146,13 +1443,17 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
         params_free(&params);
         return result;
     }
-    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f, power = -1.0f;
     int two_sided = 0;
-    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0 ||
-                        params_get_bool(&params, "twosided", &two_sided) < 0))
+    if (result == 0 &&
+        (params_get_spectrum(&params, "L", SPECTRUM_ILLUMINANT, L) < 0 ||
+         params_get_float(&params, "scale", &scale) < 0 || params_get_bool(&params, "twosided", &two_sided) < 0 ||
+         params_get_float(&params, "power", &power) < 0))
         result = -1;
     if (result == 0 && scale < 0.0f)
         result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: scale must not be negative");
+    if (result == 0 && !(power == -1.0f || power > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "AreaLightSource: power must be positive");
     if (result == 0)
         result = params_check_unused(&params);
     double radiance[3] = {(double)L[0] * scale, (double)L[1] * scale, (double)L[2] * scale};
@@ -1163,11 +1464,40 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
         for (int k = 0; k < 3; ++k)
             p->state.area_radiance[k] = (float)radiance[k];
         p->state.area_two_sided = two_sided;
+        p->state.area_power = power;
     }
     params_free(&params);
     return result;
 }
 
+static char *resolve_path(Parser *p, const char *file, const char *name);
+
+/* A direction through the CTM's linear part, in double. */
+static void transform_vector_d(mat4 m, const double v[3], double out[3])
+{
+    for (int k = 0; k < 3; ++k)
+        out[k] = m[0][k] * v[0] + m[1][k] * v[1] + m[2][k] * v[2];
+}
+
+/* Reads the light's point parameter `name` (default `fallback`). */
+static int light_point(ParamList *params, const char *name, const float fallback[3], double out[3])
+{
+    const Param *param = NULL;
+    int found = params_get_array(params, name, PARAM_POINT3, &param);
+    if (found < 0)
+        return -1;
+    if (found && param->count != 3)
+        return params_error(params, param, "expected one point (3 values), got %zu values", param->count);
+    for (int k = 0; k < 3; ++k)
+        out[k] = found ? param->numbers[k] : fallback[k];
+    return 0;
+}
+
+/* pbrt-v4's LightSource directive: point, spot, distant, infinite
+ * (uniform, or an equal-area image). Each light's spectrum is scaled by
+ * "scale", and "power" (point, spot) or "illuminance" (distant, infinite)
+ * replace that scale by one that gives the light this power (W... in
+ * pbrt's photometric units) or this illuminance on a surface facing it. */
 static int on_light_source(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -1175,31 +1505,190 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the light type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
-    if (result == 0 && !token_is(&type, "infinite")) {
+    if (result == 0)
+        result = warn_if_moving(p, lex, d);
+    const int is_point = token_is(&type, "point"), is_spot = token_is(&type, "spot");
+    const int is_distant = token_is(&type, "distant"), is_infinite = token_is(&type, "infinite");
+    const int is_goniometric = token_is(&type, "goniometric"), is_projection = token_is(&type, "projection");
+    const int is_imaged = is_goniometric || is_projection; /* point lights shaped by an image */
+    if (result == 0 && !is_point && !is_spot && !is_distant && !is_infinite && !is_imaged) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
         result = scene_unsupported(&p->diag, lex->path, d->line, "skipped",
-                                   "LightSource %s is not supported (only a constant \"infinite\")", shown);
+                                   "LightSource %s is not supported (point, spot, distant, infinite, goniometric, "
+                                   "projection)",
+                                   shown);
         params_free(&params);
         return result;
     }
-    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f;
-    if (result == 0 && (params_get_rgb(&params, "L", 0, L) < 0 || params_get_float(&params, "scale", &scale) < 0))
-        result = -1;
-    if (result == 0 && scale < 0.0f)
-        result = scene_error(&p->diag, lex->path, d->line, "LightSource: scale must not be negative");
-    if (result == 0)
+    if (result) {
+        params_free(&params);
+        return result;
+    }
+    SceneLight light;
+    memset(&light, 0, sizeof light);
+    light.illuminance = -1.0f;
+    light.power = -1.0f;
+    light.fov = 90.0f;
+    float L[3] = {1.0f, 1.0f, 1.0f}, scale = 1.0f, power = -1.0f, illuminance = -1.0f;
+    const char *filename = NULL;
+    int has_L = 0;
+    const double pi = 3.14159265358979323846;
+    mat4 *ctm = &p->state.ctm;
+    result = params_get_float(&params, "scale", &scale) < 0;
+    if (!result && (is_point || is_spot || is_goniometric))
+        result = params_get_spectrum(&params, "I", SPECTRUM_ILLUMINANT, L) < 0;
+    if (!result && (is_point || is_spot || is_imaged))
+        result = params_get_float(&params, "power", &power) < 0;
+    if (!result && is_imaged)
+        result = params_get_string(&params, "filename", &filename) < 0;
+    if (!result && is_projection) {
+        result = params_get_float(&params, "fov", &light.fov) < 0;
+        if (!result && !filename)
+            result = scene_error(&p->diag, lex->path, d->line, "%s: missing \"string filename\"", params.owner);
+        if (!result && !(light.fov > 0.0f && light.fov < 180.0f))
+            result = scene_error(&p->diag, lex->path, d->line, "%s: fov must be in (0, 180), got %g", params.owner,
+                                 (double)light.fov);
+    }
+    if (!result && (is_distant || is_infinite))
+        result = (has_L = params_get_spectrum(&params, "L", SPECTRUM_ILLUMINANT, L)) < 0 ||
+                 params_get_float(&params, "illuminance", &illuminance) < 0;
+    if (!result && is_infinite) {
+        /* A portal only helps pbrt sample the image: the light is the same. */
+        params_ignore(&params, "portal");
+        result = params_get_string(&params, "filename", &filename) < 0;
+        if (!result && filename && !filename[0])
+            filename = NULL;
+        if (!result && filename && has_L)
+            result = scene_error(&p->diag, lex->path, d->line,
+                                 "LightSource \"infinite\": both \"L\" and \"filename\" given (pbrt-v4 refuses this)");
+    }
+    if (!result && (scale < 0.0f || !(power == -1.0f || power > 0.0f) || !(illuminance == -1.0f || illuminance > 0.0f)))
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "%s: scale must not be negative, power and illuminance must be positive", params.owner);
+    double from[3], to[3];
+    static const float origin[3] = {0.0f, 0.0f, 0.0f}, ahead[3] = {0.0f, 0.0f, 1.0f};
+    if (!result && !is_infinite && !is_imaged)
+        result = light_point(&params, "from", origin, from) || light_point(&params, "to", ahead, to);
+    for (int c = 0; c < 3 && is_imaged; ++c)
+        from[c] = 0.0; /* at the CTM's origin */
+    if (!result && is_spot) {
+        float cone = 30.0f, delta = 5.0f;
+        result = params_get_float(&params, "coneangle", &cone) < 0 ||
+                 params_get_float(&params, "conedeltaangle", &delta) < 0;
+        if (!result && !(cone > 0.0f && cone <= 180.0f && delta >= 0.0f && delta <= cone))
+            result = scene_error(&p->diag, lex->path, d->line,
+                                 "LightSource \"spot\": coneangle must be in (0, 180] and conedeltaangle in [0, "
+                                 "coneangle] (got %g and %g)",
+                                 (double)cone, (double)delta);
+        light.cos_total_width = (float)cos(cone * pi / 180.0);
+        light.cos_falloff_start = (float)cos((cone - delta) * pi / 180.0);
+    }
+    if (!result)
         result = params_check_unused(&params);
-    Scene *s = p->scene;
-    double radiance[3]; /* several infinite lights add up */
-    for (int k = 0; k < 3; ++k)
-        radiance[k] = s->environment[k] + (double)L[k] * scale;
-    if (result == 0)
-        result = check_radiance(p, lex, d, "LightSource \"infinite\"", radiance);
-    if (result == 0) {
-        s->has_environment = 1;
-        for (int k = 0; k < 3; ++k)
-            s->environment[k] = (float)radiance[k];
+    double k = scale;
+    if (!result && is_point) {
+        light.type = SCENE_LIGHT_POINT;
+        if (power > 0.0f)
+            k *= power / (4.0 * pi);
+    } else if (!result && is_spot) {
+        light.type = SCENE_LIGHT_SPOT;
+        if (power > 0.0f)
+            k *= power / (2.0 * pi *
+                          ((1.0 - light.cos_falloff_start) + (light.cos_falloff_start - light.cos_total_width) / 2.0));
+    } else if (!result && is_distant) {
+        light.type = SCENE_LIGHT_DISTANT;
+        if (illuminance > 0.0f)
+            k *= illuminance;
+    } else if (!result && is_goniometric && !filename) {
+        light.type = SCENE_LIGHT_POINT; /* pbrt-v4 warns and renders it without an image */
+        result =
+            scene_warn(&p->diag, lex->path, d->line, "%s: no \"filename\": an isotropic point light", params.owner);
+        if (power > 0.0f)
+            k *= power / (4.0 * pi);
+    } else if (!result && is_imaged) {
+        light.type = is_goniometric ? SCENE_LIGHT_GONIOMETRIC : SCENE_LIGHT_PROJECTION;
+        light.power = power; /* needs the image: scene_convert applies it */
+    } else if (!result) {
+        light.type = filename ? SCENE_LIGHT_IMAGE : SCENE_LIGHT_INFINITE;
+        if (filename)
+            light.illuminance = illuminance;
+        else if (illuminance > 0.0f)
+            k *= illuminance / pi; /* a uniform sky of radiance L gives pi L */
+    }
+    double radiance[3];
+    for (int c = 0; c < 3; ++c)
+        radiance[c] = (light.type == SCENE_LIGHT_IMAGE || is_projection ? 1.0 : (double)L[c]) * k;
+    if (!result)
+        result = check_radiance(p, lex, d, params.owner, radiance);
+    for (int c = 0; c < 3; ++c)
+        light.radiance[c] = (float)radiance[c];
+
+    if (!result && (is_point || is_spot || is_imaged)) {
+        float from_f[3] = {(float)from[0], (float)from[1], (float)from[2]};
+        transform_point(*ctm, from_f, light.position);
+        if (!within_range(light.position))
+            result = scene_error(&p->diag, lex->path, d->line, "%s: the light lies beyond %g of the origin",
+                                 params.owner, SCENE_MAX_COORDINATE);
+    }
+    if (!result && (is_spot || is_distant)) {
+        /* spot: it shines along to - from; distant: the light is along from - to */
+        double v[3], w[3];
+        for (int c = 0; c < 3; ++c)
+            v[c] = is_spot ? to[c] - from[c] : from[c] - to[c];
+        transform_vector_d(*ctm, v, w);
+        if (normalize_d(w) == 0.0 || !isfinite(w[0] + w[1] + w[2]))
+            result =
+                scene_error(&p->diag, lex->path, d->line, "%s: \"from\" and \"to\" give no direction", params.owner);
+        for (int c = 0; c < 3; ++c)
+            light.direction[c] = (float)w[c];
+    }
+    if (!result && (light.type == SCENE_LIGHT_IMAGE || is_imaged) && filename) {
+        /* Light space is object space: the rows of the CTM's inverse
+         * rotation (its transpose, for a rotation times a uniform scale);
+         * pbrt-v4 swaps a goniometric light's y and z, and flips a
+         * projection light's y (its image's rows run down). */
+        double s;
+        if (!is_similarity(*ctm, &s) || !(s > 0.0))
+            result = scene_unsupported(&p->diag, lex->path, d->line, "its non-uniform scale or shear is ignored",
+                                       "%s: the transform is not a rotation and uniform scale", params.owner);
+        for (int r = 0; r < 3; ++r) {
+            int column = is_goniometric && r > 0 ? 3 - r : r;
+            double sign = is_projection && r == 1 ? -1.0 : 1.0;
+            double row[3] = {(*ctm)[column][0], (*ctm)[column][1], (*ctm)[column][2]}; /* a column of the CTM */
+            normalize_d(row);
+            for (int c = 0; c < 3; ++c)
+                light.light_from_world[r][c] = (float)(sign * row[c]);
+        }
+        if (!result) {
+            light.filename = resolve_path(p, lex->path, filename);
+            int missing =
+                light.filename ? scene_missing_file(&p->diag, lex->path, d->line, light.filename, params.owner) : -1;
+            if (missing < 0)
+                result = out_of_memory(p, lex->path, d->line);
+            else if (missing) { /* check mode: listed, and the light skipped */
+                free(light.filename);
+                params_free(&params);
+                return 0;
+            } else if (!scene_file_exists(light.filename))
+                result =
+                    scene_error(&p->diag, lex->path, d->line, "%s: cannot find \"%s\"", params.owner, light.filename);
+        }
+    }
+    if (!result) {
+        char where[1024];
+        snprintf(where, sizeof where, "%s:%d", lex->path, d->line);
+        light.origin = scene_strndup(where, strlen(where));
+        Scene *sc = p->scene;
+        if (!light.origin ||
+            scene_reserve((void **)&sc->lights, &p->light_capacity, sc->light_count + 1, sizeof *sc->lights))
+            result = out_of_memory(p, lex->path, d->line);
+        else
+            sc->lights[sc->light_count++] = light;
+    }
+    if (result) {
+        free(light.filename);
+        free(light.origin);
     }
     params_free(&params);
     return result;
@@ -1297,43 +1786,13 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     return result;
 }
 
-/* A path relative to the directory of `from` (a file), unless absolute. */
-static char *path_relative_to(const char *from, const char *name)
-{
-    if (name[0] == '/' || !from)
-        return scene_strndup(name, strlen(name));
-    const char *slash = strrchr(from, '/');
-    size_t dir = slash ? (size_t)(slash - from) + 1 : 0;
-    size_t length = strlen(name);
-    char *path = malloc(dir + length + 1);
-    if (path) {
-        memcpy(path, from, dir);
-        memcpy(path + dir, name, length + 1);
-    }
-    return path;
-}
-
-/* stat, not open: opening a FIFO could block. */
-static int file_exists(const char *path)
-{
-    struct stat st;
-    return stat(path, &st) == 0;
-}
-
-/* Resolves a file named in `file`: relative to that file's directory, or
- * failing that to the main file's (pbrt-v4's own rule). */
+/* Resolves a file named in `file` as pbrt-v4 does (ResolveFilename):
+ * relative to the main file's directory. When nothing is there, gmonrt also
+ * tries the directory of the file naming it (pbrt-v4 would try the working
+ * directory); when that fails too, the path is pbrt-v4's, for messages. */
 static char *resolve_path(Parser *p, const char *file, const char *name)
 {
-    char *path = path_relative_to(file, name);
-    if (path && !file_exists(path)) {
-        char *fallback = path_relative_to(p->main_path, name);
-        if (fallback && file_exists(fallback)) {
-            free(path);
-            return fallback;
-        }
-        free(fallback);
-    }
-    return path;
+    return scene_resolve_path(file, p->main_path, name);
 }
 
 static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
@@ -1346,6 +1805,11 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
     char *path = resolve_path(p, lex->path, filename);
     if (!path)
         return out_of_memory(p, lex->path, d->line);
+    int missing = scene_missing_file(&p->diag, lex->path, d->line, path, params->owner);
+    if (missing) {
+        free(path);
+        return missing < 0 ? -1 : 0; /* check mode: the shape is skipped */
+    }
     PlyMesh mesh;
     char message[256], owner[1024]; /* messages name the PLY file, their vertex and face numbers its elements' */
     snprintf(owner, sizeof owner, "%s: \"%s\"", params->owner, path);
@@ -1367,6 +1831,8 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the shape type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 1);
+    if (result == 0 && !p->skipping_object)
+        result = warn_if_moving(p, lex, d);
     if (result == 0 && !p->skipping_object) {
         if (token_is(&type, "sphere"))
             result = shape_sphere(p, lex, d, &params);
@@ -1392,17 +1858,47 @@ static int on_include(Parser *p, Lexer *lex, const Token *d)
     free(relative);
     if (!path)
         return out_of_memory(p, lex->path, d->line);
-    int result = parse_file(p, path, lex->path, d->line);
+    char name_shown[32];
+    directive_name(d, name_shown, sizeof name_shown);
+    int result = scene_missing_file(&p->diag, lex->path, d->line, path, name_shown);
+    if (result == 0)
+        result = parse_file(p, path, lex->path, d->line);
     free(path);
-    return result;
+    return result < 0 ? -1 : 0;
+}
+
+/* Texture "name" "type" "class" params: unsupported (the texture issue),
+ * but read, so that check mode lists a missing image file. */
+static int on_texture(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name, type, texture_class;
+    ParamList params;
+    if (expect_string(p, lex, d, "the texture's name", &name) || expect_string(p, lex, d, "the texture's type", &type))
+        return -1;
+    int result = read_typed_directive(p, lex, d, "the texture class", &texture_class, &params);
+    if (result == 0)
+        result = scene_unsupported(&p->diag, lex->path, d->line, "skipped", "Texture is not supported");
+    const char *filename = NULL;
+    if (result == 0 && params_get_string(&params, "filename", &filename) < 0)
+        result = -1;
+    if (result == 0 && filename) {
+        char *path = resolve_path(p, lex->path, filename), owner[100];
+        char shown[64];
+        token_describe(&name, shown, sizeof shown);
+        snprintf(owner, sizeof owner, "Texture %s", shown);
+        result =
+            path ? scene_missing_file(&p->diag, lex->path, d->line, path, owner) : out_of_memory(p, lex->path, d->line);
+        free(path);
+    }
+    params_free(&params);
+    return result < 0 ? -1 : 0;
 }
 
 /* pbrt directives this reader does not implement. With allow_unsupported
  * they are skipped with their arguments (ObjectBegin/End/Instance have
  * handlers: they must skip the shapes in between). */
 static const char *const unsupported_directives[] = {
-    "Texture",         "MakeNamedMedium", "MediumInterface", "CoordinateSystem", "CoordSysTransform",
-    "ActiveTransform", "TransformTimes",  "Option",          "ColorSpace",       "Attribute",
+    "MakeNamedMedium", "MediumInterface", "Option", "ColorSpace", "Attribute",
 };
 
 static int skip_directive(Parser *p, Lexer *lex, const Token *d)
@@ -1411,7 +1907,6 @@ static int skip_directive(Parser *p, Lexer *lex, const Token *d)
     directive_name(d, name, sizeof name);
     if (scene_unsupported(&p->diag, lex->path, d->line, "skipped", "%s is not supported", name))
         return -1;
-    int bare_words = token_is(d, "ActiveTransform") ? 1 : 0; /* ActiveTransform All|StartTime|EndTime */
     for (;;) {
         Token t;
         double number;
@@ -1421,7 +1916,7 @@ static int skip_directive(Parser *p, Lexer *lex, const Token *d)
             return 0;
         int is_value =
             t.kind != TOKEN_WORD || token_number(&t, &number) == 0 || token_is(&t, "true") || token_is(&t, "false");
-        if (!is_value && bare_words-- <= 0)
+        if (!is_value)
             return 0; /* the next directive */
         lexer_next(lex, &t);
     }
@@ -1438,6 +1933,11 @@ static const struct {
     {"Transform", on_transform},
     {"ConcatTransform", on_concat_transform},
     {"Identity", on_identity},
+    {"CoordinateSystem", on_coordinate_system},
+    {"CoordSysTransform", on_coord_sys_transform},
+    {"ActiveTransform", on_active_transform},
+    {"TransformTimes", on_transform_times},
+    {"Texture", on_texture},
     {"ReverseOrientation", on_reverse_orientation},
     {"AttributeBegin", on_attribute_begin},
     {"AttributeEnd", on_attribute_end},
@@ -1620,10 +2120,13 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     p.diag.error = error;
     p.diag.error_size = error_size;
     p.diag.allow_unsupported = options ? options->allow_unsupported : 0;
+    p.diag.check = options ? options->check : 0;
     p.diag.scene = scene;
     p.default_material = -1;
     p.state.material = -1;
     glm_mat4_identity(p.state.ctm);
+    glm_mat4_identity(p.state.ctm_end);
+    p.state.active_transforms = ACTIVE_ALL;
     glm_mat4_identity(p.camera_from_world);
     glm_mat4_identity(p.world_from_camera);
 
@@ -1636,19 +2139,32 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->camera.focal_distance = 1e6f;
     scene->filter = default_filter(DEFAULT_FILTER);
     scene->film_filename = scene_strndup("pbrt.exr", 8);
+    scene->max_component_value = INFINITY;
+    scene->save_fp16 = 1;
+    scene->film_diagonal = 35.0f;
+    p.film_iso = 100.0f;
+    p.shutter_close = 1.0f;
     scene->sampler = scene_strndup("zsobol", 6);
-    int result = scene->film_filename && scene->sampler ? 0 : scene_error(&p.diag, path, 0, "out of memory");
+    scene->light_sampler = scene_strndup("bvh", 3);
+    int result = scene->film_filename && scene->sampler && scene->light_sampler
+                     ? 0
+                     : scene_error(&p.diag, path, 0, "out of memory");
 
     if (result == 0)
         result = parse_file(&p, path, NULL, 0);
     if (result == 0)
         result = finish_camera(&p);
     if (result == 0)
+        result = finish_film(&p);
+    if (result == 0)
         result = check_precision(&p);
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
+    for (size_t i = 0; i < p.coordinate_system_count; ++i)
+        free(p.coordinate_systems[i].name);
+    free(p.coordinate_systems);
     free(p.stack);
     for (size_t i = 0; i < p.path_count; ++i)
         free(p.paths[i]);

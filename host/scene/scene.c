@@ -19,9 +19,15 @@ void scene_destroy(Scene *scene)
 {
     free(scene->film_filename);
     free(scene->sampler);
+    free(scene->light_sampler);
     free(scene->materials);
     free(scene->shapes);
     free(scene->area_lights);
+    for (size_t i = 0; i < scene->light_count; ++i) {
+        free(scene->lights[i].filename);
+        free(scene->lights[i].origin);
+    }
+    free(scene->lights);
     free(scene->positions);
     free(scene->normals);
     free(scene->triangles);
@@ -29,6 +35,17 @@ void scene_destroy(Scene *scene)
     for (size_t i = 0; i < scene->warning_count; ++i)
         free(scene->warnings[i]);
     free(scene->warnings);
+    for (size_t i = 0; i < scene->note_count; ++i)
+        free(scene->notes[i]);
+    free(scene->notes);
+    for (size_t i = 0; i < scene->diagnostic_count; ++i) {
+        SceneDiagnostic *d = &scene->diagnostics[i];
+        free(d->file);
+        free(d->message);
+        free(d->substitute);
+        free(d->path);
+    }
+    free(scene->diagnostics);
     memset(scene, 0, sizeof *scene);
 }
 
@@ -91,24 +108,36 @@ int scene_error(Diagnostics *diag, const char *file, int line, const char *forma
     return -1;
 }
 
-static int add_warning(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format,
-                       va_list args)
+/* Appends a copy of `text` to lines[*count], unless it is there already
+ * (the same line of a file included twice says the same thing twice). */
+static int append_unique(char ***lines, size_t *count, const char *text)
+{
+    for (size_t i = 0; i < *count; ++i)
+        if (strcmp((*lines)[i], text) == 0)
+            return 0;
+    char *copy = scene_strndup(text, strlen(text));
+    char **grown = copy ? realloc(*lines, (*count + 1) * sizeof *grown) : NULL;
+    if (!grown) {
+        free(copy);
+        return -1;
+    }
+    *lines = grown;
+    (*lines)[(*count)++] = copy;
+    return 0;
+}
+
+/* "file:line: <prefix>message[; substitute]" appended to lines (once). */
+static int add_line(Diagnostics *diag, char ***lines, size_t *count, const char *file, int line, const char *prefix,
+                    const char *substitute, const char *format, va_list args)
 {
     char text[512];
-    format_located(text, sizeof text, file, line, "warning: ", format, args);
+    format_located(text, sizeof text, file, line, prefix, format, args);
     if (substitute) {
         size_t n = strlen(text);
         snprintf(text + n, sizeof text - n, "; %s", substitute);
     }
-    Scene *scene = diag->scene;
-    char *copy = scene_strndup(text, strlen(text));
-    char **grown = copy ? realloc(scene->warnings, (scene->warning_count + 1) * sizeof *grown) : NULL;
-    if (!grown) {
-        free(copy);
+    if (append_unique(lines, count, text))
         return scene_error(diag, file, line, "out of memory");
-    }
-    scene->warnings = grown;
-    scene->warnings[scene->warning_count++] = copy;
     return 0;
 }
 
@@ -116,9 +145,53 @@ int scene_warn(Diagnostics *diag, const char *file, int line, const char *format
 {
     va_list args;
     va_start(args, format);
-    int result = add_warning(diag, file, line, NULL, format, args);
+    Scene *s = diag->scene;
+    int result = add_line(diag, &s->warnings, &s->warning_count, file, line, "warning: ", NULL, format, args);
     va_end(args);
     return result;
+}
+
+int scene_note(Diagnostics *diag, const char *file, int line, const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    Scene *s = diag->scene;
+    int result = add_line(diag, &s->notes, &s->note_count, file, line, "note: ", NULL, format, args);
+    va_end(args);
+    return result;
+}
+
+static int same_text(const char *a, const char *b)
+{
+    return a == b || (a && b && strcmp(a, b) == 0);
+}
+
+/* Records a check-mode diagnostic, once for each distinct one. */
+static int add_diagnostic(Diagnostics *diag, SceneDiagnosticKind kind, const char *file, int line, const char *message,
+                          const char *substitute, const char *path)
+{
+    Scene *s = diag->scene;
+    for (size_t i = 0; i < s->diagnostic_count; ++i) {
+        const SceneDiagnostic *d = &s->diagnostics[i];
+        if (d->kind == kind && d->line == line && strcmp(d->file, file) == 0 && strcmp(d->message, message) == 0 &&
+            same_text(d->substitute, substitute) && same_text(d->path, path))
+            return 0;
+    }
+    SceneDiagnostic *grown = realloc(s->diagnostics, (s->diagnostic_count + 1) * sizeof *grown);
+    if (!grown)
+        return scene_error(diag, file, line, "out of memory");
+    s->diagnostics = grown;
+    SceneDiagnostic *d = &s->diagnostics[s->diagnostic_count];
+    d->kind = kind;
+    d->line = line;
+    d->file = scene_strndup(file, strlen(file));
+    d->message = scene_strndup(message, strlen(message));
+    d->substitute = substitute ? scene_strndup(substitute, strlen(substitute)) : NULL;
+    d->path = path ? scene_strndup(path, strlen(path)) : NULL;
+    s->diagnostic_count++; /* counted even when a copy failed: scene_destroy frees what there is */
+    if (!d->file || !d->message || (substitute && !d->substitute) || (path && !d->path))
+        return scene_error(diag, file, line, "out of memory");
+    return 0;
 }
 
 int scene_unsupported(Diagnostics *diag, const char *file, int line, const char *substitute, const char *format, ...)
@@ -126,12 +199,26 @@ int scene_unsupported(Diagnostics *diag, const char *file, int line, const char 
     va_list args;
     va_start(args, format);
     int result = -1;
-    if (diag->allow_unsupported)
-        result = add_warning(diag, file, line, substitute, format, args);
-    else if (diag->error && diag->error_size > 0)
+    Scene *s = diag->scene;
+    if (diag->check) {
+        char message[512];
+        vsnprintf(message, sizeof message, format, args);
+        result = add_diagnostic(diag, SCENE_DIAGNOSTIC_UNSUPPORTED, file, line, message, substitute, NULL);
+    } else if (diag->allow_unsupported) {
+        result = add_line(diag, &s->warnings, &s->warning_count, file, line, "warning: ", substitute, format, args);
+    } else if (diag->error && diag->error_size > 0) {
         format_located(diag->error, diag->error_size, file, line, "", format, args);
+    }
     va_end(args);
     return result;
+}
+
+int scene_missing_file(Diagnostics *diag, const char *file, int line, const char *path, const char *what)
+{
+    struct stat st;
+    if (!diag->check || stat(path, &st) == 0 || errno != ENOENT)
+        return 0; /* there (or unreadable for another reason, which reading reports) */
+    return add_diagnostic(diag, SCENE_DIAGNOSTIC_MISSING_FILE, file, line, what, NULL, path) ? -1 : 1;
 }
 
 int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size)
@@ -173,6 +260,50 @@ static void format_bytes(size_t bytes, char *out, size_t size)
         snprintf(out, size, "%zu bytes", bytes);
 }
 
+int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_t most, char *why, size_t why_size)
+{
+    if (length + 1 < *capacity)
+        return 0;
+    if (*capacity == most)
+        return 1;
+    size_t grown = *capacity > most / 2 ? most : 2 * *capacity;
+    char *p = realloc(*buffer, grown);
+    if (!p) {
+        snprintf(why, why_size, "out of memory for %zu bytes", grown);
+        return -1;
+    }
+    *buffer = p;
+    *capacity = grown;
+    return 0;
+}
+
+/* Reads fd to the end, not just st_size bytes (the file may have grown),
+ * into a buffer of at most `most` bytes (one past the limit, plus the NUL). */
+static int read_plain(int fd, size_t file_size, size_t most, char **buffer, size_t *length, char *why, size_t why_size)
+{
+    size_t capacity = file_size + 2;
+    *buffer = malloc(capacity);
+    if (!*buffer) {
+        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
+        return -1;
+    }
+    for (;;) {
+        int full = scene_grow_read_buffer(buffer, &capacity, *length, most, why, why_size);
+        if (full != 0)
+            return full < 0 ? -1 : 0; /* one byte past the limit: the caller sees it */
+        ssize_t n = read(fd, *buffer + *length, capacity - 1 - *length);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n < 0) {
+            snprintf(why, why_size, "%s", strerror(errno));
+            return -1;
+        }
+        if (n == 0)
+            return 0;
+        *length += (size_t)n;
+    }
+}
+
 int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size)
 {
     *data = NULL;
@@ -201,42 +332,15 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
         close(fd);
         return -1;
     }
-    /* Read to the end, not just st_size bytes (the file may have grown),
-     * but never more than one byte past the limit, plus the NUL. */
-    size_t most = max_size + 2, capacity = (size_t)st.st_size + 2, length = 0;
-    char *buffer = malloc(capacity);
-    int failed = buffer == NULL;
-    if (failed)
-        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
-    while (!failed) {
-        if (length + 1 == capacity) {
-            if (capacity == most)
-                break; /* one byte past the limit */
-            size_t grown = capacity > most / 2 ? most : 2 * capacity;
-            char *p = realloc(buffer, grown);
-            if (!p) {
-                snprintf(why, why_size, "out of memory for %zu bytes", grown);
-                failed = 1;
-                break;
-            }
-            buffer = p;
-            capacity = grown;
-        }
-        ssize_t n = read(fd, buffer + length, capacity - 1 - length);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n < 0) {
-            snprintf(why, why_size, "%s", strerror(errno));
-            failed = 1;
-        } else if (n == 0) {
-            break;
-        } else {
-            length += (size_t)n;
-        }
-    }
+    unsigned char magic[2];
+    int gzip = pread(fd, magic, 2, 0) == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
+    char *buffer = NULL;
+    size_t length = 0, most = max_size + 2;
+    int failed = gzip ? scene_read_gzip(fd, most, &buffer, &length, why, why_size)
+                      : read_plain(fd, (size_t)st.st_size, most, &buffer, &length, why, why_size);
     close(fd);
     if (!failed && length > max_size) {
-        snprintf(why, why_size, "over the %s limit", limit);
+        snprintf(why, why_size, "over the %s limit%s", limit, gzip ? " once uncompressed" : "");
         failed = 1;
     }
     if (failed) {
@@ -247,4 +351,41 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
     *data = buffer;
     *size = length;
     return 0;
+}
+
+/* stat, not open: opening a FIFO could block. */
+int scene_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+/* A path relative to the directory of `from` (a file), unless absolute. */
+static char *path_relative_to(const char *from, const char *name)
+{
+    if (name[0] == '/' || !from)
+        return scene_strndup(name, strlen(name));
+    const char *slash = strrchr(from, '/');
+    size_t dir = slash ? (size_t)(slash - from) + 1 : 0;
+    size_t length = strlen(name);
+    char *path = malloc(dir + length + 1);
+    if (path) {
+        memcpy(path, from, dir);
+        memcpy(path + dir, name, length + 1);
+    }
+    return path;
+}
+
+char *scene_resolve_path(const char *file, const char *main_file, const char *name)
+{
+    char *path = path_relative_to(main_file, name);
+    if (path && !scene_file_exists(path)) {
+        char *beside = path_relative_to(file, name);
+        if (beside && scene_file_exists(beside)) {
+            free(path);
+            return beside;
+        }
+        free(beside);
+    }
+    return path;
 }

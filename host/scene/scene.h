@@ -22,7 +22,26 @@ typedef struct {
      * the README lists (unknown material: grey diffuse; unknown shape or
      * light: skipped; ...). */
     int allow_unsupported;
+    /* `gmonrt check`: go on past every unsupported feature (using its
+     * substitute) and every missing file (skipping what needs it), and
+     * record each in Scene.diagnostics instead of a warning or an error. */
+    int check;
 } SceneLoadOptions;
+
+typedef enum {
+    SCENE_DIAGNOSTIC_UNSUPPORTED,  /* a feature gmonrt lacks */
+    SCENE_DIAGNOSTIC_MISSING_FILE, /* a file the scene names that does not exist */
+} SceneDiagnosticKind;
+
+/* What check mode records, once for each distinct one. */
+typedef struct {
+    SceneDiagnosticKind kind;
+    char *file; /* the scene file naming it */
+    int line;   /* 0: the file as a whole */
+    char *message;
+    char *substitute; /* unsupported: what --allow-unsupported uses instead; missing: NULL */
+    char *path;       /* missing: the path pbrt-v4 would open; unsupported: NULL */
+} SceneDiagnostic;
 
 typedef enum {
     SCENE_CAMERA_PERSPECTIVE,
@@ -125,22 +144,65 @@ typedef struct {
     uint32_t shape;
 } SceneSphere;
 
-/* AreaLightSource "diffuse" on one shape: radiance = L * scale. */
+/* AreaLightSource "diffuse" on one shape: radiance = L * scale, or with
+ * "power" P, L * scale * P / (pi * sides * the shape's area), pbrt-v4's
+ * rule, applied by the renderer's conversion (it knows the area). */
 typedef struct {
     float radiance[3];
     int two_sided;
-    int shape; /* index into Scene.shapes */
+    float power; /* -1: none */
+    int shape;   /* index into Scene.shapes */
 } SceneAreaLight;
+
+/* LightSource directives (area lights are SceneAreaLight). pbrt-v4's
+ * parameters are applied here (scale, power, illuminance, from/to, the
+ * CTM), except an image light's illuminance, which needs the image:
+ * scene_convert loads the image and applies it. */
+typedef enum {
+    SCENE_LIGHT_POINT,
+    SCENE_LIGHT_SPOT,
+    SCENE_LIGHT_DISTANT,
+    SCENE_LIGHT_INFINITE, /* uniform */
+    SCENE_LIGHT_IMAGE,    /* infinite, from an equal-area square image */
+    SCENE_LIGHT_GONIOMETRIC,
+    SCENE_LIGHT_PROJECTION,
+} SceneLightType;
+
+typedef struct {
+    SceneLightType type;
+    float radiance[3];                        /* I (point, spot), L (distant, infinite), the image's scale; all RGB */
+    float position[3];                        /* point, spot: world space */
+    float direction[3];                       /* spot: unit, the way it shines; distant: unit, toward the light */
+    float cos_falloff_start, cos_total_width; /* spot */
+    float light_from_world[3][3];             /* image, goniometric, projection: rows of the rotation */
+    char *filename;                           /* image, goniometric, projection: the path to open */
+    float illuminance;                        /* image: target illuminance (pbrt-v4's), or -1 */
+    float power;                              /* goniometric, projection: target power, or -1 */
+    float fov;                                /* projection: degrees, across the image's shorter axis */
+    char *origin;                             /* "file:line" of the directive, for messages */
+} SceneLight;
 
 typedef struct {
     SceneCamera camera;
     SceneFilter filter;     /* pbrt-v4's default: gaussian, radius 1.5, sigma 0.5 */
     unsigned width, height; /* Film xresolution, yresolution */
     char *film_filename;
-    char *sampler;  /* the Sampler's name as written; the renderer samples independently */
-    unsigned spp;   /* Sampler pixelsamples */
-    int max_depth;  /* Integrator maxdepth */
-    int regularize; /* Integrator "regularize": recorded, not applied */
+    /* The film's sensor reduced to what an RGB renderer applies to each
+     * sample (host/scene/README.md, "Film"): the image's linear sRGB is
+     * film_from_radiance[row][column] times the sample's radiance (the
+     * sensor's response, white balance and pbrt-v4's imaging ratio
+     * shutter time * iso / 100 combined; identity for the default film).
+     * pbrt-v4 scales a sample whose largest sensor component (XYZ for the
+     * default sensor) exceeds max_component_value down to it. */
+    float film_from_radiance[3][3];
+    float max_component_value; /* INFINITY when not given */
+    int save_fp16;             /* Film "savefp16", pbrt-v4's default 1 */
+    float film_diagonal;       /* mm (default 35): recorded, only pbrt's realistic camera reads it */
+    char *sampler;             /* the Sampler's name as written; the renderer samples independently */
+    unsigned spp;              /* Sampler pixelsamples */
+    int max_depth;             /* Integrator maxdepth */
+    int regularize;            /* Integrator "regularize": recorded, not applied */
+    char *light_sampler;       /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
 
     SceneMaterial *materials;
     size_t material_count;
@@ -157,11 +219,15 @@ typedef struct {
     SceneSphere *spheres;
     size_t sphere_count;
 
-    int has_environment;
-    float environment[3]; /* LightSource "infinite": constant radiance, L * scale, summed */
+    SceneLight *lights;
+    size_t light_count;
 
-    char **warnings; /* "file:line: ..." lines, for the renderer to print */
+    char **warnings; /* "file:line: warning: ..." lines, each once, for the renderer to print */
     size_t warning_count;
+    char **notes; /* "file:line: note: ..." lines: what is done differently without changing the image */
+    size_t note_count;
+    SceneDiagnostic *diagnostics; /* check mode only */
+    size_t diagnostic_count;
 } Scene;
 
 /* Reads `path` (and the files it includes) into *scene. Returns 0, or -1 with

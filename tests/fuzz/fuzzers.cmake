@@ -10,7 +10,9 @@ endif()
 find_package(OpenEXR 3 CONFIG REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CGLM REQUIRED IMPORTED_TARGET cglm)
+pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 find_library(MATH_LIBRARY m REQUIRED)
+find_package(ZLIB REQUIRED)
 
 # Everything is instrumented for coverage and checked by ASan and UBSan; only
 # the harnesses link libFuzzer's main.
@@ -19,20 +21,25 @@ add_compile_options(${FUZZ_SANITIZE} -fsanitize=fuzzer-no-link)
 add_link_options(${FUZZ_SANITIZE})
 
 add_library(fuzz_code STATIC
+  host/scene/gzip_read.c
   host/scene/lexer.c
   host/scene/params.c
   host/scene/parser.c
   host/scene/ply.c
   host/scene/scene.c
+  host/scene/spectrum.c
+  host/scene/spectrum_cie_data.c
+  host/scene/spectrum_data.c
   host/render/scene_convert.c
   host/render/render_scene.c
   host/render/pixel_filter.c
   host/render/bvh.c
   host/io/exr_image.c
+  host/io/image_read.c
   tests/fuzz/fuzz_input.c)
 target_include_directories(fuzz_code PUBLIC host kernels ${GMON_GENERATED_DIR}/kernels tests/fuzz)
 add_dependencies(fuzz_code sorting_networks)
-target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM OpenEXR::OpenEXRCore ${MATH_LIBRARY})
+target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB OpenEXR::OpenEXRCore ZLIB::ZLIB ${MATH_LIBRARY})
 
 foreach(harness scene ply exr)
   add_executable(fuzz_${harness} tests/fuzz/fuzz_${harness}.c)

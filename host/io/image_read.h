@@ -1,0 +1,24 @@
+/* Reads an image as linear RGB floats, for lights (and textures): OpenEXR
+ * (its R, G, B channels, or its first RGB layer), PFM, and through
+ * stb_image PNG, TGA, JPEG, BMP (8- or 16-bit, decoded from sRGB as
+ * pbrt-v4 decodes them) and Radiance HDR (linear). Grey images are
+ * replicated to RGB, alpha is dropped. Rows from the top. */
+#ifndef HOST_IO_IMAGE_READ_H
+#define HOST_IO_IMAGE_READ_H
+
+#include "io/image_io.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    uint32_t width, height;
+    float *rgb; /* width * height * 3, owned (free()) */
+} RgbImage;
+
+/* Returns IMAGE_IO_OK, or IMAGE_IO_ERROR with "path: cause" in error. */
+ImageIoStatus image_read_rgb(const char *path, RgbImage *image, char *error, size_t error_size);
+
+void rgb_image_free(RgbImage *image);
+
+#endif
