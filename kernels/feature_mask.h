@@ -1,10 +1,8 @@
 /* Kernel specialization: the host computes one bit mask of what a render
- * uses (shapes, materials, lights, integrator mode) from the scene, and
- * builds the path tracer with
- * -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_* macros
- * (0 or 1) for `#if` guards and constant conditions, so code a render does
- * not need is compiled out. Without the define (host code, tests, the
- * all-features build) every feature is in. */
+ * uses (shapes, materials, lights, integrator mode, camera, pixel filter)
+ * from the scene, and builds the path tracer with -DGMON_FEATURES=<mask>. This header turns the bits into GMON_HAS_*
+ * macros (0 or 1) for `#if` guards and constant conditions, so code a render does not need is compiled out. Without the
+ * define (host code, tests, the all-features build) every feature is in. */
 #ifndef KERNELS_FEATURES_H
 #define KERNELS_FEATURES_H
 
@@ -28,7 +26,10 @@
 #define FEATURE_SHADING_NORMALS 0x100000u /* meshes with vertex normals */
 #define FEATURE_GONIOMETRIC_LIGHTS 0x200000u
 #define FEATURE_PROJECTION_LIGHTS 0x400000u
-#define FEATURES_ALL 0x7ffff0u
+#define FEATURE_THIN_LENS 0x800000u     /* a camera with lensradius > 0 */
+#define FEATURE_ORTHOGRAPHIC 0x1000000u /* Camera "orthographic" */
+#define FEATURE_PIXEL_FILTER 0x2000000u /* a filter other than the box of radius 0.5 */
+#define FEATURES_ALL 0x3fffff0u
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -55,5 +56,8 @@
 #define GMON_HAS_SHADING_NORMALS GMON_HAS(FEATURE_SHADING_NORMALS)
 #define GMON_HAS_GONIOMETRIC_LIGHTS GMON_HAS(FEATURE_GONIOMETRIC_LIGHTS)
 #define GMON_HAS_PROJECTION_LIGHTS GMON_HAS(FEATURE_PROJECTION_LIGHTS)
+#define GMON_HAS_THIN_LENS GMON_HAS(FEATURE_THIN_LENS)
+#define GMON_HAS_ORTHOGRAPHIC GMON_HAS(FEATURE_ORTHOGRAPHIC)
+#define GMON_HAS_PIXEL_FILTER GMON_HAS(FEATURE_PIXEL_FILTER)
 
 #endif

@@ -7,6 +7,7 @@
 #ifndef KERNELS_LIGHTS_H
 #define KERNELS_LIGHTS_H
 
+#include "distribution.h"
 #include "equal_area.h"
 #include "scene.h"
 
@@ -44,29 +45,6 @@ KERNEL_FN Vec3 rotate_columns(const __global float (*rows)[3], Vec3 w)
     return vec3(rows[0][0] * w.x + rows[1][0] * w.y + rows[2][0] * w.z,
                 rows[0][1] * w.x + rows[1][1] * w.y + rows[2][1] * w.z,
                 rows[0][2] * w.x + rows[1][2] * w.y + rows[2][2] * w.z);
-}
-
-/* Index i of the interval [cdf[i], cdf[i + 1]) that holds u, among n. */
-KERNEL_FN uint cdf_find(__global const float *cdf, uint n, float u)
-{
-    uint lo = 0, hi = n - 1;
-    while (lo < hi) {
-        uint mid = (lo + hi + 1) / 2;
-        if (cdf[mid] <= u)
-            lo = mid;
-        else
-            hi = mid - 1;
-    }
-    return lo;
-}
-
-KERNEL_FN float cdf_sample(__global const float *cdf, uint n, float u, uint *index)
-{
-    uint i = cdf_find(cdf, n, u);
-    float width = cdf[i + 1] - cdf[i];
-    float offset = width > 0.0f ? (u - cdf[i]) / width : 0.5f;
-    *index = i;
-    return fmin(((float)i + fmin(offset, 0.99999994f)) / (float)n, 0.99999994f);
 }
 
 KERNEL_FN uint image_texel(__global const Light *light, float u, float v)

@@ -11,6 +11,7 @@
  * what the scene does not use (feature_mask.h). */
 #include "accumulate.h"
 #include "bsdf.h"
+#include "camera.h"
 #include "lights.h"
 #include "rng.h"
 #include "scene.h"
@@ -19,7 +20,8 @@
 #error "build with -DEST_SETS=M"
 #endif
 
-/* Random dimensions: 2 for the pixel position, then DIMS_PER_BOUNCE a bounce. */
+/* Random dimensions: 2 for the image position, then DIMS_PER_BOUNCE a
+ * bounce (and 2 for the lens, past them: camera.h). */
 #define DIMS_PER_BOUNCE 7
 
 /* Radiance leaving area light `light` at normal n toward direction w (unit). */
@@ -51,18 +53,11 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
     return !occluded(scene, origin, s->wi, distance);
 }
 
-/* One path sample through pixel (x, y); returns its radiance. */
-KERNEL_FN Vec3 trace_path(const Scene *scene, uint x, uint y, uint64_t key, uint *rays)
+/* One path sample along a camera ray; returns its radiance. */
+KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint64_t key, uint *rays)
 {
-    __global const CameraData *camera = &scene->constants->camera;
     __global const IntegratorData *integrator = &scene->constants->integrator;
     const int use_nee = GMON_HAS_NEE && (integrator->flags & RENDER_NEE) != 0;
-    float sx = 2.0f * ((float)x + rng_uniform(key, 0)) / (float)camera->width - 1.0f;
-    float sy = 1.0f - 2.0f * ((float)y + rng_uniform(key, 1)) / (float)camera->height;
-    Vec3 direction =
-        v_normalize(v_add(vec3_from_global(camera->forward), v_add(v_scale(vec3_from_global(camera->right), sx),
-                                                                   v_scale(vec3_from_global(camera->up), sy))));
-    Vec3 origin = vec3_from_global(camera->position);
 
     Vec3 radiance = vec3(0.0f, 0.0f, 0.0f), throughput = vec3(1.0f, 1.0f, 1.0f);
     float previous_pdf = 1.0f, eta_scale = 1.0f;
@@ -185,7 +180,10 @@ __kernel void render_samples(__global const SceneConstants *constants,
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
         uint64_t key = rng_sample_key(constants->integrator.seed, pixel, sample_index);
-        Vec3 L = film_response(&constants->film, trace_path(&scene, x, y, key, &rays));
+        CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, key);
+        Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, key, &rays));
+        if (GMON_HAS_PIXEL_FILTER)
+            L = v_scale(L, camera.weight); /* after the film's clamp, as pbrt-v4 weighs samples */
         int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
                                       set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
         nonfinite += added == EST_ADD_NONFINITE;

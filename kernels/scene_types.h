@@ -147,20 +147,56 @@ typedef struct {
  * wherever the light is. DISTRIBUTION_FUNCTION is where f starts. */
 #define DISTRIBUTION_FUNCTION(width, height) (1u + ((height) + 1u) + (height) * ((width) + 1u))
 
-/* The constants of one render, by concern. 160 bytes in all. The camera
- * looks along `forward`; `right` and `up` are scaled by the tangents of the
- * half fields of view, so a pixel's ray is forward + x * right + y * up for
- * x, y in [-1, 1] (x to the right, y up in the image). */
+/* Camera projections (CameraData.projection). */
+#define CAMERA_PERSPECTIVE 0u
+#define CAMERA_ORTHOGRAPHIC 1u
+
+/* The constants of one render, by concern. 224 bytes in all.
+ *
+ * The camera: an image point (sx, sy) in [-1, 1]^2 (x to the right, y up
+ * in the image) is, for the perspective camera, the ray from `position`
+ * along forward + sx * right + sy * up (right and up scaled to the screen
+ * window: to its half extents, with its centre folded into forward); for
+ * the orthographic one, the ray from position + sx * right + sy * up (the
+ * window's centre folded into position) along forward. forward is unit in
+ * the orthographic case and has unit length along the view axis in both,
+ * so that a ray reaches the plane of focus at focal_distance times it.
+ * With lens_radius > 0 (a thin lens), the ray starts instead at a point
+ * of the lens disk around `position`, spanned by lens_right and lens_up
+ * (the unit axes times lens_radius), and passes through the point where
+ * the pinhole ray meets the plane of focus, as pbrt-v4 does for both
+ * projections. */
 typedef struct {
     float position[3];
     uint32_t width;
     float right[3];
     uint32_t height;
     float up[3];
-    uint32_t pad0;
+    uint32_t projection;
     float forward[3];
-    uint32_t pad1;
+    float focal_distance;
+    float lens_right[3];
+    float lens_radius;
+    float lens_up[3];
+    uint32_t pad;
 } CameraData;
+
+/* The pixel filter, sampled by importance (filter importance sampling, as
+ * pbrt-v4): a sample's image position is its pixel's centre plus an offset
+ * in [-radius, radius] drawn from |f|, tabulated over table_width x
+ * table_height cells as a 2D distribution at
+ * distributions[distribution_offset...] (the layout of an image light's,
+ * with f's sign kept in its function values), and the sample is scaled by
+ * sign(f) * weight, weight = (integral of |f|) / (integral of f), so that
+ * a pixel's mean is its filtered estimate. table_width 0: the box of
+ * radius 0.5, a uniform position in the pixel and no scaling. */
+typedef struct {
+    float radius[2];
+    uint32_t table_width, table_height;
+    uint32_t distribution_offset;
+    float weight;
+    uint32_t pad[2];
+} FilterData;
 
 /* What the film does to each sample's radiance (linear sRGB) before it is
  * accumulated: the sensor's response as a 3x3 matrix (rows, padded; the
@@ -190,6 +226,7 @@ typedef struct {
 
 typedef struct {
     CameraData camera;
+    FilterData filter;
     FilmData film;
     IntegratorData integrator;
     BackgroundData background;
@@ -198,10 +235,11 @@ typedef struct {
 /* The scene's arrays, in the order the path tracer takes them after the
  * constants: ARRAY(name, element type). The kernel's signature, the
  * kernel's Scene and the host's upload (host/render/scene_upload.c) all
- * come from this one list. `distributions` holds the lights' sampling
- * distributions, `texels` their images (RGB floats), `shading_normals`
- * the vertex normals of triangles flagged PRIM_SHADING_NORMAL (9 floats a
- * primitive, in the BVH's order; empty when no triangle has them). */
+ * come from this one list. `distributions` holds the lights' and the
+ * pixel filter's sampling distributions, `texels` the lights' images (RGB
+ * floats), `shading_normals` the vertex normals of triangles flagged
+ * PRIM_SHADING_NORMAL (9 floats a primitive, in the BVH's order; empty
+ * when no triangle has them). */
 #define GMON_SCENE_ARRAYS(ARRAY)                                                                                       \
     ARRAY(nodes, BvhNode)                                                                                              \
     ARRAY(primitives, Primitive)                                                                                       \
@@ -216,7 +254,7 @@ _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layou
 _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
 _Static_assert(sizeof(Material) == 64, "Material must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
-_Static_assert(sizeof(SceneConstants) == 160, "SceneConstants must match the kernel's layout");
+_Static_assert(sizeof(SceneConstants) == 224, "SceneConstants must match the kernel's layout");
 #endif
 
 #endif

@@ -29,7 +29,8 @@ static Material diffuse(float albedo)
 static void look_along_z(RenderScene *scene, float z, float tan_half_fov)
 {
     const float position[3] = {0, 0, z}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
-    render_scene_set_camera(scene, position, forward, right, up, tan_half_fov, tan_half_fov, 24, 24);
+    RenderCamera camera = render_camera_pinhole(position, forward, right, up, tan_half_fov, tan_half_fov, 24, 24);
+    render_scene_set_camera(scene, &camera);
 }
 
 /* Renders and checks every channel's image mean against `expected`. */

@@ -39,7 +39,8 @@ static void plane_scene(RenderScene *scene, float x)
     assert_int_equal(render_scene_add_triangle(scene, a, b, c, material, NULL, 0, 0), 0);
     assert_int_equal(render_scene_add_triangle(scene, a, c, d, material, NULL, 0, 0), 0);
     const float position[3] = {x, 0, 2}, forward[3] = {0, 0, -1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
-    render_scene_set_camera(scene, position, forward, right, up, 1e-4f, 1e-4f, 16, 16);
+    RenderCamera camera = render_camera_pinhole(position, forward, right, up, 1e-4f, 1e-4f, 16, 16);
+    render_scene_set_camera(scene, &camera);
 }
 
 static Light light_of(uint32_t type, float radiance)

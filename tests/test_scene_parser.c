@@ -164,17 +164,129 @@ static void test_camera_precision(void **state)
     load_fails(WORLD "Scale 1e30 1e30 1e30\nRotate 45 0 0 1\nScale 1e10 1 1\n", 4, "Scale: the transform overflows");
 }
 
-static void test_lens_radius(void **state)
+/* Thin lens, screen window and frame aspect ratio, as pbrt-v4 reads them;
+ * camera-space lengths scale with the camera transform. */
+static void test_camera_lens_and_window(void **state)
 {
     (void)state;
     Scene s;
-    load_ok("Camera \"perspective\" \"float lensradius\" 0 \"float focaldistance\" 3\n" WORLD, &s);
+    load_ok("Camera \"perspective\"\n" WORLD, &s);
+    assert_int_equal(s.camera.projection, SCENE_CAMERA_PERSPECTIVE);
+    assert_near(s.camera.lens_radius, 0, 0);
+    assert_near(s.camera.focal_distance, 1e6, 0); /* pbrt-v4's default */
+    assert_int_equal(s.camera.has_screen_window, 0);
     scene_destroy(&s);
-    load_fails("\nCamera \"perspective\" \"float lensradius\" 0.1\n" WORLD, 2, "lensradius");
-    assert_int_equal(load_text("lens.pbrt", "Camera \"perspective\" \"float lensradius\" 0.1\n" WORLD, &s, 1), 0);
-    assert_true(has_warning(&s, "pinhole"));
-    assert_true(strncmp(s.warnings[0], temp_path("lens.pbrt"), strlen(temp_path("lens.pbrt"))) == 0);
+
+    load_ok("Scale 2 2 2\nCamera \"perspective\" \"float lensradius\" 0.1 \"float focaldistance\" 3\n" WORLD, &s);
+    assert_near(s.camera.scale, 0.5, 1e-7); /* world from camera halves lengths */
+    assert_near(s.camera.lens_radius, 0.05, 1e-8);
+    assert_near(s.camera.focal_distance, 1.5, 1e-7);
     scene_destroy(&s);
+
+    load_ok("Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100\n"
+            "Camera \"perspective\" \"float fov\" 90 \"float screenwindow\" [ 0 1 -0.5 0.25 ]\n" WORLD,
+            &s);
+    assert_int_equal(s.camera.has_screen_window, 1);
+    float window[4];
+    scene_camera_window(&s.camera, 200, 100, window);
+    assert_near(window[0], 0, 1e-7); /* tan 45 = 1 times the window */
+    assert_near(window[1], 1, 1e-6);
+    assert_near(window[2], -0.5, 1e-6);
+    assert_near(window[3], 0.25, 1e-6);
+    scene_destroy(&s);
+
+    /* frameaspectratio replaces the film's in the default window. */
+    load_ok("Film \"rgb\" \"integer xresolution\" 200 \"integer yresolution\" 100\n"
+            "Camera \"perspective\" \"float fov\" 90 \"float frameaspectratio\" 0.5\n" WORLD,
+            &s);
+    scene_camera_window(&s.camera, 200, 100, window);
+    assert_near(window[1], 1, 1e-6);
+    assert_near(window[3], 2, 1e-6);
+    scene_destroy(&s);
+
+    load_fails("\nCamera \"perspective\" \"float lensradius\" -0.1\n" WORLD, 2,
+               "Camera \"perspective\": lensradius -0.1 is negative");
+    load_fails("Camera \"orthographic\" \"float focaldistance\" 0\n" WORLD, 1,
+               "Camera \"orthographic\": focaldistance 0 is not positive");
+    load_fails("Camera \"perspective\" \"float frameaspectratio\" 0\n" WORLD, 1, "frameaspectratio 0 is not positive");
+    load_fails("Camera \"perspective\" \"float screenwindow\" [ -1 1 -1 1 0 ]\n" WORLD, 1, "expected 4 values");
+    load_fails("Camera \"perspective\" \"float screenwindow\" [ 1 1 -1 1 ]\n" WORLD, 1, "the window is empty");
+    load_fails("Camera \"orthographic\" \"float fov\" 45\n" WORLD, 1, "unsupported parameter \"float fov\"");
+}
+
+/* The orthographic window is in camera-space units: the camera's scale
+ * makes them world lengths. */
+static void test_orthographic_camera(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok("Film \"rgb\" \"integer xresolution\" 64 \"integer yresolution\" 32\n"
+            "Scale 0.5 0.5 0.5\nCamera \"orthographic\" \"float lensradius\" 0.25\n" WORLD,
+            &s);
+    assert_int_equal(s.camera.projection, SCENE_CAMERA_ORTHOGRAPHIC);
+    assert_near(s.camera.scale, 2, 1e-6);
+    assert_near(s.camera.lens_radius, 0.5, 1e-7);
+    float window[4];
+    scene_camera_window(&s.camera, 64, 32, window); /* [-2, 2] x [-1, 1] camera units */
+    assert_near(window[0], -4, 1e-6);
+    assert_near(window[1], 4, 1e-6);
+    assert_near(window[2], -2, 1e-6);
+    assert_near(window[3], 2, 1e-6);
+    scene_destroy(&s);
+}
+
+/* Each of pbrt-v4's filters with its defaults and its parameters; without
+ * a PixelFilter, pbrt-v4's gaussian. */
+static void test_pixel_filters(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD, &s);
+    assert_int_equal(s.filter.type, SCENE_FILTER_GAUSSIAN);
+    assert_near(s.filter.radius[0], 1.5, 0);
+    assert_near(s.filter.sigma, 0.5, 0);
+    scene_destroy(&s);
+    static const struct {
+        const char *text;
+        SceneFilterType type;
+        float radius[2];
+    } cases[] = {
+        {"PixelFilter \"box\"\n", SCENE_FILTER_BOX, {0.5f, 0.5f}},
+        {"PixelFilter \"box\" \"float xradius\" 1 \"float yradius\" 2\n", SCENE_FILTER_BOX, {1, 2}},
+        {"PixelFilter \"gaussian\" \"float sigma\" 0.25\n", SCENE_FILTER_GAUSSIAN, {1.5f, 1.5f}},
+        {"PixelFilter \"mitchell\" \"float B\" 0.5 \"float C\" 0.25\n", SCENE_FILTER_MITCHELL, {2, 2}},
+        {"PixelFilter \"sinc\" \"float tau\" 2\n", SCENE_FILTER_LANCZOS, {4, 4}},
+        {"PixelFilter \"lanczos\" \"float xradius\" 3\n", SCENE_FILTER_LANCZOS, {3, 4}},
+        {"PixelFilter \"triangle\"\n", SCENE_FILTER_TRIANGLE, {2, 2}},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char text[256];
+        snprintf(text, sizeof text, "%s" WORLD, cases[i].text);
+        load_ok(text, &s);
+        assert_int_equal(s.filter.type, cases[i].type);
+        assert_near(s.filter.radius[0], cases[i].radius[0], 0);
+        assert_near(s.filter.radius[1], cases[i].radius[1], 0);
+        scene_destroy(&s);
+    }
+    load_ok("PixelFilter \"gaussian\" \"float sigma\" 0.25\n" WORLD, &s);
+    assert_near(s.filter.sigma, 0.25, 0);
+    scene_destroy(&s);
+    load_ok("PixelFilter \"mitchell\" \"float B\" 0.5 \"float C\" 0.25\n" WORLD, &s);
+    assert_near(s.filter.b, 0.5, 0);
+    assert_near(s.filter.c, 0.25, 0);
+    scene_destroy(&s);
+    load_ok("PixelFilter \"sinc\" \"float tau\" 2\n" WORLD, &s);
+    assert_near(s.filter.tau, 2, 0);
+    scene_destroy(&s);
+
+    load_fails("\nPixelFilter \"catmull-rom\"\n" WORLD, 2, "PixelFilter \"catmull-rom\" is not supported");
+    load_fails("PixelFilter \"gaussian\" \"float xradius\" 0\n" WORLD, 1,
+               "PixelFilter \"gaussian\": xradius 0 is not in (0, 32]");
+    load_fails("PixelFilter \"box\" \"float yradius\" -1\n" WORLD, 1, "yradius -1 is not in (0, 32]");
+    load_fails("PixelFilter \"triangle\" \"float xradius\" 33\n" WORLD, 1, "xradius 33 is not in (0, 32]");
+    load_fails("PixelFilter \"gaussian\" \"float sigma\" 0\n" WORLD, 1, "sigma 0 is not in");
+    load_fails("PixelFilter \"sinc\" \"float tau\" -1\n" WORLD, 1, "tau -1 is not in");
+    load_fails("PixelFilter \"box\" \"float sigma\" 1\n" WORLD, 1, "unsupported parameter \"float sigma\"");
 }
 
 static void test_film_sampler_integrator_filter(void **state)
@@ -196,13 +308,11 @@ static void test_film_sampler_integrator_filter(void **state)
     scene_destroy(&s);
     load_fails("Film \"rgb\" \"integer xresolution\" 0\n" WORLD, 1, "resolution");
     load_fails("Sampler \"independent\" \"integer pixelsamples\" 0\n" WORLD, 1, "pixelsamples");
-    load_fails("PixelFilter \"gaussian\"\n" WORLD, 1, "box");
     load_fails("Integrator \"ambientocclusion\"\n" WORLD, 1, "its image differs");
-    load_fails("Camera \"orthographic\"\n" WORLD, 1, "perspective");
+    load_fails("Camera \"realistic\"\n" WORLD, 1, "only \"perspective\" and \"orthographic\"");
     load_fails(WORLD "Camera \"perspective\"\n", 2, "before WorldBegin");
-    assert_int_equal(
-        load_text("opt.pbrt", "Integrator \"volpath\"\nPixelFilter \"gaussian\"\nFilm \"gbuffer\"\n" WORLD, &s, 1), 0);
-    assert_int_equal(s.warning_count, 2);
+    assert_int_equal(load_text("opt.pbrt", "Integrator \"volpath\"\nFilm \"gbuffer\"\n" WORLD, &s, 1), 0);
+    assert_int_equal(s.warning_count, 1);
     assert_int_equal(s.note_count, 1); /* volpath: the same image */
     scene_destroy(&s);
 }
@@ -857,7 +967,8 @@ static void test_wrong_parameters(void **state)
     load_fails(WORLD "AreaLightSource \"diffuse\" \"bool twosided\" 1\n", 2, "true or false");
     load_fails("Film \"rgb\" \"string filename\" out.exr\n" WORLD, 1, "quoted string");
     load_fails("Camera \"perspective\" \"float fov\" 190\n" WORLD, 1, "fov");
-    load_fails("Camera \"perspective\" \"float screenwindow\" [ -1 1 -1 1 ]\n" WORLD, 1, "screenwindow");
+    load_fails("Camera \"perspective\" \"float screenwindow\" [ -1 1 -1 ]\n" WORLD, 1,
+               "\"float screenwindow\": expected 4 values (x_min x_max y_min y_max), got 3");
     load_fails("Camera perspective\n" WORLD, 1, "quoted string");
     load_fails("LookAt 0 0 0  0 0 1  0 0 1\n" WORLD, 1, "parallel");
     load_fails("LookAt 0 0 0  0 0 0  0 1 0\n" WORLD, 1, "same");
@@ -894,16 +1005,15 @@ static void test_allow_unsupported_substitutes(void **state)
     (void)state;
     Scene s;
     const char *text =
-        "Camera \"perspective\" \"float lensradius\" 0.5\n" WORLD
-        "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
-        "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
-        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
-        "Shape \"curve\" \"float width\" 1\n"                                        /* skipped */
-        "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                                  /* skipped */
-        "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
-        "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
-        "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
-        "MediumInterface \"\" \"fog\"\n";
+        WORLD "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
+              "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
+              "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
+              "Shape \"curve\" \"float width\" 1\n"                                        /* skipped */
+              "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                                  /* skipped */
+              "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
+              "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
+              "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
+              "MediumInterface \"\" \"fog\"\n";
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
     assert_int_equal(s.triangle_count, 3);
@@ -913,7 +1023,6 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
     assert_vec3(material_of_shape(&s, 0)->reflectance, 0.5, 0.5, 0.5);
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
-    assert_true(has_warning(&s, "pinhole"));
     assert_true(has_warning(&s, "Texture is not supported; skipped"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
     assert_true(has_warning(&s, "Shape \"curve\" is not supported"));
@@ -1271,7 +1380,7 @@ static void test_check_mode(void **state)
 {
     (void)state;
     write_text("check/inc.pbrt", "Shape \"curve\" \"float width\" 2\n");
-    const char *text = "Camera \"perspective\" \"float lensradius\" 0.5\n" WORLD "Shape \"curve\"\n"
+    const char *text = "Film \"rgb\" \"string sensor\" \"canon_eos_100d\"\n" WORLD "Shape \"curve\"\n"
                        "Shape \"plymesh\" \"string filename\" \"geometry/gone.ply\"\n"
                        "Include \"gone.pbrt\"\n"
                        "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"textures/gone.png\"\n"
@@ -1290,7 +1399,7 @@ static void test_check_mode(void **state)
         int line;
         const char *message, *detail; /* the substitute, or the missing path */
     } expected[] = {
-        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 1, "lensradius 0.5 is not supported", "a pinhole camera"},
+        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 1, "sensor \"canon_eos_100d\" is not supported", "cie1931"},
         {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 3, "Shape \"curve\" is not supported", "skipped"},
         {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 4, "Shape \"plymesh\"", "check/geometry/gone.ply"},
         {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 5, "Include", "check/gone.pbrt"},
@@ -1588,7 +1697,9 @@ int main(void)
         cmocka_unit_test(test_fov_spans_shorter_axis),
         cmocka_unit_test(test_camera_transforms),
         cmocka_unit_test(test_camera_precision),
-        cmocka_unit_test(test_lens_radius),
+        cmocka_unit_test(test_camera_lens_and_window),
+        cmocka_unit_test(test_orthographic_camera),
+        cmocka_unit_test(test_pixel_filters),
         cmocka_unit_test(test_film_sampler_integrator_filter),
         cmocka_unit_test(test_translate_then_scale),
         cmocka_unit_test(test_rotate),

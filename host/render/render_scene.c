@@ -203,26 +203,37 @@ static double write_cdf(const double *f, size_t n, float *cdf)
     return total;
 }
 
-/* The piecewise-constant distribution of an image light at d (layout in
- * scene_types.h). Returns 0, or -1 when out of memory. */
-static int write_distribution(const float *rgb, uint32_t width, uint32_t height, float *d)
+/* Appends a 2D distribution over the width x height values f (row by row),
+ * sampled in proportion to |f|, in scene_types.h's layout: the mean of |f|,
+ * the marginal CDF of the rows, each row's CDF, then f itself. Writes
+ * where it starts. Returns 0, or -1 when out of memory. */
+static int add_distribution(RenderScene *scene, const double *f, uint32_t width, uint32_t height, uint32_t *offset)
 {
-    size_t texels = (size_t)width * height;
-    double *f = malloc(texels * sizeof *f), *rows = malloc(height * sizeof *rows);
-    if (!f || !rows) {
-        free(f);
+    size_t n = (size_t)width * height;
+    size_t size = DISTRIBUTION_FUNCTION((size_t)width, (size_t)height) + n;
+    if (scene->distribution_count + size > UINT32_MAX)
+        return -1;
+    *offset = (uint32_t)scene->distribution_count;
+    double *magnitude = malloc(n * sizeof *magnitude);
+    double *rows = magnitude ? malloc(height * sizeof *rows) : NULL;
+    float *d = rows
+                   ? grow_floats(&scene->distributions, &scene->distribution_count, &scene->distribution_capacity, size)
+                   : NULL;
+    if (!d) {
+        free(magnitude);
         free(rows);
         return -1;
     }
     float *function = d + DISTRIBUTION_FUNCTION((size_t)width, (size_t)height);
-    for (size_t i = 0; i < texels; ++i) {
-        f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0;
+    for (size_t i = 0; i < n; ++i) {
+        magnitude[i] = fabs(f[i]);
         function[i] = (float)f[i];
     }
     for (uint32_t y = 0; y < height; ++y)
-        rows[y] = write_cdf(f + (size_t)y * width, width, d + 1 + (height + 1u) + (size_t)y * (width + 1u));
-    d[0] = (float)(write_cdf(rows, height, d + 1) / (double)texels);
-    free(f);
+        rows[y] = write_cdf(magnitude + (size_t)y * width, width, d + 1 + (height + 1u) + (size_t)y * (width + 1u));
+    double total = write_cdf(rows, height, d + 1);
+    d[0] = (float)(total / (double)n);
+    free(magnitude);
     free(rows);
     return 0;
 }
@@ -248,11 +259,13 @@ int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_
     added.image_offset = (uint32_t)scene->texel_count;
     added.distribution_offset = (uint32_t)scene->distribution_count;
     float *t = grow_floats(&scene->texels, &scene->texel_count, &scene->texel_capacity, 3 * texels);
-    float *d = t && infinite ? grow_floats(&scene->distributions, &scene->distribution_count,
-                                           &scene->distribution_capacity, distribution)
-                             : NULL;
-    if (!t || (infinite && (!d || write_distribution(rgb, width, height, d))) ||
-        render_scene_add_light(scene, &added)) {
+    double *f = t && infinite ? malloc(texels * sizeof *f) : NULL;
+    for (size_t i = 0; f && i < texels; ++i)
+        f[i] = ((double)rgb[3 * i] + rgb[3 * i + 1] + rgb[3 * i + 2]) / 3.0; /* the channel average */
+    int failed = !t || (infinite && (!f || add_distribution(scene, f, width, height, &added.distribution_offset))) ||
+                 render_scene_add_light(scene, &added);
+    free(f);
+    if (failed) {
         snprintf(error, error_size, "out of memory for a light image of %ux%u texels", width, height);
         return -1;
     }
@@ -260,19 +273,106 @@ int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_
     return 0;
 }
 
-void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3], const float right[3],
-                             const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
-                             unsigned height)
+RenderCamera render_camera_pinhole(const float position[3], const float forward[3], const float right[3],
+                                   const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
+                                   unsigned height)
+{
+    RenderCamera c;
+    memset(&c, 0, sizeof c);
+    c.projection = CAMERA_PERSPECTIVE;
+    memcpy(c.position, position, sizeof c.position);
+    memcpy(c.forward, forward, sizeof c.forward);
+    memcpy(c.right, right, sizeof c.right);
+    memcpy(c.up, up, sizeof c.up);
+    c.window[0] = -tan_half_fov_x;
+    c.window[1] = tan_half_fov_x;
+    c.window[2] = -tan_half_fov_y;
+    c.window[3] = tan_half_fov_y;
+    c.width = width;
+    c.height = height;
+    return c;
+}
+
+void render_scene_set_camera(RenderScene *scene, const RenderCamera *camera)
 {
     CameraData *p = &scene->constants.camera;
+    memset(p, 0, sizeof *p);
+    const float *w = camera->window;
+    float centre[2] = {(w[0] + w[1]) / 2.0f, (w[2] + w[3]) / 2.0f},
+          half[2] = {(w[1] - w[0]) / 2.0f, (w[3] - w[2]) / 2.0f};
+    int orthographic = camera->projection == CAMERA_ORTHOGRAPHIC;
     for (int i = 0; i < 3; ++i) {
-        p->position[i] = position[i];
-        p->forward[i] = forward[i];
-        p->right[i] = right[i] * tan_half_fov_x;
-        p->up[i] = up[i] * tan_half_fov_y;
+        p->position[i] = camera->position[i];
+        p->forward[i] = camera->forward[i];
+        p->right[i] = camera->right[i] * half[0];
+        p->up[i] = camera->up[i] * half[1];
+        p->lens_right[i] = camera->right[i] * camera->lens_radius;
+        p->lens_up[i] = camera->up[i] * camera->lens_radius;
     }
-    p->width = width;
-    p->height = height;
+    /* An off-centre window moves the ray through the image's centre (the
+     * orthographic camera's origin, the perspective one's direction). Only
+     * then: adding zeros could turn a -0 of forward into +0. */
+    if (centre[0] != 0.0f || centre[1] != 0.0f) {
+        float *moved = orthographic ? p->position : p->forward;
+        for (int i = 0; i < 3; ++i)
+            moved[i] += camera->right[i] * centre[0] + camera->up[i] * centre[1];
+    }
+    p->projection = orthographic ? CAMERA_ORTHOGRAPHIC : CAMERA_PERSPECTIVE;
+    p->lens_radius = camera->lens_radius;
+    p->focal_distance = camera->focal_distance;
+    p->width = camera->width;
+    p->height = camera->height;
+}
+
+int render_scene_set_filter(RenderScene *scene, const PixelFilter *filter, char *error, size_t error_size)
+{
+    FilterData *data = &scene->constants.filter;
+    memset(data, 0, sizeof *data);
+    for (int a = 0; a < 2; ++a)
+        if (!(filter->radius[a] > 0.0f && filter->radius[a] <= PIXEL_FILTER_MAX_RADIUS)) {
+            snprintf(error, error_size, "the pixel filter's radius %g is not in (0, %g]", (double)filter->radius[a],
+                     (double)PIXEL_FILTER_MAX_RADIUS);
+            return -1;
+        }
+    if (filter->type == PIXEL_FILTER_BOX && filter->radius[0] == 0.5f && filter->radius[1] == 0.5f)
+        return 0;
+    uint32_t size[2];
+    pixel_filter_table_size(filter, size);
+    size_t n = (size_t)size[0] * size[1];
+    double *f = malloc(n * sizeof *f), sum = 0.0, sum_magnitude = 0.0;
+    if (!f) {
+        snprintf(error, error_size, "out of memory for the pixel filter");
+        return -1;
+    }
+    /* The filter at the centres of the cells over [-radius, radius]^2. */
+    for (uint32_t y = 0; y < size[1]; ++y)
+        for (uint32_t x = 0; x < size[0]; ++x) {
+            double px = filter->radius[0] * (2.0 * (x + 0.5) / size[0] - 1.0);
+            double py = filter->radius[1] * (2.0 * (y + 0.5) / size[1] - 1.0);
+            double value = pixel_filter_evaluate(filter, px, py);
+            f[(size_t)y * size[0] + x] = value;
+            sum += value;
+            sum_magnitude += fabs(value);
+        }
+    uint32_t offset = 0;
+    int positive = sum > 0.0, failed = !positive || add_distribution(scene, f, size[0], size[1], &offset);
+    free(f);
+    if (!positive) {
+        snprintf(error, error_size, "the pixel filter's integral over its table of %ux%u cells is not positive",
+                 size[0], size[1]);
+        return -1;
+    }
+    if (failed) {
+        snprintf(error, error_size, "out of memory for the pixel filter");
+        return -1;
+    }
+    data->radius[0] = filter->radius[0];
+    data->radius[1] = filter->radius[1];
+    data->table_width = size[0];
+    data->table_height = size[1];
+    data->distribution_offset = offset;
+    data->weight = (float)(sum_magnitude / sum);
+    return 0;
 }
 
 static int is_infinite(const Light *light)
@@ -485,5 +585,12 @@ uint32_t render_scene_features(const RenderScene *scene)
                 features |= FEATURE_FILM_MATRIX;
     if (film->max_component_value < INFINITY)
         features |= FEATURE_FILM_CLAMP;
+    const CameraData *camera = &scene->constants.camera;
+    if (camera->lens_radius > 0.0f)
+        features |= FEATURE_THIN_LENS;
+    if (camera->projection == CAMERA_ORTHOGRAPHIC)
+        features |= FEATURE_ORTHOGRAPHIC;
+    if (scene->constants.filter.table_width > 0)
+        features |= FEATURE_PIXEL_FILTER;
     return features;
 }

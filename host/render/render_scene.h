@@ -7,6 +7,7 @@
 
 #include "feature_mask.h"
 #include "render/bvh.h"
+#include "render/pixel_filter.h"
 #include "scene_types.h"
 
 #include <stddef.h>
@@ -76,11 +77,33 @@ int render_scene_add_infinite_light(RenderScene *scene, const float radiance[3])
 int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
                                  const float *rgb, char *error, size_t error_size);
 
-/* The camera: position, unit forward/right/up (right to the image's right,
- * up to its top) and the tangents of the half fields of view. */
-void render_scene_set_camera(RenderScene *scene, const float position[3], const float forward[3], const float right[3],
-                             const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
-                             unsigned height);
+/* A camera, in world space. The image spans window = [x_min, x_max,
+ * y_min, y_max] along right and up (pbrt's screen window): tangents for
+ * the perspective camera (the image plane at distance 1), world lengths
+ * for the orthographic one. */
+typedef struct {
+    uint32_t projection;                            /* CAMERA_PERSPECTIVE or CAMERA_ORTHOGRAPHIC */
+    float position[3], forward[3], right[3], up[3]; /* unit axes; right to the image's right, up to its top */
+    float window[4];
+    float lens_radius;    /* 0: a pinhole */
+    float focal_distance; /* the plane in focus, along forward (with a lens) */
+    unsigned width, height;
+} RenderCamera;
+
+void render_scene_set_camera(RenderScene *scene, const RenderCamera *camera);
+
+/* A perspective pinhole camera with the tangents of its half fields of
+ * view (the window centred on forward). */
+RenderCamera render_camera_pinhole(const float position[3], const float forward[3], const float right[3],
+                                   const float up[3], float tan_half_fov_x, float tan_half_fov_y, unsigned width,
+                                   unsigned height);
+
+/* The pixel filter: the box of radius 0.5 is the renderer's plain uniform
+ * position in the pixel (the default); any other is tabulated into the
+ * distributions for importance sampling (FilterData). Returns 0, or -1
+ * with a message (a radius out of (0, PIXEL_FILTER_MAX_RADIUS], a filter
+ * whose integral is not positive). */
+int render_scene_set_filter(RenderScene *scene, const PixelFilter *filter, char *error, size_t error_size);
 
 /* Builds the BVH, orders the lights (infinite first) and gives each its
  * chance of being picked, in proportion to its power as pbrt-v4's "power"

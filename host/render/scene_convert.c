@@ -229,6 +229,48 @@ static int add_light(RenderScene *out, const SceneLight *in, char *error, size_t
     return 0;
 }
 
+_Static_assert((int)SCENE_MAX_FILTER_RADIUS == (int)PIXEL_FILTER_MAX_RADIUS, "the parser checks the renderer's limit");
+
+/* The camera and the pixel filter, for a width x height image. Returns 0,
+ * or -1 with the reason in `why`. */
+static int convert_camera(const Scene *scene, unsigned width, unsigned height, RenderScene *out, char *why,
+                          size_t why_size)
+{
+    const SceneCamera *in = &scene->camera;
+    RenderCamera camera;
+    memset(&camera, 0, sizeof camera);
+    camera.projection = in->projection == SCENE_CAMERA_ORTHOGRAPHIC ? CAMERA_ORTHOGRAPHIC : CAMERA_PERSPECTIVE;
+    memcpy(camera.position, in->position, sizeof camera.position);
+    memcpy(camera.forward, in->forward, sizeof camera.forward);
+    memcpy(camera.right, in->right, sizeof camera.right);
+    memcpy(camera.up, in->up, sizeof camera.up);
+    scene_camera_window(in, width, height, camera.window);
+    for (int i = 0; i < 4; ++i)
+        if (!isfinite(camera.window[i])) {
+            snprintf(why, why_size, "Camera: the screen window overflows single precision");
+            return -1;
+        }
+    camera.lens_radius = in->lens_radius;
+    camera.focal_distance = in->focal_distance;
+    camera.width = width;
+    camera.height = height;
+    render_scene_set_camera(out, &camera);
+
+    static const PixelFilterType types[] = {
+        [SCENE_FILTER_BOX] = PIXEL_FILTER_BOX,           [SCENE_FILTER_GAUSSIAN] = PIXEL_FILTER_GAUSSIAN,
+        [SCENE_FILTER_MITCHELL] = PIXEL_FILTER_MITCHELL, [SCENE_FILTER_LANCZOS] = PIXEL_FILTER_LANCZOS,
+        [SCENE_FILTER_TRIANGLE] = PIXEL_FILTER_TRIANGLE,
+    };
+    const SceneFilter *f = &scene->filter;
+    PixelFilter filter = {types[f->type], {f->radius[0], f->radius[1]}, f->sigma, f->b, f->c, f->tau};
+    char reason[192];
+    if (render_scene_set_filter(out, &filter, reason, sizeof reason)) {
+        snprintf(why, why_size, "PixelFilter: %s", reason);
+        return -1;
+    }
+    return 0;
+}
+
 int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
                        RenderScene *out, SceneSummary *summary, char *error, size_t error_size)
 {
@@ -264,10 +306,12 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         width = scene.width;
         height = scene.height;
     }
-    float tan_half[2];
-    scene_camera_tan_half_fov(scene.camera.fov, width, height, tan_half);
-    render_scene_set_camera(out, scene.camera.position, scene.camera.forward, scene.camera.right, scene.camera.up,
-                            tan_half[0], tan_half[1], width, height);
+    char why[256];
+    if (convert_camera(&scene, width, height, out, why, sizeof why)) {
+        snprintf(error, error_size, "%s: %s", path, why);
+        render_scene_destroy(out);
+        return -1;
+    }
     out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
     FilmData *film = &out->constants.film;
     for (int r = 0; r < 3; ++r)

@@ -980,6 +980,23 @@ static int on_world_end(Parser *p, Lexer *lex, const Token *d)
     return 0;
 }
 
+/* Camera "screenwindow": x_min x_max y_min y_max, each pair apart. */
+static int read_screen_window(ParamList *params, SceneCamera *camera)
+{
+    const Param *window = NULL;
+    int found = params_get_array(params, "screenwindow", PARAM_FLOAT, &window);
+    if (found <= 0)
+        return found;
+    if (window->count != 4)
+        return params_error(params, window, "expected 4 values (x_min x_max y_min y_max), got %zu", window->count);
+    if (window->numbers[0] == window->numbers[1] || window->numbers[2] == window->numbers[3])
+        return params_error(params, window, "the window is empty (x_min = x_max or y_min = y_max)");
+    for (int i = 0; i < 4; ++i)
+        camera->screen_window[i] = (float)window->numbers[i];
+    camera->has_screen_window = 1;
+    return 0;
+}
+
 static int on_camera(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -989,25 +1006,39 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
         result = require_world(p, lex, d, 0);
     if (result == 0)
         result = warn_if_moving(p, lex, d);
-    if (result == 0 && !token_is(&type, "perspective")) {
+    int orthographic = result == 0 && token_is(&type, "orthographic");
+    if (result == 0 && !orthographic && !token_is(&type, "perspective")) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
-        result = scene_error(&p->diag, lex->path, d->line, "Camera %s is not supported (only \"perspective\")", shown);
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "Camera %s is not supported (only \"perspective\" and \"orthographic\")", shown);
     }
-    float fov = 90.0f, lens_radius = 0.0f, ignored = 0.0f;
+    const char *kind = orthographic ? "orthographic" : "perspective";
+    SceneCamera camera; /* a Camera given twice replaces the first */
+    memset(&camera, 0, sizeof camera);
+    camera.projection = orthographic ? SCENE_CAMERA_ORTHOGRAPHIC : SCENE_CAMERA_PERSPECTIVE;
+    /* pbrt-v4's defaults; frame NAN: not given (the film's aspect ratio). */
+    float fov = 90.0f, lens_radius = 0.0f, focal_distance = 1e6f, frame = NAN;
     if (result == 0 &&
-        (params_get_float(&params, "fov", &fov) < 0 || params_get_float(&params, "lensradius", &lens_radius) < 0 ||
-         params_get_float(&params, "focaldistance", &ignored) < 0 ||
+        ((!orthographic && params_get_float(&params, "fov", &fov) < 0) ||
+         params_get_float(&params, "lensradius", &lens_radius) < 0 ||
+         params_get_float(&params, "focaldistance", &focal_distance) < 0 ||
+         params_get_float(&params, "frameaspectratio", &frame) < 0 || read_screen_window(&params, &camera) < 0 ||
          params_get_float(&params, "shutteropen", &p->shutter_open) < 0 ||
          params_get_float(&params, "shutterclose", &p->shutter_close) < 0))
         result = -1;
     if (result == 0 && !(fov > 0.0f && fov < 180.0f))
         result =
             scene_error(&p->diag, lex->path, d->line, "Camera \"perspective\": fov %g is not in (0, 180)", (double)fov);
-    if (result == 0 && lens_radius != 0.0f)
-        result = scene_unsupported(&p->diag, lex->path, d->line, "a pinhole camera is used",
-                                   "Camera \"perspective\": lensradius %g is not supported (depth of field)",
-                                   (double)lens_radius);
+    if (result == 0 && lens_radius < 0.0f)
+        result = scene_error(&p->diag, lex->path, d->line, "Camera \"%s\": lensradius %g is negative", kind,
+                             (double)lens_radius);
+    if (result == 0 && !(focal_distance > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Camera \"%s\": focaldistance %g is not positive", kind,
+                             (double)focal_distance);
+    if (result == 0 && !isnan(frame) && !(frame > 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Camera \"%s\": frameaspectratio %g is not positive", kind,
+                             (double)frame);
     if (result == 0)
         result = params_check_unused(&params);
     mat4 world_from_camera;
@@ -1029,7 +1060,11 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
         /* pbrt-v4's "camera" space; a moving camera is rendered at the start time. */
         if (define_coordinate_system(p, "camera", 6, world_from_camera, world_from_camera))
             result = out_of_memory(p, lex->path, d->line);
-        p->scene->camera.fov = fov;
+        camera.fov = fov;
+        camera.lens_radius = lens_radius; /* camera space until finish_camera */
+        camera.focal_distance = focal_distance;
+        camera.frame_aspect_ratio = isnan(frame) ? 0.0f : frame;
+        p->scene->camera = camera;
         p->camera_file = lex->path;
         p->camera_line = d->line;
     }
@@ -1255,6 +1290,40 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
+/* A filter parameter that must be positive (at most `largest`). */
+static int get_filter_parameter(Parser *p, Lexer *lex, const Token *d, ParamList *params, const char *name,
+                                float largest, float *value)
+{
+    if (params_get_float(params, name, value) < 0)
+        return -1;
+    if (!(*value > 0.0f && *value <= largest))
+        return scene_error(&p->diag, lex->path, d->line, "%s: %s %g is not in (0, %g]", params->owner, name,
+                           (double)*value, (double)largest);
+    return 0;
+}
+
+/* pbrt-v4's filters and their default radii; "lanczos" is accepted for
+ * pbrt-v4's "sinc" (its class is LanczosSincFilter). */
+static const struct {
+    const char *name;
+    SceneFilterType type;
+    float radius;
+} FILTERS[] = {
+    {"box", SCENE_FILTER_BOX, 0.5f},           {"gaussian", SCENE_FILTER_GAUSSIAN, 1.5f},
+    {"mitchell", SCENE_FILTER_MITCHELL, 2.0f}, {"sinc", SCENE_FILTER_LANCZOS, 4.0f},
+    {"lanczos", SCENE_FILTER_LANCZOS, 4.0f},   {"triangle", SCENE_FILTER_TRIANGLE, 2.0f},
+};
+#define FILTER_KINDS (sizeof FILTERS / sizeof FILTERS[0])
+#define DEFAULT_FILTER 1 /* gaussian: pbrt-v4's filter when a scene names none */
+
+/* FILTERS[kind] with pbrt-v4's default parameters. */
+static SceneFilter default_filter(size_t kind)
+{
+    SceneFilter f = {
+        FILTERS[kind].type, {FILTERS[kind].radius, FILTERS[kind].radius}, 0.5f, 1.0f / 3.0f, 1.0f / 3.0f, 3.0f};
+    return f;
+}
+
 static int on_pixel_filter(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -1262,11 +1331,36 @@ static int on_pixel_filter(Parser *p, Lexer *lex, const Token *d)
     int result = read_typed_directive(p, lex, d, "the filter type", &type, &params);
     if (result == 0)
         result = require_world(p, lex, d, 0);
-    if (result == 0 && !token_is(&type, "box"))
-        result = scene_unsupported(&p->diag, lex->path, d->line, "a box filter is used",
-                                   "PixelFilter: only \"box\" is supported");
+    size_t kind = 0;
+    while (result == 0 && kind < FILTER_KINDS && !token_is(&type, FILTERS[kind].name))
+        ++kind;
+    if (result == 0 && kind == FILTER_KINDS) {
+        char shown[64];
+        token_describe(&type, shown, sizeof shown);
+        result = scene_error(&p->diag, lex->path, d->line,
+                             "PixelFilter %s is not supported (only \"box\", \"gaussian\", \"mitchell\", "
+                             "\"sinc\" or \"lanczos\", \"triangle\")",
+                             shown);
+    }
+    SceneFilter filter = default_filter(DEFAULT_FILTER);
+    if (result == 0) {
+        filter = default_filter(kind);
+        const float unbounded = FLT_MAX;
+        result = get_filter_parameter(p, lex, d, &params, "xradius", SCENE_MAX_FILTER_RADIUS, &filter.radius[0]);
+        if (result == 0)
+            result = get_filter_parameter(p, lex, d, &params, "yradius", SCENE_MAX_FILTER_RADIUS, &filter.radius[1]);
+        if (result == 0 && filter.type == SCENE_FILTER_GAUSSIAN)
+            result = get_filter_parameter(p, lex, d, &params, "sigma", unbounded, &filter.sigma);
+        if (result == 0 && filter.type == SCENE_FILTER_LANCZOS)
+            result = get_filter_parameter(p, lex, d, &params, "tau", unbounded, &filter.tau);
+        if (result == 0 && filter.type == SCENE_FILTER_MITCHELL &&
+            (params_get_float(&params, "B", &filter.b) < 0 || params_get_float(&params, "C", &filter.c) < 0))
+            result = -1;
+    }
     if (result == 0)
         result = params_check_unused(&params);
+    if (result == 0)
+        p->scene->filter = filter;
     params_free(&params);
     return result;
 }
@@ -2006,13 +2100,26 @@ static int finish_camera(Parser *p)
             axes[a][k] = (float)v[k];
     }
     double scale;
-    if (!affine || !is_similarity(p->world_from_camera, &scale)) {
-        if (scene_warn(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
+    const char *file = p->camera_file ? p->camera_file : p->main_path;
+    int similarity = is_similarity(p->world_from_camera, &scale);
+    if (!affine || !similarity) {
+        if (scene_warn(&p->diag, file, p->camera_line,
                        "Camera: the camera transform is not a rotation with a uniform scale; its axes are "
                        "normalized"))
             return -1;
     }
     scene_camera_tan_half_fov(camera->fov, s->width, s->height, camera->tan_half_fov);
+    /* pbrt keeps the camera transform's scale: camera-space lengths (the
+     * lens, an orthographic window) scale with it. */
+    double lens_radius = camera->lens_radius * scale, focal_distance = camera->focal_distance * scale;
+    if (lens_radius > 0.0 && !(lens_radius <= FLT_MAX && focal_distance <= FLT_MAX && focal_distance >= FLT_MIN))
+        return scene_error(&p->diag, file, p->camera_line,
+                           "Camera: lensradius or focaldistance times the camera transform's scale %g is out of "
+                           "single precision's range",
+                           scale);
+    camera->scale = (float)fmin(scale, FLT_MAX);
+    camera->lens_radius = (float)lens_radius;
+    camera->focal_distance = (float)fmin(focal_distance, FLT_MAX); /* unused without a lens */
     return 0;
 }
 
@@ -2077,6 +2184,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->spp = 16;
     scene->max_depth = 5;
     scene->camera.fov = 90.0f;
+    scene->camera.focal_distance = 1e6f;
+    scene->filter = default_filter(DEFAULT_FILTER);
     scene->film_filename = scene_strndup("pbrt.exr", 8);
     scene->max_component_value = INFINITY;
     scene->save_fp16 = 1;

@@ -1,5 +1,5 @@
 /* The Scene's lifetime, diagnostics, and the small conversions the renderer
- * needs (fields of view, roughness to alpha). */
+ * needs (fields of view, screen windows, roughness to alpha). */
 #define _POSIX_C_SOURCE 200809L /* open, fstat, O_CLOEXEC */
 
 #include "scene/scene_internal.h"
@@ -50,17 +50,35 @@ void scene_destroy(Scene *scene)
     memset(scene, 0, sizeof *scene);
 }
 
+void scene_camera_window(const SceneCamera *camera, unsigned width, unsigned height, float window[4])
+{
+    double k = camera->projection == SCENE_CAMERA_PERSPECTIVE
+                   ? tan(0.5 * (double)camera->fov * 3.14159265358979323846 / 180.0)
+                   : (double)camera->scale;
+    if (camera->has_screen_window) {
+        for (int i = 0; i < 4; ++i)
+            window[i] = (float)(camera->screen_window[i] * k);
+        return;
+    }
+    double frame =
+        camera->frame_aspect_ratio > 0.0f ? (double)camera->frame_aspect_ratio : (double)width / (double)height;
+    float x = (float)(frame > 1.0 ? k * frame : k), y = (float)(frame > 1.0 ? k : k / frame);
+    window[0] = -x;
+    window[1] = x;
+    window[2] = -y;
+    window[3] = y;
+}
+
 void scene_camera_tan_half_fov(float fov_degrees, unsigned width, unsigned height, float tan_half[2])
 {
-    double t = tan(0.5 * (double)fov_degrees * 3.14159265358979323846 / 180.0);
-    double aspect = (double)width / (double)height;
-    if (aspect > 1.0) { /* pbrt's screen window is [-aspect, aspect] x [-1, 1] */
-        tan_half[0] = (float)(t * aspect);
-        tan_half[1] = (float)t;
-    } else { /* [-1, 1] x [-1 / aspect, 1 / aspect] */
-        tan_half[0] = (float)t;
-        tan_half[1] = (float)(t / aspect);
-    }
+    SceneCamera camera;
+    memset(&camera, 0, sizeof camera);
+    camera.projection = SCENE_CAMERA_PERSPECTIVE;
+    camera.fov = fov_degrees;
+    float window[4];
+    scene_camera_window(&camera, width, height, window);
+    tan_half[0] = window[1];
+    tan_half[1] = window[3];
 }
 
 void scene_material_alpha(const SceneMaterial *material, float alpha[2])

@@ -20,7 +20,7 @@
 typedef struct {
     /* Downgrade unsupported features to warnings, each with the substitute
      * the README lists (unknown material: grey diffuse; unknown shape or
-     * light: skipped; lensradius > 0: pinhole; ...). */
+     * light: skipped; ...). */
     int allow_unsupported;
     /* `gmonrt check`: go on past every unsupported feature (using its
      * substitute) and every missing file (skipping what needs it), and
@@ -43,20 +43,58 @@ typedef struct {
     char *path;       /* missing: the path pbrt-v4 would open; unsupported: NULL */
 } SceneDiagnostic;
 
-/* A perspective camera. pbrt's camera space is left-handed: +z looks into
- * the scene, +x is the image's right and +y its top (as viewed). */
+typedef enum {
+    SCENE_CAMERA_PERSPECTIVE,
+    SCENE_CAMERA_ORTHOGRAPHIC,
+} SceneProjection;
+
+/* A perspective or orthographic camera. pbrt's camera space is
+ * left-handed: +z looks into the scene, +x is the image's right and +y its
+ * top (as viewed). */
 typedef struct {
+    SceneProjection projection;
     float world_from_camera[4][4]; /* column-major, [column][row] like cglm's mat4 */
     float position[3];
     float forward[3]; /* unit, camera +z */
     float right[3];   /* unit, camera +x: toward the image's right */
     float up[3];      /* unit, camera +y: toward the image's top */
-    float fov;        /* degrees, across the shorter image axis */
-    /* Tangents of the half fields of view (x, y) for the film's size; a ray
-     * through image point (sx, sy) in [-1, 1]^2 (sy = 1 at the top) has
-     * direction forward + sx * t[0] * right + sy * t[1] * up. */
+    float fov;        /* perspective: degrees, across the shorter image axis */
+    /* Tangents of the half fields of view (x, y) of the default screen
+     * window for the film's size; a ray through image point (sx, sy) in
+     * [-1, 1]^2 (sy = 1 at the top) has direction forward + sx * t[0] *
+     * right + sy * t[1] * up. */
     float tan_half_fov[2];
+    float scale; /* the camera transform's (mean) scale: camera-space lengths times it are world lengths */
+    /* A thin lens (lens_radius > 0): the lens radius and the distance of
+     * the plane in focus, in world units (the camera-space values times
+     * scale). */
+    float lens_radius;
+    float focal_distance;
+    float frame_aspect_ratio; /* "frameaspectratio"; 0: the film's width / height */
+    int has_screen_window;
+    float screen_window[4]; /* "screenwindow" as written: x_min x_max y_min y_max */
 } SceneCamera;
+
+typedef enum {
+    SCENE_FILTER_BOX,
+    SCENE_FILTER_GAUSSIAN,
+    SCENE_FILTER_MITCHELL,
+    SCENE_FILTER_LANCZOS, /* pbrt-v4's "sinc" */
+    SCENE_FILTER_TRIANGLE,
+} SceneFilterType;
+
+/* The renderer's largest filter radius (PIXEL_FILTER_MAX_RADIUS). */
+#define SCENE_MAX_FILTER_RADIUS 32.0f
+
+/* PixelFilter: radius in pixels (x, y); sigma applies to the gaussian, b
+ * and c to mitchell, tau to sinc. */
+typedef struct {
+    SceneFilterType type;
+    float radius[2];
+    float sigma;
+    float b, c;
+    float tau;
+} SceneFilter;
 
 typedef enum {
     SCENE_MATERIAL_DIFFUSE,
@@ -147,6 +185,7 @@ typedef struct {
 
 typedef struct {
     SceneCamera camera;
+    SceneFilter filter;     /* pbrt-v4's default: gaussian, radius 1.5, sigma 0.5 */
     unsigned width, height; /* Film xresolution, yresolution */
     char *film_filename;
     /* The film's sensor reduced to what an RGB renderer applies to each
@@ -204,6 +243,15 @@ void scene_destroy(Scene *scene);
 /* pbrt's rule: fov spans the shorter image axis. Writes the tangents of the
  * half fields of view along x and y for a width x height image. */
 void scene_camera_tan_half_fov(float fov_degrees, unsigned width, unsigned height, float tan_half[2]);
+
+/* The image's extent [x_min, x_max, y_min, y_max] along the camera's right
+ * and up for a width x height film: pbrt's screen window ("screenwindow";
+ * else [-frame, frame] x [-1, 1] for a frame, "frameaspectratio" or else
+ * width / height, wider than tall, and [-1, 1] x [-1 / frame, 1 / frame]
+ * otherwise) times tan(fov / 2) for the perspective camera (the image
+ * plane at distance 1) or times the camera's scale for the orthographic
+ * one (world lengths). */
+void scene_camera_window(const SceneCamera *camera, unsigned width, unsigned height, float window[4]);
 
 /* The GGX (Trowbridge-Reitz) alpha along u and v as pbrt-v4 derives it:
  * sqrt(roughness) when remap_roughness, else roughness itself. */

@@ -34,6 +34,7 @@ add_library(fuzz_code STATIC
   host/scene/spectrum_data.c
   host/render/scene_convert.c
   host/render/render_scene.c
+  host/render/pixel_filter.c
   host/render/bvh.c
   host/io/exr_image.c
   host/io/image_read.c

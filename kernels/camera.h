@@ -1,0 +1,107 @@
+/* Camera rays: where a sample lies on the image (the pixel filter, sampled
+ * by importance) and the ray through it (perspective or orthographic, with
+ * an optional thin lens), as CameraData and FilterData describe them.
+ * Shared by the path tracer and the host tests.
+ *
+ * Random dimensions: 0 and 1 place the sample on the image (the box of
+ * radius 0.5 uses them as the renderer always did, so its images are
+ * unchanged); the lens uses the fixed dimensions CAMERA_LENS_DIMENSION and
+ * the next, past any path's (a path uses 2 + DIMS_PER_BOUNCE a bounce), so
+ * adding a lens leaves every other random number of a sample as it was. */
+#ifndef KERNELS_CAMERA_H
+#define KERNELS_CAMERA_H
+
+#include "distribution.h"
+#include "feature_mask.h"
+#include "rng.h"
+#include "scene_types.h"
+#include "vec3.h"
+
+#define CAMERA_LENS_DIMENSION 0xfffffff0u
+
+typedef struct {
+    Vec3 origin;
+    Vec3 direction; /* unit */
+    float weight;   /* the filter's: scales the sample's radiance */
+} CameraRay;
+
+/* A point of the unit disk from (u1, u2) in [0, 1)^2 by Shirley and
+ * Chiu's concentric mapping (pbrt-v4's SampleUniformDiskConcentric), which
+ * keeps strata compact. */
+KERNEL_FN void sample_disk_concentric(float u1, float u2, float *x, float *y)
+{
+    float a = 2.0f * u1 - 1.0f, b = 2.0f * u2 - 1.0f;
+    if (a == 0.0f && b == 0.0f) {
+        *x = *y = 0.0f;
+        return;
+    }
+    float r, theta;
+    if (fabs(a) > fabs(b)) {
+        r = a;
+        theta = 0.25f * PI_F * (b / a);
+    } else {
+        r = b;
+        theta = 0.5f * PI_F - 0.25f * PI_F * (a / b);
+    }
+    *x = r * cos_float(theta);
+    *y = r * sin_float(theta);
+}
+
+/* An offset from the pixel's centre drawn from the tabulated |f| (in
+ * pixels, y down the image as the table's rows); returns the sample's
+ * weight, sign(f) * filter->weight. */
+KERNEL_FN float filter_sample(const GLOBAL FilterData *filter, const GLOBAL float *distributions, float u1, float u2,
+                              float *dx, float *dy)
+{
+    const GLOBAL float *d = distributions + filter->distribution_offset;
+    uint32_t width = filter->table_width, height = filter->table_height, row, column;
+    float v = cdf_sample(d + 1, height, u2, &row);
+    float u = cdf_sample(d + 1 + (height + 1u) + row * (width + 1u), width, u1, &column);
+    *dx = (2.0f * u - 1.0f) * filter->radius[0];
+    *dy = (2.0f * v - 1.0f) * filter->radius[1];
+    float f = d[DISTRIBUTION_FUNCTION(width, height) + row * width + column];
+    return f < 0.0f ? -filter->weight : filter->weight;
+}
+
+/* The camera ray of the sample with random key `key` in pixel (x, y). */
+KERNEL_FN CameraRay camera_ray(const GLOBAL CameraData *camera, const GLOBAL FilterData *filter,
+                               const GLOBAL float *distributions, uint32_t x, uint32_t y, uint64_t key)
+{
+    CameraRay ray;
+    ray.weight = 1.0f;
+    float px, py; /* the image position, in pixels from the top left */
+    if (GMON_HAS_PIXEL_FILTER && filter->table_width > 0u) {
+        float dx, dy;
+        ray.weight = filter_sample(filter, distributions, rng_uniform(key, 0), rng_uniform(key, 1), &dx, &dy);
+        px = (float)x + 0.5f + dx;
+        py = (float)y + 0.5f + dy;
+    } else {
+        px = (float)x + rng_uniform(key, 0);
+        py = (float)y + rng_uniform(key, 1);
+    }
+    float sx = 2.0f * px / (float)camera->width - 1.0f;
+    float sy = 1.0f - 2.0f * py / (float)camera->height;
+    Vec3 position = vec3_from_global(camera->position), forward = vec3_from_global(camera->forward);
+    Vec3 offset = v_add(v_scale(vec3_from_global(camera->right), sx), v_scale(vec3_from_global(camera->up), sy));
+    Vec3 direction;
+    if (GMON_HAS_ORTHOGRAPHIC && camera->projection == CAMERA_ORTHOGRAPHIC) {
+        ray.origin = v_add(position, offset);
+        direction = forward;
+    } else {
+        ray.origin = position;
+        direction = v_add(forward, offset);
+    }
+    if (GMON_HAS_THIN_LENS && camera->lens_radius > 0.0f) {
+        float lx, ly;
+        sample_disk_concentric(rng_uniform(key, CAMERA_LENS_DIMENSION), rng_uniform(key, CAMERA_LENS_DIMENSION + 1u),
+                               &lx, &ly);
+        Vec3 focus = v_add(ray.origin, v_scale(direction, camera->focal_distance));
+        ray.origin = v_add(position, v_add(v_scale(vec3_from_global(camera->lens_right), lx),
+                                           v_scale(vec3_from_global(camera->lens_up), ly)));
+        direction = v_sub(focus, ray.origin);
+    }
+    ray.direction = v_normalize(direction);
+    return ray;
+}
+
+#endif
