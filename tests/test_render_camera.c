@@ -509,12 +509,51 @@ static void test_filter_edge_response(void **state)
     }
 }
 
+/* Film "cropwindow": the image is the pixels [ceil(W x0), ceil(W x1)) x
+ * [ceil(H y0), ceil(H y1)), each seeing what it sees in the whole image
+ * ("pixelbounds" gives the same pixels in pixel units). */
+static void test_crop_window(void **state)
+{
+    (void)state;
+    static const char *const films[] = {
+        "Film \"rgb\" \"integer xresolution\" 40 \"integer yresolution\" 30 \"float cropwindow\" [ 0.75 0.25 0.1 "
+        "0.6 ]\n",
+        "Film \"rgb\" \"integer xresolution\" 40 \"integer yresolution\" 30 \"integer pixelbounds\" [ 10 30 3 18 ]\n",
+    };
+    RenderScene full;
+    load_scene("Film \"rgb\" \"integer xresolution\" 40 \"integer yresolution\" 30\n"
+               "LookAt 1 2 3  1 2 10  0 1 0\nCamera \"perspective\" \"float fov\" 50\nPixelFilter \"box\"\n"
+               "WorldBegin\nShape \"sphere\"\n",
+               0, 0, &full, NULL);
+    for (int f = 0; f < 2; ++f) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "%sLookAt 1 2 3  1 2 10  0 1 0\nCamera \"perspective\" \"float fov\" 50\nPixelFilter \"box\"\n"
+                 "WorldBegin\nShape \"sphere\"\n",
+                 films[f]);
+        RenderScene crop;
+        load_scene(text, 0, 0, &crop, NULL);
+        assert_int_equal(crop.constants.camera.width, 20);
+        assert_int_equal(crop.constants.camera.height, 15);
+        for (uint32_t y = 0; y < 15; ++y)
+            for (uint32_t x = 0; x < 20; ++x) {
+                CameraRay a = ray_of(&crop, x, y, 77 + x), b = ray_of(&full, x + 10, y + 3, 77 + x);
+                assert_true(fabsf(a.direction.x - b.direction.x) < 1e-6f &&
+                            fabsf(a.direction.y - b.direction.y) < 1e-6f &&
+                            fabsf(a.direction.z - b.direction.z) < 1e-6f);
+            }
+        render_scene_destroy(&crop);
+    }
+    render_scene_destroy(&full);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_pinhole_box_rays_unchanged),
         cmocka_unit_test(test_screen_window_and_orthographic_rays),
         cmocka_unit_test(test_thin_lens_rays),
+        cmocka_unit_test(test_crop_window),
         cmocka_unit_test(test_filter_sampling_reproduces_weights),
         cmocka_unit_test(test_thin_lens_focus),
         cmocka_unit_test(test_orthographic_projection),

@@ -699,6 +699,9 @@ static void test_infinite_light(void **state)
     assert_near(0.2126 * flat[0] + 0.7152 * flat[1] + 0.0722 * flat[2], 1.0, 2e-3);
     assert_true(flat[0] > flat[1]);
     scene_destroy(&s);
+    load_fails("Film \"rgb\" \"float cropwindow\" [ 0 1 0 ]\n" WORLD, 1, "expected 4 values");
+    load_fails("Film \"rgb\" \"float cropwindow\" [ 0.5 0.5 0 1 ]\n" WORLD, 1, "the crop window leaves no pixel");
+    load_fails("Film \"rgb\" \"integer pixelbounds\" [ 2000 3000 0 10 ]\n" WORLD, 1, "pixel bounds leaves no pixel");
     load_fails(WORLD "LightSource \"sun\"\n", 2, "LightSource \"sun\" is not supported");
     load_fails(WORLD "LightSource \"projection\"\n", 2, "missing \"string filename\"");
     load_fails(WORLD "LightSource \"projection\" \"string filename\" \"slide.png\" \"float fov\" 180\n", 2,

@@ -233,6 +233,14 @@ _Static_assert((int)SCENE_MAX_FILTER_RADIUS == (int)PIXEL_FILTER_MAX_RADIUS, "th
 
 /* The camera and the pixel filter, for a width x height image. Returns 0,
  * or -1 with the reason in `why`. */
+/* ceil(size * fraction) in single precision, as pbrt-v4 computes pixel
+ * bounds (in double, 30 * 0.1f is 3.00000004 and would round up to 4). */
+static unsigned crop_pixel(unsigned size, float fraction)
+{
+    float product = (float)size * fraction;
+    return (unsigned)ceilf(product);
+}
+
 static int convert_camera(const Scene *scene, unsigned width, unsigned height, RenderScene *out, char *why,
                           size_t why_size)
 {
@@ -245,6 +253,23 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
     memcpy(camera.right, in->right, sizeof camera.right);
     memcpy(camera.up, in->up, sizeof camera.up);
     scene_camera_window(in, width, height, camera.window);
+    /* A crop window: the pixels it covers, rendered with the part of the
+     * screen window they see (raster y runs down, the window's y up). */
+    const float *crop = scene->crop_window;
+    unsigned x0 = crop_pixel(width, crop[0]), x1 = crop_pixel(width, crop[1]);
+    unsigned y0 = crop_pixel(height, crop[2]), y1 = crop_pixel(height, crop[3]);
+    if (x1 <= x0 || y1 <= y0) {
+        snprintf(why, why_size, "Film: the crop window leaves no pixel at %ux%u", width, height);
+        return -1;
+    }
+    float w[4];
+    memcpy(w, camera.window, sizeof w);
+    camera.window[0] = (float)(w[0] + (w[1] - (double)w[0]) * x0 / width);
+    camera.window[1] = (float)(w[0] + (w[1] - (double)w[0]) * x1 / width);
+    camera.window[2] = (float)(w[3] - (w[3] - (double)w[2]) * y1 / height);
+    camera.window[3] = (float)(w[3] - (w[3] - (double)w[2]) * y0 / height);
+    width = x1 - x0;
+    height = y1 - y0;
     for (int i = 0; i < 4; ++i)
         if (!isfinite(camera.window[i])) {
             snprintf(why, why_size, "Camera: the screen window overflows single precision");

@@ -1082,6 +1082,41 @@ static int replace_string(Parser *p, const char *file, int line, char **target, 
     return 0;
 }
 
+/* pbrt-v4's "cropwindow" (fractions x0 x1 y0 y1 of the image, clamped to
+ * [0, 1], either order) or "pixelbounds" (pixels x0 x1 y0 y1, clamped to
+ * the image; the crop window wins when both are given), as a crop window. */
+static int read_film_crop(Parser *p, Lexer *lex, const Token *d, ParamList *params, int width, int height,
+                          float crop[4])
+{
+    const Param *window = NULL, *bounds = NULL;
+    int has_window = params_get_array(params, "cropwindow", PARAM_FLOAT, &window);
+    int has_bounds = params_get_array(params, "pixelbounds", PARAM_INTEGER, &bounds);
+    if (has_window < 0 || has_bounds < 0)
+        return -1;
+    if (has_window && window->count != 4)
+        return params_error(params, window, "expected 4 values (x0 x1 y0 y1), got %zu", window->count);
+    if (has_bounds && bounds->count != 4)
+        return params_error(params, bounds, "expected 4 values (x0 x1 y0 y1), got %zu", bounds->count);
+    const int size[2] = {width, height};
+    for (int axis = 0; axis < 2; ++axis) {
+        double a = 0.0, b = 1.0;
+        if (has_window) {
+            a = fmin(window->numbers[2 * axis], window->numbers[2 * axis + 1]);
+            b = fmax(window->numbers[2 * axis], window->numbers[2 * axis + 1]);
+        } else if (has_bounds) {
+            a = bounds->numbers[2 * axis] / size[axis];
+            b = bounds->numbers[2 * axis + 1] / size[axis];
+        }
+        crop[2 * axis] = (float)fmin(fmax(a, 0.0), 1.0);
+        crop[2 * axis + 1] = (float)fmin(fmax(b, 0.0), 1.0);
+        float lo = (float)size[axis] * crop[2 * axis], hi = (float)size[axis] * crop[2 * axis + 1];
+        if (ceilf(lo) >= ceilf(hi)) /* in single precision, as pbrt-v4 */
+            return scene_error(&p->diag, lex->path, d->line, "Film: the %s leaves no pixel",
+                               has_window ? "crop window" : "pixel bounds");
+    }
+    return 0;
+}
+
 static int on_film(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -1129,11 +1164,15 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         if (white_balance == 0.0f)
             white_balance = 6500.0f; /* pbrt-v4's default for a camera sensor */
     }
+    float crop[4] = {0.0f, 1.0f, 0.0f, 1.0f};
+    if (result == 0)
+        result = read_film_crop(p, lex, d, &params, width, height, crop);
     if (result == 0)
         result = params_check_unused(&params);
     if (result == 0 && filename)
         result = replace_string(p, lex->path, d->line, &s->film_filename, filename);
     if (result == 0) {
+        memcpy(s->crop_window, crop, sizeof crop);
         s->width = (unsigned)width;
         s->height = (unsigned)height;
         s->max_component_value = max_component;
@@ -2180,6 +2219,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
 
     /* pbrt-v4's defaults for what the file does not say. */
     scene->width = 1280;
+    scene->crop_window[1] = scene->crop_window[3] = 1.0f;
     scene->height = 720;
     scene->spp = 16;
     scene->max_depth = 5;

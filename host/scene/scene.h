@@ -187,6 +187,11 @@ typedef struct {
     SceneCamera camera;
     SceneFilter filter;     /* pbrt-v4's default: gaussian, radius 1.5, sigma 0.5 */
     unsigned width, height; /* Film xresolution, yresolution */
+    /* Film "cropwindow" (or "pixelbounds" as fractions): x0 x1 y0 y1 of the
+     * image, (0, 1, 0, 1) for all of it. The renderer renders and writes
+     * pixels [ceil(W x0), ceil(W x1)) x [ceil(H y0), ceil(H y1)) of the
+     * W x H image, as pbrt-v4 does. */
+    float crop_window[4];
     char *film_filename;
     /* The film's sensor reduced to what an RGB renderer applies to each
      * sample (host/scene/README.md, "Film"): the image's linear sRGB is
