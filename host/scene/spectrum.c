@@ -309,7 +309,16 @@ void spectrum_white_balance(const Spectrum *illuminant, double m[3][3])
 void spectrum_film_from_radiance(double imaging_ratio, double white_balance_kelvin, float m[3][3])
 {
     double balance[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, srgb_from_xyz[3][3], xyz_from_srgb[3][3];
-    if (white_balance_kelvin > 0.0) {
+    if (!(white_balance_kelvin > 0.0)) {
+        /* No white balance: exactly the imaging ratio times the identity
+         * (the product of the two matrices below would leave 1e-16s off
+         * its diagonal, and the kernel would apply a matrix for nothing). */
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                m[r][c] = r == c ? (float)imaging_ratio : 0.0f;
+        return;
+    }
+    {
         Spectrum daylight;
         spectrum_daylight(white_balance_kelvin, &daylight);
         spectrum_white_balance(&daylight, balance);
