@@ -8,6 +8,7 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -135,11 +136,11 @@ static void test_film_matrix(void **state)
 {
     (void)state;
     float m[3][3];
-    spectrum_film_from_radiance(1.0, 0.0, m);
+    spectrum_film_from_radiance("cie1931", 1.0, 0.0, m);
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
             assert_true(fabs(m[r][c] - (r == c ? 1.0 : 0.0)) < 1e-6);
-    spectrum_film_from_radiance(1.5, 0.0, m); /* iso 150 */
+    spectrum_film_from_radiance("cie1931", 1.5, 0.0, m); /* iso 150 */
     assert_close(m[1][1], 1.5, 1e-6);
     /* White balance at T makes the daylight illuminant at T neutral. */
     Spectrum daylight;
@@ -147,12 +148,151 @@ static void test_film_matrix(void **state)
     spectrum_daylight(5000.0, &daylight);
     spectrum_to_rgb(&daylight, SPECTRUM_ILLUMINANT, rgb);
     assert_true(rgb[0] > 1.05 * rgb[2]); /* warm before */
-    spectrum_film_from_radiance(1.0, 5000.0, m);
+    spectrum_film_from_radiance("cie1931", 1.0, 5000.0, m);
     double out[3];
     for (int r = 0; r < 3; ++r)
         out[r] = m[r][0] * rgb[0] + m[r][1] * rgb[1] + m[r][2] * rgb[2];
     assert_close(out[0], out[1], 1e-3);
     assert_close(out[2], out[1], 1e-3);
+}
+
+static double fresnel_normal(double n, double k)
+{
+    return ((n - 1) * (n - 1) + k * k) / ((n + 1) * (n + 1) + k * k);
+}
+
+static void test_conductor_fit(void **state)
+{
+    (void)state;
+    /* spectrum_reference.py: eta averaged per channel, k solved so that the
+     * RGB Fresnel at normal incidence is the sRGB of the spectral one
+     * (gold's red, 1.022, held at 0.999). */
+    static const struct {
+        const char *metal;
+        double eta[3], k[3];
+    } expected[] = {
+        {"Au", {0.282615, 0.479352, 1.435338}, {33.597841, 2.574626, 1.677096}},
+        {"Ag", {0.128971, 0.12636, 0.148212}, {4.103398, 3.372303, 2.380934}},
+        {"Cu", {0.431136, 0.963979, 1.16249}, {6.047, 2.604748, 2.32169}},
+        {"Al", {1.214657, 0.920663, 0.629268}, {7.145312, 6.577769, 5.531188}},
+    };
+    for (size_t i = 0; i < sizeof expected / sizeof expected[0]; ++i) {
+        char eta_name[32], k_name[32];
+        Spectrum eta, k, reflectance;
+        double eta_rgb[3], k_rgb[3], target[3];
+        snprintf(eta_name, sizeof eta_name, "metal-%s-eta", expected[i].metal);
+        snprintf(k_name, sizeof k_name, "metal-%s-k", expected[i].metal);
+        assert_int_equal(spectrum_named(eta_name, &eta), 0);
+        assert_int_equal(spectrum_named(k_name, &k), 0);
+        spectrum_conductor_rgb(&eta, &k, eta_rgb, k_rgb);
+        assert_rgb(eta_rgb, expected[i].eta[0], expected[i].eta[1], expected[i].eta[2], 3e-3);
+        assert_rgb(k_rgb, expected[i].k[0], expected[i].k[1], expected[i].k[2], 3e-3);
+        for (int l = 0; l < SPECTRUM_SAMPLES; ++l)
+            reflectance.value[l] = fresnel_normal(eta.value[l], k.value[l]);
+        spectrum_to_rgb(&reflectance, SPECTRUM_ALBEDO, target);
+        for (int c = 0; c < 3; ++c)
+            assert_close(fresnel_normal(eta_rgb[c], k_rgb[c]), target[c] > 0.999 ? 0.999 : target[c], 1e-9);
+    }
+    /* Below a dielectric's reflectance at its eta: k = 0 and eta solved. */
+    double one = 1.0, two = 2.0, tenth = 0.1, lambda = 500.0, eta_rgb[3], k_rgb[3];
+    Spectrum eta, k;
+    spectrum_from_pairs(&lambda, &two, 1, 1, &eta);
+    spectrum_from_pairs(&lambda, &tenth, 1, 1, &k);
+    for (int l = 0; l < SPECTRUM_SAMPLES; ++l)
+        eta.value[l] = l < SPECTRUM_SAMPLES / 2 ? one : 3.0; /* averages above the reflectance's eta */
+    spectrum_conductor_rgb(&eta, &k, eta_rgb, k_rgb);
+    Spectrum reflectance;
+    double target[3];
+    for (int l = 0; l < SPECTRUM_SAMPLES; ++l)
+        reflectance.value[l] = fresnel_normal(eta.value[l], k.value[l]);
+    spectrum_to_rgb(&reflectance, SPECTRUM_ALBEDO, target);
+    for (int c = 0; c < 3; ++c) {
+        assert_close(fresnel_normal(eta_rgb[c], k_rgb[c]), target[c] < 0.0 ? 0.0 : target[c], 1e-9);
+        assert_true(k_rgb[c] >= 0.0);
+    }
+    assert_true(k_rgb[0] == 0.0 || k_rgb[1] == 0.0 || k_rgb[2] == 0.0);
+}
+
+static void assert_matrix(double m[3][3], const double expected[3][3], double tolerance)
+{
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            if (!(fabs(m[r][c] - expected[r][c]) <= tolerance))
+                fail_msg("[%d][%d] is %.6f, expected %.6f (within %g)", r, c, m[r][c], expected[r][c], tolerance);
+}
+
+static void test_sensor_fit(void **state)
+{
+    (void)state;
+    /* spectrum_reference.py: numpy's least-squares fit of pbrt-v4's
+     * PixelSensor (colour-science's D65, D series and swatches), and the
+     * film matrix sRGB-from-XYZ * that * the sensor's response to sRGB. */
+    static const struct {
+        const char *sensor;
+        double kelvin, xyz_from_sensor[3][3], film[3][3];
+    } expected[] = {
+        {"canon_eos_100d",
+         6500,
+         {{1.804459, 0.047127, 0.199252}, {0.686729, 0.981045, -0.339}, {0.140001, -0.406237, 1.965775}},
+         {{0.974398, 0.049662, -0.035598}, {0.027073, 1.008377, -0.043863}, {0.019415, 0.005644, 0.97152}}},
+        {"canon_eos_100d",
+         3200,
+         {{1.085182, 0.266739, 0.399516}, {0.227107, 1.296671, -0.405862}, {0.127748, -0.813326, 4.548713}},
+         {{0.633161, -0.035746, -0.255275}, {0.014814, 1.189635, -0.084501}, {0.048211, 0.216423, 2.271084}}},
+        {"canon_eos_5d_mkiv",
+         6500,
+         {{1.886376, -0.069046, 0.248102}, {0.744239, 0.967556, -0.400998}, {0.178473, -0.582058, 2.06636}},
+         {{0.976129, 0.029324, -0.013347}, {0.032232, 1.015552, -0.054704}, {0.022281, -0.013334, 0.976105}}},
+        {"nikon_d850",
+         6500,
+         {{1.618579, 0.262281, 0.164287}, {0.701496, 1.065577, -0.254194}, {0.190852, -0.437623, 1.994711}},
+         {{1.033895, 0.010857, -0.060109}, {0.019578, 1.024509, -0.048799}, {0.030203, -0.014117, 0.966703}}},
+    };
+    for (size_t i = 0; i < sizeof expected / sizeof expected[0]; ++i) {
+        double m[3][3], film[3][3];
+        float film_f[3][3];
+        assert_true(spectrum_sensor_known(expected[i].sensor));
+        assert_int_equal(spectrum_sensor_xyz_from_sensor_rgb(expected[i].sensor, expected[i].kelvin, m), 0);
+        assert_matrix(m, expected[i].xyz_from_sensor, 1e-3);
+        assert_int_equal(spectrum_film_from_radiance(expected[i].sensor, 2.0, expected[i].kelvin, film_f), 0);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c)
+                film[r][c] = film_f[r][c] / 2.0; /* the imaging ratio scales it */
+        assert_matrix(film, expected[i].film, 1e-3);
+    }
+    /* 0 K is pbrt-v4's default for a camera, 6500 K. */
+    float default_wb[3][3], at_6500[3][3];
+    assert_int_equal(spectrum_film_from_radiance("canon_eos_100d", 1.0, 0.0, default_wb), 0);
+    assert_int_equal(spectrum_film_from_radiance("canon_eos_100d", 1.0, 6500.0, at_6500), 0);
+    assert_memory_equal(default_wb, at_6500, sizeof at_6500);
+    /* White (a constant reflectance 1 under the white balance illuminant)
+     * comes out neutral grey, within the fit's own 1.3% (pbrt-v4's sensor
+     * matrix maps it to (0.984, 0.995, 0.983) for the D850). */
+    Spectrum daylight;
+    double rgb[3];
+    spectrum_daylight(6500.0, &daylight);
+    spectrum_to_rgb(&daylight, SPECTRUM_ILLUMINANT, rgb);
+    for (size_t i = 0; i < sizeof expected / sizeof expected[0]; ++i) {
+        float f[3][3];
+        double out[3];
+        spectrum_film_from_radiance(expected[i].sensor, 1.0, 6500.0, f);
+        for (int r = 0; r < 3; ++r)
+            out[r] = f[r][0] * rgb[0] + f[r][1] * rgb[1] + f[r][2] * rgb[2];
+        assert_close(out[0], out[1], 0.013);
+        assert_close(out[2], out[1], 0.013);
+        assert_close(out[1], 1.0, 0.01);
+    }
+    /* The sensor responses are pbrt-v4's named spectra too. */
+    Spectrum response;
+    assert_int_equal(spectrum_named("canon_eos_100d_g", &response), 0);
+    assert_close(response.value[520 - SPECTRUM_LAMBDA_MIN], 1.0, 1e-6);
+    double m[3][3];
+    float f[3][3];
+    assert_false(spectrum_sensor_known("canon_eos_999d"));
+    assert_false(spectrum_sensor_known("canon_eos_100d_r"));
+    assert_int_equal(spectrum_sensor_xyz_from_sensor_rgb("canon_eos_999d", 6500.0, m), -1);
+    assert_int_equal(spectrum_sensor_from_srgb("cie1931", m), -1);
+    assert_int_equal(spectrum_film_from_radiance("canon_eos_999d", 1.0, 6500.0, f), -1);
 }
 
 int main(void)
@@ -164,6 +304,8 @@ int main(void)
         cmocka_unit_test(test_albedo_step),
         cmocka_unit_test(test_spd),
         cmocka_unit_test(test_film_matrix),
+        cmocka_unit_test(test_conductor_fit),
+        cmocka_unit_test(test_sensor_fit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

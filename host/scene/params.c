@@ -410,6 +410,16 @@ static int wrong_spectrum_type(ParamList *list, const Param *p, const char *plai
                         p->name, p->name);
 }
 
+/* A spectrum outside the sRGB gamut has a negative channel (and an albedo
+ * one above 1): clipped, the renderer's radiance is never negative. */
+static void clipped_rgb(const double value[3], SpectrumKind kind, float rgb[3])
+{
+    for (int k = 0; k < 3; ++k) {
+        double v = value[k] < 0.0 ? 0.0 : value[k];
+        rgb[k] = (float)(kind == SPECTRUM_ALBEDO && v > 1.0 ? 1.0 : v);
+    }
+}
+
 int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, float rgb[3])
 {
     Param *p = find(list, name);
@@ -426,12 +436,39 @@ int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, fl
         return -1;
     double value[3];
     spectrum_to_rgb(&s, kind, value);
-    /* A spectrum outside the sRGB gamut has a negative channel (and an
-     * albedo one above 1): clipped, the renderer's radiance is never negative. */
-    for (int k = 0; k < 3; ++k) {
-        double v = value[k] < 0.0 ? 0.0 : value[k];
-        rgb[k] = (float)(kind == SPECTRUM_ALBEDO && v > 1.0 ? 1.0 : v);
+    clipped_rgb(value, kind, rgb);
+    return 1;
+}
+
+int params_get_conductor(ParamList *list, float eta[3], float k[3])
+{
+    static const char *const names[2] = {"eta", "k"};
+    float *rgb[2] = {eta, k};
+    Spectrum s[2];
+    double value[2][3];
+    spectrum_named("metal-Cu-eta", &s[0]); /* pbrt-v4's default conductor: copper */
+    spectrum_named("metal-Cu-k", &s[1]);
+    spectrum_conductor_rgb(&s[0], &s[1], value[0], value[1]);
+    int spectral[2], given = 0;
+    for (int i = 0; i < 2; ++i) {
+        clipped_rgb(value[i], SPECTRUM_UNBOUNDED, rgb[i]);
+        Param *p = find(list, names[i]);
+        given |= p != NULL;
+        spectral[i] = !p || p->type == PARAM_SPECTRUM || p->type == PARAM_BLACKBODY;
+        if (p && (spectral[i] ? read_spectrum(list, p, SPECTRUM_UNBOUNDED, &s[i])
+                              : params_get_spectrum(list, names[i], SPECTRUM_UNBOUNDED, rgb[i]) < 0))
+            return -1;
     }
+    if (!given)
+        return 0;
+    if (spectral[0] && spectral[1])
+        spectrum_conductor_rgb(&s[0], &s[1], value[0], value[1]);
+    else /* an rgb one leaves the other spectrum nothing to be fitted with */
+        for (int i = 0; i < 2; ++i)
+            spectrum_to_rgb(&s[i], SPECTRUM_UNBOUNDED, value[i]);
+    for (int i = 0; i < 2; ++i)
+        if (spectral[i])
+            clipped_rgb(value[i], SPECTRUM_UNBOUNDED, rgb[i]);
     return 1;
 }
 

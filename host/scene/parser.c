@@ -87,6 +87,7 @@ typedef struct {
     /* The film's sensor settings and the camera's shutter, combined into
      * the film matrix at the end (Film may come before or after Camera). */
     float film_iso, film_white_balance, shutter_open, shutter_close;
+    char film_sensor[64];
 } Parser;
 
 typedef int (*Handler)(Parser *p, Lexer *lex, const Token *directive);
@@ -556,18 +557,12 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         if (read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
             return -1;
     } else if (strcmp(type, "conductor") == 0) {
-        /* pbrt's default conductor is copper; these are its RGB approximations. */
-        static const float copper_eta[3] = {0.200438f, 0.924033f, 1.10221f};
-        static const float copper_k[3] = {3.91295f, 2.45285f, 2.14219f};
         m->type = SCENE_MATERIAL_CONDUCTOR;
-        memcpy(m->conductor_eta, copper_eta, sizeof copper_eta);
-        memcpy(m->conductor_k, copper_k, sizeof copper_k);
-        int has_eta = params_get_spectrum(params, "eta", SPECTRUM_UNBOUNDED, m->conductor_eta);
-        int has_k = params_get_spectrum(params, "k", SPECTRUM_UNBOUNDED, m->conductor_k);
+        int has_eta_k = params_get_conductor(params, m->conductor_eta, m->conductor_k);
         int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance);
-        if (has_eta < 0 || has_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
+        if (has_eta_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
             return -1;
-        if (has_reflectance && (has_eta || has_k))
+        if (has_reflectance && has_eta_k)
             return scene_error(&p->diag, params->file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\"",
                                params->owner);
         m->use_reflectance = has_reflectance;
@@ -1158,12 +1153,10 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
                              (double)max_component);
     if (result == 0 && !(diagonal > 0.0f))
         result = scene_error(&p->diag, lex->path, d->line, "Film: diagonal %g must be positive", (double)diagonal);
-    if (result == 0 && strcmp(sensor, "cie1931") != 0) {
-        result = scene_unsupported(&p->diag, lex->path, d->line, "the \"cie1931\" sensor is used",
-                                   "Film: sensor \"%s\" is not supported (only \"cie1931\")", sensor);
-        if (white_balance == 0.0f)
-            white_balance = 6500.0f; /* pbrt-v4's default for a camera sensor */
-    }
+    if (result == 0 && (!spectrum_sensor_known(sensor) || strlen(sensor) >= sizeof p->film_sensor))
+        result =
+            scene_error(&p->diag, lex->path, d->line,
+                        "Film: unknown sensor \"%s\" (cie1931, canon_eos_100d, canon_eos_5d_mkiv, nikon_d850)", sensor);
     float crop[4] = {0.0f, 1.0f, 0.0f, 1.0f};
     if (result == 0)
         result = read_film_crop(p, lex, d, &params, width, height, crop);
@@ -1180,6 +1173,7 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         s->film_diagonal = diagonal;
         p->film_iso = iso;
         p->film_white_balance = white_balance;
+        snprintf(p->film_sensor, sizeof p->film_sensor, "%s", sensor);
     }
     params_free(&params);
     return result;
@@ -1193,8 +1187,9 @@ static int finish_film(Parser *p)
         return scene_error(&p->diag, p->camera_file ? p->camera_file : p->main_path, p->camera_line,
                            "Camera: shutterclose %g must be after shutteropen %g (the film's exposure time)",
                            (double)p->shutter_close, (double)p->shutter_open);
-    spectrum_film_from_radiance(exposure * p->film_iso / 100.0, p->film_white_balance, p->scene->film_from_radiance);
-    return 0;
+    /* on_film accepted only known sensors */
+    return spectrum_film_from_radiance(p->film_sensor, exposure * p->film_iso / 100.0, p->film_white_balance,
+                                       p->scene->film_from_radiance);
 }
 
 static int on_sampler(Parser *p, Lexer *lex, const Token *d)
@@ -2231,6 +2226,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->save_fp16 = 1;
     scene->film_diagonal = 35.0f;
     p.film_iso = 100.0f;
+    strcpy(p.film_sensor, "cie1931");
     p.shutter_close = 1.0f;
     scene->sampler = scene_strndup("zsobol", 6);
     scene->light_sampler = scene_strndup("bvh", 3);

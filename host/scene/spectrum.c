@@ -60,13 +60,23 @@ static double y_sum(const Spectrum *s)
     return sum;
 }
 
+static const NamedSpectrumTable *find_table(const NamedSpectrumTable *tables, size_t count, const char *name)
+{
+    for (size_t i = 0; i < count; ++i)
+        if (strcmp(name, tables[i].name) == 0)
+            return &tables[i];
+    return NULL;
+}
+
 int spectrum_named(const char *name, Spectrum *out)
 {
-    for (size_t i = 0; i < spectrum_named_table_count; ++i)
-        if (strcmp(name, spectrum_named_tables[i].name) == 0) {
-            from_table(&spectrum_named_tables[i], out);
-            return 0;
-        }
+    const NamedSpectrumTable *table = find_table(spectrum_named_tables, spectrum_named_table_count, name);
+    if (!table)
+        table = find_table(spectrum_sensor_tables, spectrum_sensor_table_count, name);
+    if (table) {
+        from_table(table, out);
+        return 0;
+    }
     for (size_t i = 0; i < spectrum_cie_illuminant_count; ++i)
         if (strcmp(name, spectrum_cie_illuminants[i].name) == 0) {
             from_table(&spectrum_cie_illuminants[i], out);
@@ -232,6 +242,30 @@ void spectrum_srgb_from_xyz(double m[3][3])
     invert(xyz_from_srgb, m);
 }
 
+/* Each channel averages the values with the channel's positive
+ * sensitivity to D65 light (the rows of sRGB-from-XYZ applied to the
+ * matching functions), so a constant spectrum keeps its value. */
+static void channel_averages(const Spectrum *s, double rgb[3])
+{
+    double srgb_from_xyz[3][3];
+    Spectrum d65;
+    spectrum_srgb_from_xyz(srgb_from_xyz);
+    spectrum_named("stdillum-D65", &d65);
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0, weight_sum = 0.0;
+        for (int i = 0; i < SPECTRUM_SAMPLES; ++i) {
+            double w = (srgb_from_xyz[c][0] * spectrum_cie_x[i] + srgb_from_xyz[c][1] * spectrum_cie_y[i] +
+                        srgb_from_xyz[c][2] * spectrum_cie_z[i]) *
+                       d65.value[i];
+            if (w > 0.0) {
+                sum += w * s->value[i];
+                weight_sum += w;
+            }
+        }
+        rgb[c] = sum / weight_sum;
+    }
+}
+
 void spectrum_to_rgb(const Spectrum *s, SpectrumKind kind, double rgb[3])
 {
     double srgb_from_xyz[3][3], xyz[3] = {0, 0, 0};
@@ -253,27 +287,39 @@ void spectrum_to_rgb(const Spectrum *s, SpectrumKind kind, double rgb[3])
                 xyz[k] *= SPECTRUM_CIE_Y_INTEGRAL / y;
         }
     } else {
-        /* Each channel averages the values with the channel's positive
-         * sensitivity to D65 light (the rows of sRGB-from-XYZ applied to
-         * the matching functions), so a constant spectrum keeps its value. */
-        Spectrum d65;
-        spectrum_named("stdillum-D65", &d65);
-        for (int c = 0; c < 3; ++c) {
-            double sum = 0.0, weight_sum = 0.0;
-            for (int i = 0; i < SPECTRUM_SAMPLES; ++i) {
-                double w = (srgb_from_xyz[c][0] * spectrum_cie_x[i] + srgb_from_xyz[c][1] * spectrum_cie_y[i] +
-                            srgb_from_xyz[c][2] * spectrum_cie_z[i]) *
-                           d65.value[i];
-                if (w > 0.0) {
-                    sum += w * s->value[i];
-                    weight_sum += w;
-                }
-            }
-            rgb[c] = sum / weight_sum;
-        }
+        channel_averages(s, rgb);
         return;
     }
     multiply(srgb_from_xyz, xyz, rgb);
+}
+
+void spectrum_conductor_rgb(const Spectrum *eta, const Spectrum *k, double eta_rgb[3], double k_rgb[3])
+{
+    Spectrum reflectance;
+    for (int i = 0; i < SPECTRUM_SAMPLES; ++i) {
+        double n = eta->value[i], kk = k->value[i];
+        reflectance.value[i] = ((n - 1) * (n - 1) + kk * kk) / ((n + 1) * (n + 1) + kk * kk);
+    }
+    /* The target is what pbrt-v4 renders under white light: the sRGB of the
+     * spectral reflectance (an albedo), within [0, 0.999] (gold's red is
+     * 1.022, outside the gamut; no k reaches 1). */
+    double r[3];
+    spectrum_to_rgb(&reflectance, SPECTRUM_ALBEDO, r);
+    channel_averages(eta, eta_rgb);
+    for (int c = 0; c < 3; ++c) {
+        r[c] = r[c] < 0.0 ? 0.0 : r[c] > 0.999 ? 0.999 : r[c];
+        /* ((n-1)^2 + k^2) / ((n+1)^2 + k^2) = R, solved for k^2 ... */
+        double n = eta_rgb[c], k2 = (r[c] * (n + 1) * (n + 1) - (n - 1) * (n - 1)) / (1.0 - r[c]);
+        if (k2 >= 0.0) {
+            k_rgb[c] = sqrt(k2);
+            continue;
+        }
+        /* ... or, below a dielectric's reflectance at n, k = 0 and n solved
+         * from ((n-1) / (n+1))^2 = R on n's side of 1. */
+        double root = sqrt(r[c]);
+        k_rgb[c] = 0.0;
+        eta_rgb[c] = n >= 1.0 ? (1.0 + root) / (1.0 - root) : (1.0 - root) / (1.0 + root);
+    }
 }
 
 double spectrum_eta(const Spectrum *s)
@@ -306,31 +352,142 @@ void spectrum_white_balance(const Spectrum *illuminant, double m[3][3])
         }
 }
 
-void spectrum_film_from_radiance(double imaging_ratio, double white_balance_kelvin, float m[3][3])
+/* A camera's r, g, b responses (<sensor>_r/_g/_b). Returns 0, or -1 for none. */
+static int sensor_responses(const char *sensor, Spectrum response[3])
 {
-    double balance[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, srgb_from_xyz[3][3], xyz_from_srgb[3][3];
-    if (!(white_balance_kelvin > 0.0)) {
+    static const char *const suffix[3] = {"_r", "_g", "_b"};
+    for (int c = 0; c < 3; ++c) {
+        char name[64];
+        const NamedSpectrumTable *table = NULL;
+        if ((size_t)snprintf(name, sizeof name, "%s%s", sensor, suffix[c]) < sizeof name)
+            table = find_table(spectrum_sensor_tables, spectrum_sensor_table_count, name);
+        if (!table)
+            return -1;
+        from_table(table, &response[c]);
+    }
+    return 0;
+}
+
+int spectrum_sensor_known(const char *sensor)
+{
+    Spectrum response[3];
+    return strcmp(sensor, "cie1931") == 0 || sensor_responses(sensor, response) == 0;
+}
+
+static double inner_product(const Spectrum *a, const Spectrum *b)
+{
+    double sum = 0.0;
+    for (int i = 0; i < SPECTRUM_SAMPLES; ++i)
+        sum += a->value[i] * b->value[i];
+    return sum;
+}
+
+/* pbrt-v4's ProjectReflectance: the three responses to a reflectance under
+ * an illuminant, relative to the second response to the illuminant. */
+static void project_reflectance(const Spectrum *reflectance, const Spectrum *illuminant, const Spectrum basis[3],
+                                double out[3])
+{
+    Spectrum lit;
+    for (int i = 0; i < SPECTRUM_SAMPLES; ++i)
+        lit.value[i] = reflectance->value[i] * illuminant->value[i];
+    for (int c = 0; c < 3; ++c)
+        out[c] = inner_product(&basis[c], &lit) / inner_product(&basis[1], illuminant);
+}
+
+static void cie_matching_functions(Spectrum xyz[3])
+{
+    for (int i = 0; i < SPECTRUM_SAMPLES; ++i) {
+        xyz[0].value[i] = spectrum_cie_x[i];
+        xyz[1].value[i] = spectrum_cie_y[i];
+        xyz[2].value[i] = spectrum_cie_z[i];
+    }
+}
+
+int spectrum_sensor_xyz_from_sensor_rgb(const char *sensor, double white_balance_kelvin, double m[3][3])
+{
+    Spectrum response[3], xyz_bar[3], daylight, d65;
+    if (sensor_responses(sensor, response))
+        return -1;
+    cie_matching_functions(xyz_bar);
+    spectrum_daylight(white_balance_kelvin, &daylight);
+    spectrum_named("stdillum-D65", &d65);
+    /* pbrt-v4 scales the XYZ so that the fit keeps the sensor's luminance
+     * scale: a white under the daylight illuminant maps to Y = its luminance. */
+    double scale = inner_product(&daylight, &xyz_bar[1]) / inner_product(&daylight, &response[1]);
+    /* Normal equations of the least-squares fit XYZ_i ~ m * sensor_i. */
+    double ata[3][3] = {{0}}, atb[3][3] = {{0}}, inverse[3][3];
+    for (int s = 0; s < SPECTRUM_SWATCH_COUNT; ++s) {
+        Spectrum swatch;
+        double camera[3], xyz[3];
+        from_table(&spectrum_swatch_tables[s], &swatch);
+        project_reflectance(&swatch, &daylight, response, camera);
+        project_reflectance(&swatch, &d65, xyz_bar, xyz);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) {
+                ata[r][c] += camera[r] * camera[c];
+                atb[r][c] += camera[r] * xyz[c] * scale;
+            }
+    }
+    invert(ata, inverse);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            m[r][c] = inverse[c][0] * atb[0][r] + inverse[c][1] * atb[1][r] + inverse[c][2] * atb[2][r];
+    return 0;
+}
+
+int spectrum_sensor_from_srgb(const char *sensor, double m[3][3])
+{
+    Spectrum response[3], d65;
+    if (sensor_responses(sensor, response))
+        return -1;
+    spectrum_named("stdillum-D65", &d65);
+    for (int c = 0; c < 3; ++c) {
+        Spectrum basis, lit;
+        from_table(&spectrum_srgb_basis_tables[c], &basis);
+        for (int i = 0; i < SPECTRUM_SAMPLES; ++i)
+            lit.value[i] = d65.value[i] * basis.value[i] / SPECTRUM_CIE_Y_INTEGRAL; /* luminance-1 D65 */
+        for (int r = 0; r < 3; ++r)
+            m[r][c] = inner_product(&response[r], &lit);
+    }
+    return 0;
+}
+
+static void product(double a[3][3], double b[3][3], double out[3][3])
+{
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            out[r][c] = a[r][0] * b[0][c] + a[r][1] * b[1][c] + a[r][2] * b[2][c];
+}
+
+int spectrum_film_from_radiance(const char *sensor, double imaging_ratio, double white_balance_kelvin, float m[3][3])
+{
+    double xyz_from_sensor[3][3], sensor_from_srgb[3][3], srgb_from_xyz[3][3];
+    if (strcmp(sensor, "cie1931") != 0) {
+        double kelvin = white_balance_kelvin > 0.0 ? white_balance_kelvin : 6500.0; /* pbrt-v4's camera default */
+        if (spectrum_sensor_xyz_from_sensor_rgb(sensor, kelvin, xyz_from_sensor) ||
+            spectrum_sensor_from_srgb(sensor, sensor_from_srgb))
+            return -1;
+    } else if (white_balance_kelvin > 0.0) {
+        Spectrum daylight;
+        spectrum_daylight(white_balance_kelvin, &daylight);
+        spectrum_white_balance(&daylight, xyz_from_sensor);
+        spectrum_xyz_from_srgb(sensor_from_srgb);
+    } else {
         /* No white balance: exactly the imaging ratio times the identity
-         * (the product of the two matrices below would leave 1e-16s off
-         * its diagonal, and the kernel would apply a matrix for nothing). */
+         * (the product of sRGB-from-XYZ and XYZ-from-sRGB would leave
+         * 1e-16s off its diagonal, and the kernel would apply a matrix for
+         * nothing). */
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c)
                 m[r][c] = r == c ? (float)imaging_ratio : 0.0f;
-        return;
+        return 0;
     }
-    {
-        Spectrum daylight;
-        spectrum_daylight(white_balance_kelvin, &daylight);
-        spectrum_white_balance(&daylight, balance);
-    }
+    double xyz_from_radiance[3][3], film[3][3];
     spectrum_srgb_from_xyz(srgb_from_xyz);
-    spectrum_xyz_from_srgb(xyz_from_srgb);
+    product(xyz_from_sensor, sensor_from_srgb, xyz_from_radiance);
+    product(srgb_from_xyz, xyz_from_radiance, film);
     for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) {
-            double sum = 0.0;
-            for (int j = 0; j < 3; ++j)
-                for (int k = 0; k < 3; ++k)
-                    sum += srgb_from_xyz[r][j] * balance[j][k] * xyz_from_srgb[k][c];
-            m[r][c] = (float)(imaging_ratio * sum);
-        }
+        for (int c = 0; c < 3; ++c)
+            m[r][c] = (float)(imaging_ratio * film[r][c]);
+    return 0;
 }

@@ -12,6 +12,7 @@
 /* The sum of the CIE 1931 y matching function over the grid (pbrt-v4's CIE_Y_integral). */
 #define SPECTRUM_CIE_Y_INTEGRAL 106.856895
 #define SPECTRUM_DAYLIGHT_SAMPLES 107 /* S0, S1, S2 at 5 nm over 300-830 nm */
+#define SPECTRUM_SWATCH_COUNT 24      /* ColorChecker swatches pbrt-v4 fits a sensor to */
 
 typedef struct {
     double value[SPECTRUM_SAMPLES]; /* value[i] at 360 + i nm */
@@ -31,12 +32,23 @@ typedef struct {
     size_t count;
 } NamedSpectrumTable;
 
+/* A table entry of interleaved float pairs named `name`. */
+#define SPECTRUM_TABLE(name, pairs)                                                                                    \
+    {                                                                                                                  \
+        name, pairs, sizeof pairs / sizeof pairs[0] / 2                                                                \
+    }
+
 /* Data (spectrum_data.c, spectrum_cie_data.c). */
 extern const float spectrum_cie_x[SPECTRUM_SAMPLES], spectrum_cie_y[SPECTRUM_SAMPLES], spectrum_cie_z[SPECTRUM_SAMPLES];
 extern const float spectrum_daylight_s0[SPECTRUM_DAYLIGHT_SAMPLES], spectrum_daylight_s1[SPECTRUM_DAYLIGHT_SAMPLES],
     spectrum_daylight_s2[SPECTRUM_DAYLIGHT_SAMPLES];
 extern const NamedSpectrumTable spectrum_cie_illuminants[], spectrum_named_tables[];
 extern const size_t spectrum_cie_illuminant_count, spectrum_named_table_count;
+/* spectrum_sensor_data.c: the camera sensors' <name>_r/_g/_b responses, the
+ * ColorChecker swatches and the sRGB reflectance basis (red, green, blue). */
+extern const NamedSpectrumTable spectrum_sensor_tables[], spectrum_swatch_tables[SPECTRUM_SWATCH_COUNT],
+    spectrum_srgb_basis_tables[3];
+extern const size_t spectrum_sensor_table_count;
 
 /* Piecewise-linear interpolation of (lambda, value) pairs onto the grid.
  * Outside the first and last wavelengths the end values hold when
@@ -48,7 +60,8 @@ void spectrum_from_pairs(const double *lambda, const double *value, size_t count
 void spectrum_blackbody(double kelvin, Spectrum *out);
 
 /* pbrt-v4's built-in spectra by name (metal-Au-eta, glass-BK7,
- * stdillum-D65, ...; stdillum-* normalised to luminance 1 as pbrt does).
+ * stdillum-D65, canon_eos_100d_r, ...; stdillum-* normalised to luminance 1
+ * as pbrt does).
  * Returns 0, or -1 for an unknown name. */
 int spectrum_named(const char *name, Spectrum *out);
 
@@ -67,6 +80,13 @@ void spectrum_to_xyz(const Spectrum *s, double xyz[3]);
  * ILLUMINANT: 0 luminance gives black. */
 void spectrum_to_rgb(const Spectrum *s, SpectrumKind kind, double rgb[3]);
 
+/* A conductor's RGB eta and k from its spectra (README, "Spectra"): per
+ * channel, eta is the channel-weighted average (as SPECTRUM_UNBOUNDED) and
+ * k is chosen so that the Fresnel reflectance at normal incidence equals
+ * the sRGB (SPECTRUM_ALBEDO) of the spectral one, held within [0, 0.999]
+ * (k = 0 and eta solved instead where no k reaches it). */
+void spectrum_conductor_rgb(const Spectrum *eta, const Spectrum *k, double eta_rgb[3], double k_rgb[3]);
+
 /* A dielectric's single eta: the spectrum averaged with the y matching
  * function (pbrt-v4 disperses instead; README). */
 double spectrum_eta(const Spectrum *s);
@@ -80,9 +100,29 @@ void spectrum_xyz_from_srgb(double m[3][3]);
  * `illuminant` to the colour space's D65 white, acting on XYZ. */
 void spectrum_white_balance(const Spectrum *illuminant, double m[3][3]);
 
-/* The film matrix of scene.h for pbrt-v4's "cie1931" sensor: imaging_ratio
- * times sRGB-from-XYZ times the white balance from the daylight
- * illuminant at white_balance_kelvin (0: none) times XYZ-from-sRGB. */
-void spectrum_film_from_radiance(double imaging_ratio, double white_balance_kelvin, float m[3][3]);
+/* Whether pbrt-v4 knows the sensor: "cie1931" or a camera with
+ * <name>_r/_g/_b responses here (canon_eos_100d, canon_eos_5d_mkiv,
+ * nikon_d850). */
+int spectrum_sensor_known(const char *sensor);
+
+/* pbrt-v4's XYZFromSensorRGB for a camera sensor: the least-squares fit
+ * from the sensor RGB of the 24 swatches under the daylight illuminant at
+ * white_balance_kelvin (> 0) to their XYZ under D65 (PixelSensor).
+ * Returns 0, or -1 for a sensor without responses. */
+int spectrum_sensor_xyz_from_sensor_rgb(const char *sensor, double white_balance_kelvin, double m[3][3]);
+
+/* A camera sensor's RGB for linear sRGB radiance: the sensor's response to
+ * the spectrum that radiance stands for, D65 (luminance 1) times the sRGB
+ * reflectance basis (README, "Film"). Returns 0, or -1 as above. */
+int spectrum_sensor_from_srgb(const char *sensor, double m[3][3]);
+
+/* The film matrix of scene.h: imaging_ratio times sRGB-from-XYZ times
+ * XYZ-from-sensor-RGB times sensor-RGB-from-sRGB. For "cie1931" the
+ * sensor is XYZ and XYZ-from-sensor-RGB the white balance from the
+ * daylight illuminant at white_balance_kelvin (0: none); for a camera,
+ * spectrum_sensor_xyz_from_sensor_rgb at white_balance_kelvin (0: 6500 K,
+ * pbrt-v4's default for a camera).
+ * Returns 0, or -1 for an unknown sensor. */
+int spectrum_film_from_radiance(const char *sensor, double imaging_ratio, double white_balance_kelvin, float m[3][3]);
 
 #endif

@@ -180,18 +180,16 @@ static const float glass_F11[] = {
     753, 1.767596405, 774, 1.766171768, 796, 1.764855947, 817, 1.763636264, 838, 1.762501815, 859, 1.761443175,
     881, 1.76045216,  902, 1.759521632};
 
-#define TABLE(name, data)                                                                                              \
-    {                                                                                                                  \
-        name, data, sizeof data / sizeof data[0] / 2                                                                   \
-    }
-
 const NamedSpectrumTable spectrum_named_tables[] = {
-    TABLE("metal-Ag-eta", Ag_eta),     TABLE("metal-Ag-k", Ag_k),         TABLE("metal-Al-eta", Al_eta),
-    TABLE("metal-Al-k", Al_k),         TABLE("metal-Au-eta", Au_eta),     TABLE("metal-Au-k", Au_k),
-    TABLE("metal-Cu-eta", Cu_eta),     TABLE("metal-Cu-k", Cu_k),         TABLE("metal-MgO-eta", MgO_eta),
-    TABLE("metal-MgO-k", MgO_k),       TABLE("metal-TiO2-eta", TiO2_eta), TABLE("metal-TiO2-k", TiO2_k),
-    TABLE("glass-BK7", glass_BK7),     TABLE("glass-BAF10", glass_BAF10), TABLE("glass-FK51A", glass_FK51A),
-    TABLE("glass-LASF9", glass_LASF9), TABLE("glass-F5", glass_F5),       TABLE("glass-F10", glass_F10),
-    TABLE("glass-F11", glass_F11),
+    SPECTRUM_TABLE("metal-Ag-eta", Ag_eta),     SPECTRUM_TABLE("metal-Ag-k", Ag_k),
+    SPECTRUM_TABLE("metal-Al-eta", Al_eta),     SPECTRUM_TABLE("metal-Al-k", Al_k),
+    SPECTRUM_TABLE("metal-Au-eta", Au_eta),     SPECTRUM_TABLE("metal-Au-k", Au_k),
+    SPECTRUM_TABLE("metal-Cu-eta", Cu_eta),     SPECTRUM_TABLE("metal-Cu-k", Cu_k),
+    SPECTRUM_TABLE("metal-MgO-eta", MgO_eta),   SPECTRUM_TABLE("metal-MgO-k", MgO_k),
+    SPECTRUM_TABLE("metal-TiO2-eta", TiO2_eta), SPECTRUM_TABLE("metal-TiO2-k", TiO2_k),
+    SPECTRUM_TABLE("glass-BK7", glass_BK7),     SPECTRUM_TABLE("glass-BAF10", glass_BAF10),
+    SPECTRUM_TABLE("glass-FK51A", glass_FK51A), SPECTRUM_TABLE("glass-LASF9", glass_LASF9),
+    SPECTRUM_TABLE("glass-F5", glass_F5),       SPECTRUM_TABLE("glass-F10", glass_F10),
+    SPECTRUM_TABLE("glass-F11", glass_F11),
 };
 const size_t spectrum_named_table_count = sizeof spectrum_named_tables / sizeof spectrum_named_tables[0];

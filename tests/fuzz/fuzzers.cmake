@@ -32,6 +32,7 @@ add_library(fuzz_code STATIC
   host/scene/spectrum.c
   host/scene/spectrum_cie_data.c
   host/scene/spectrum_data.c
+  host/scene/spectrum_sensor_data.c
   host/render/scene_convert.c
   host/render/render_scene.c
   host/render/pixel_filter.c

@@ -4,7 +4,10 @@ host/scene/spectrum.c: trapezoidal integration (numpy) of colour-science's
 CIE 1931 tables, interpolated by numpy, and colour-science's own sRGB matrix
 (the standard one, white x, y = 0.3127, 0.3290). Run:
     pip install colour-science==0.4.7 && python3 tests/support/spectrum_reference.py
-and paste what it prints into the test."""
+(from the repository root, with ../shared/scenes beside it) and paste what it
+prints into the test."""
+import re
+
 import colour
 import numpy as np
 
@@ -72,9 +75,86 @@ def fresnel(n, k):
     return ((n - 1) ** 2 + k**2) / ((n + 1) ** 2 + k**2)
 
 
-for metal in ("Au",):
-    eta, k = pbrt_table(metal + ".eta"), pbrt_table(metal + ".k")
-    spectral = M @ xyz(fresnel(eta, k) * d65) / xyz(d65)[1]
-    rgb = fresnel(np.array(unbounded(eta)), np.array(unbounded(k)))
-    print("%s normal-incidence reflectance: spectral %s, from RGB eta/k %s, difference %s%%"
-          % (metal, spectral, rgb, 100 * (rgb / spectral - 1)))
+def fresnel_complex(cos_i, n, k):  # unpolarised, pbrt-v4's FrComplex
+    eta = n + 1j * k
+    cos_t = np.sqrt(eta**2 - (1 - cos_i**2))
+    r_s = (cos_i - cos_t) / (cos_i + cos_t)
+    r_p = (eta**2 * cos_i - cos_t) / (eta**2 * cos_i + cos_t)
+    return (np.abs(r_s) ** 2 + np.abs(r_p) ** 2) / 2
+
+
+def conductor_fit(eta, k):  # per channel: eta averaged, k solved for the sRGB of R(0)
+    n, r = np.array(unbounded(eta)), np.clip(albedo(fresnel(eta, k)), 0, 0.999)
+    k2 = (r * (n + 1) ** 2 - (n - 1) ** 2) / (1 - r)
+    return n, np.sqrt(np.clip(k2, 0, None))  # (none of the four metals needs k = 0)
+
+
+def albedo(r):  # what pbrt-v4 renders for a reflectance lit by D65
+    return M @ xyz(r * d65) / xyz(d65)[1]
+
+
+def c_array(path, name):  # a (lambda, value) table of a host/scene data file
+    body = re.search(r"static const float %s\[\] = \{([^}]*)\}" % name, open(path).read()).group(1)
+    pairs = np.array([float(x) for x in body.split(",")]).reshape(-1, 2)
+    return np.interp(lam, pairs[:, 0], pairs[:, 1])
+
+
+def metal_table(metal, what):  # gold from the scenes' .spd files; the others as spectrum_data.c holds them
+    if metal == "Au":
+        return pbrt_table("Au." + what)
+    return c_array("host/scene/spectrum_data.c", "%s_%s" % (metal, what))
+
+
+print("conductors: fitted RGB eta, k; per-channel error (%) of the RGB Fresnel against the sRGB of the spectral "
+      "one under D65, at 0 and 60 degrees: fitted [averaged eta and k, as before] {against the channel-weighted "
+      "average of the spectral one instead}")
+for metal in ("Au", "Ag", "Cu", "Al"):
+    eta, k = metal_table(metal, "eta"), metal_table(metal, "k")
+    n, kk = conductor_fit(eta, k)
+    n0, k0 = np.array(unbounded(eta)), np.array(unbounded(k))
+    row = []
+    for degrees in (0, 60):
+        c = np.cos(np.radians(degrees))
+        spectral, weighted = albedo(fresnel_complex(c, eta, k)), np.array(unbounded(fresnel_complex(c, eta, k)))
+        row.append("%d: %s [%s] {%s}" % (degrees, np.round(100 * (fresnel_complex(c, n, kk) / spectral - 1), 1),
+                                         np.round(100 * (fresnel_complex(c, n0, k0) / spectral - 1), 1),
+                                         np.round(100 * (fresnel_complex(c, n, kk) / weighted - 1), 1)))
+    print("metal-%s eta %s k %s; %s" % (metal, n.round(6), kk.round(6), "; ".join(row)))
+
+
+# Named camera sensors (host/scene/README.md, "Film"): pbrt-v4's PixelSensor
+# fit, with plain sums over the 1 nm grid as pbrt-v4's ProjectReflectance,
+# colour-science's D65, CIE D series and BabelColor swatches, and the sensor
+# responses read from host/scene/spectrum_sensor_data.c.
+def daylight(t):  # pbrt-v4's Spectra::D: a blackbody below 4000 K
+    if t * 1.4388 / 1.4380 < 4000:
+        return planck(lam, t * 1.4388 / 1.4380)
+    xy = colour.temperature.CCT_to_xy_CIE_D(t * 1.4388 / 1.4380)
+    sd = colour.sd_CIE_illuminant_D_series(xy, M1_M2_rounding=False)
+    return np.interp(lam, sd.wavelengths, sd.values)
+
+
+swatches = [np.interp(lam, sd.wavelengths, sd.values)
+            for sd in colour.SDS_COLOURCHECKERS["BabelColor Average"].values()]
+basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
+basis = [np.interp(lam, basis.wavelengths, basis.values[:, c]) for c in range(3)]
+for sensor, wb in (("canon_eos_100d", 6500), ("canon_eos_100d", 3200), ("canon_eos_5d_mkiv", 6500),
+                   ("nikon_d850", 6500)):
+    bar = np.array([c_array("host/scene/spectrum_sensor_data.c", sensor + s) for s in ("_r", "_g", "_b")])
+    D = daylight(wb)
+    camera = np.array([bar @ (s * D) / (bar[1] @ D) for s in swatches])
+    target = np.array([cmfs.T @ (s * d65) / (cmfs[:, 1] @ d65) for s in swatches]) * (
+        (cmfs[:, 1] @ D) / (bar[1] @ D))
+    xyz_from_sensor = np.linalg.lstsq(camera, target, rcond=None)[0].T
+    sensor_from_srgb = np.array([bar @ (d65 * b) for b in basis]).T / (cmfs[:, 1] @ d65)
+    film = M @ xyz_from_sensor @ sensor_from_srgb
+    print("%s %g K XYZFromSensorRGB %s" % (sensor, wb, xyz_from_sensor.round(6).tolist()))
+    print("  film matrix %s" % film.round(6).tolist())
+    if wb == 6500:  # each swatch under D65: pbrt-v4's spectral sensor vs the film matrix on its sRGB
+        spectral = np.array([M @ xyz_from_sensor @ bar @ (s * d65) / (cmfs[:, 1] @ d65) for s in swatches])
+        rgb = np.clip([M @ xyz(s * d65) / xyz(d65)[1] for s in swatches], 0, 1)
+        error = np.abs(rgb @ film.T - spectral)
+        print("  24 swatches under D65, |film * sRGB - spectral| per channel: max %.4f (swatch %d), mean %.4f; "
+              "relative to the swatch's largest channel: max %.1f%%, mean %.1f%%"
+              % (error.max(), error.max(1).argmax() + 1, error.mean(),
+                 100 * (error.max(1) / spectral.max(1)).max(), 100 * (error.max(1) / spectral.max(1)).mean()))
