@@ -49,8 +49,17 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
         return 0;
     ++*rays;
     Vec3 origin = offset_origin(p, n, s->wi);
-    float distance = s->distance < INFINITY ? s->distance * (1.0f - 1e-4f) : INFINITY;
-    return !occluded(scene, origin, s->wi, distance);
+    if (!(s->distance < INFINITY))
+        return !occluded(scene, origin, s->wi, INFINITY);
+    /* Aim from the offset origin at the sampled point itself: a ray
+     * parallel to p's would cross a light's plane before that point at
+     * grazing angles (by offset / cos), and the light would shadow itself. */
+    Vec3 to_light = v_sub(v_add(p, v_scale(s->wi, s->distance)), origin);
+    float distance = sqrt(v_dot(to_light, to_light));
+    if (!(distance > 0.0f))
+        return 0;
+    s->wi = v_scale(to_light, 1.0f / distance);
+    return !occluded(scene, origin, s->wi, distance * (1.0f - 1e-4f));
 }
 
 /* One path sample along a camera ray; returns its radiance. */

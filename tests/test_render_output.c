@@ -209,15 +209,20 @@ static void image_mean(const RenderOutput *out, int channel, double *mean, doubl
 }
 
 /* Next-event estimation with MIS and BSDF sampling alone estimate the same
- * image: their means agree within the combined standard error. The disk
- * and cylinder lights (tessellated on the host) check that light sampling
- * picks and samples their triangles by area. */
+ * image: their means agree within the combined standard error. The disk,
+ * cylinder and curved two-sided bilinear patch lights (tessellated on the
+ * host) check that light sampling picks and samples their triangles by
+ * area; the ceiling light, that shadow rays at grazing angles reach it. */
 static void test_nee_and_bsdf_sampling_agree(void **state)
 {
     (void)state;
     REQUIRE_TEST_DEVICE();
-    const char *scenes[] = {"cornell-diffuse.pbrt", "cornell-glass.pbrt", "../tests/data/scenes/disk-light.pbrt",
-                            "../tests/data/scenes/cylinder-light.pbrt"};
+    const char *scenes[] = {"cornell-diffuse.pbrt",
+                            "cornell-glass.pbrt",
+                            "../tests/data/scenes/disk-light.pbrt",
+                            "../tests/data/scenes/cylinder-light.pbrt",
+                            "../tests/data/scenes/bilinear-light.pbrt",
+                            "../tests/data/scenes/ceiling-light.pbrt"};
     for (int s = 0; s < (int)(sizeof scenes / sizeof scenes[0]); ++s) {
         RenderOutput outputs[2];
         for (int nee = 0; nee <= 1; ++nee) {
