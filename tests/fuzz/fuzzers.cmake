@@ -21,18 +21,7 @@ add_compile_options(${FUZZ_SANITIZE} -fsanitize=fuzzer-no-link)
 add_link_options(${FUZZ_SANITIZE})
 
 add_library(fuzz_code STATIC
-  host/scene/gzip_read.c
-  host/scene/lexer.c
-  host/scene/params.c
-  host/scene/parser.c
-  host/scene/ply.c
-  host/scene/scene.c
-  host/scene/shapes.c
-  host/scene/loop_subdiv.c
-  host/scene/spectrum.c
-  host/scene/spectrum_cie_data.c
-  host/scene/spectrum_data.c
-  host/scene/spectrum_sensor_data.c
+  ${GMON_SCENE_SOURCES}
   host/render/scene_convert.c
   host/render/render_scene.c
   host/render/pixel_filter.c
