@@ -1748,7 +1748,7 @@ static int on_light_source(Parser *p, Lexer *lex, const Token *d)
         free(light.origin);
     }
     params_free(&params);
-    return result;
+    return result ? -1 : 0; /* the getters' checks above give 1 */
 }
 
 static int shape_sphere(Parser *p, Lexer *lex, const Token *d, ParamList *params)
