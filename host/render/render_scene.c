@@ -413,26 +413,22 @@ static double scene_radius(const Bvh *bvh)
     return 0.5 * sqrt(d2);
 }
 
-/* pbrt-v4's power of a goniometric light (4 pi times its mean intensity)
- * or a projection light (the screen's area times the mean of its texels
- * times cos^3, the solid angle of a texel over its screen area). */
-static double image_light_power(const RenderScene *scene, const Light *light)
+double render_scene_imaged_light_power(const Light *light, const float *rgb, uint32_t w, uint32_t h)
 {
-    const float *t = scene->texels + light->image_offset;
-    uint32_t w = light->image_width, h = light->image_height;
     double sum = 0.0;
     for (uint32_t y = 0; y < h; ++y)
         for (uint32_t x = 0; x < w; ++x) {
-            const float *texel = t + 3 * ((size_t)y * w + x);
-            float rgb[3] = {texel[0] * light->radiance[0], texel[1] * light->radiance[1],
-                            texel[2] * light->radiance[2]};
+            const float *texel = rgb + 3 * ((size_t)y * w + x);
+            float scaled[3] = {texel[0] * light->radiance[0], texel[1] * light->radiance[1],
+                               texel[2] * light->radiance[2]};
             double weight = 1.0;
             if (light->type == LIGHT_PROJECTION) {
                 double sx = (2.0 * (x + 0.5) / w - 1.0) * light->screen_half[0];
                 double sy = (2.0 * (y + 0.5) / h - 1.0) * light->screen_half[1];
-                weight = pow(1.0 / sqrt(sx * sx + sy * sy + 1.0), 3.0);
+                double cos_theta = 1.0 / sqrt(sx * sx + sy * sy + 1.0);
+                weight = cos_theta * cos_theta * cos_theta;
             }
-            sum += luminance(rgb) * weight;
+            sum += luminance(scaled) * weight;
         }
     double mean = sum / ((double)w * h);
     const double pi = 3.14159265358979323846;
@@ -470,7 +466,8 @@ static double light_power(const RenderScene *scene, const Light *light, double r
     }
     case LIGHT_GONIOMETRIC:
     case LIGHT_PROJECTION:
-        return image_light_power(scene, light);
+        return render_scene_imaged_light_power(light, scene->texels + light->image_offset, light->image_width,
+                                               light->image_height);
     }
     return 0.0;
 }

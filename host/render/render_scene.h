@@ -77,6 +77,12 @@ int render_scene_add_infinite_light(RenderScene *scene, const float radiance[3])
 int render_scene_add_image_light(RenderScene *scene, const Light *light, uint32_t width, uint32_t height,
                                  const float *rgb, char *error, size_t error_size);
 
+/* pbrt-v4's power of a goniometric light (4 pi times its mean intensity)
+ * or a projection light (the screen's area times the mean over its texels
+ * of luminance times cos^3, a texel's solid angle over its screen area),
+ * for the light's radiance scale and its w x h RGB image. */
+double render_scene_imaged_light_power(const Light *light, const float *rgb, uint32_t w, uint32_t h);
+
 /* A camera, in world space. The image spans window = [x_min, x_max,
  * y_min, y_max] along right and up (pbrt's screen window): tangents for
  * the perspective camera (the image plane at distance 1), world lengths

@@ -131,29 +131,6 @@ static double image_illuminance(const RgbImage *image)
     return sum * 2.0 * 3.14159265358979323846 / ((double)image->width * image->height);
 }
 
-/* The power of a goniometric or projection light of unit scale: 4 pi
- * times the image's mean, or the screen's area times the mean of
- * luminance times cos^3 (pbrt-v4's "power" rules). */
-static double imaged_light_power(const RgbImage *image, const Light *light)
-{
-    double sum = 0.0;
-    for (uint32_t y = 0; y < image->height; ++y)
-        for (uint32_t x = 0; x < image->width; ++x) {
-            const float *rgb = image->rgb + 3 * ((size_t)y * image->width + x);
-            if (light->type == LIGHT_GONIOMETRIC) {
-                sum += rgb[0]; /* grey by now */
-                continue;
-            }
-            double sx = (2.0 * (x + 0.5) / image->width - 1.0) * light->screen_half[0];
-            double sy = (2.0 * (y + 0.5) / image->height - 1.0) * light->screen_half[1];
-            double cos_theta = 1.0 / sqrt(sx * sx + sy * sy + 1.0);
-            sum += (0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]) * cos_theta * cos_theta * cos_theta;
-        }
-    double mean = sum / ((double)image->width * image->height);
-    return light->type == LIGHT_GONIOMETRIC ? 4.0 * 3.14159265358979323846 * mean
-                                            : 4.0 * light->screen_half[0] * light->screen_half[1] * mean;
-}
-
 /* A light with an image (infinite, goniometric, projection): its file
  * read, checked and uploaded. Returns 0 or -1. */
 static int add_image_light(RenderScene *out, const SceneLight *in, Light *light, char *error, size_t error_size)
@@ -189,7 +166,11 @@ static int add_image_light(RenderScene *out, const SceneLight *in, Light *light,
     }
     double target = in->type == SCENE_LIGHT_IMAGE ? in->illuminance : in->power;
     if (!result && target > 0.0) {
-        double unit = in->type == SCENE_LIGHT_IMAGE ? image_illuminance(&image) : imaged_light_power(&image, light);
+        Light unit_light = *light; /* the power or illuminance of unit scale */
+        unit_light.radiance[0] = unit_light.radiance[1] = unit_light.radiance[2] = 1.0f;
+        double unit = in->type == SCENE_LIGHT_IMAGE
+                          ? image_illuminance(&image)
+                          : render_scene_imaged_light_power(&unit_light, image.rgb, image.width, image.height);
         for (int c = 0; c < 3; ++c)
             light->radiance[c] = unit > 0.0 ? (float)(light->radiance[c] * target / unit) : 0.0f;
     }
