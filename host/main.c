@@ -18,6 +18,7 @@
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,8 +62,9 @@ static void print_summary(const Options *o, const RenderOutput *out)
                (double)d->peak_bytes / (1024.0 * 1024.0), d->build_seconds, d->failed ? ", FAILED: " : "",
                d->failed ? d->error : "");
     }
-    printf("  kernel features 0x%x, %d rebalance%s, start-up %.2f s (program builds and first-launch compiles)\n",
-           (unsigned)out->features, out->rebalances, out->rebalances == 1 ? "" : "s", out->build_seconds);
+    printf("  kernel features 0x%" PRIx64
+           ", %d rebalance%s, start-up %.2f s (program builds and first-launch compiles)\n",
+           out->features, out->rebalances, out->rebalances == 1 ? "" : "s", out->build_seconds);
 }
 
 /* The progress callback: once a pass has samples, a signal keeps them. */

@@ -7,29 +7,30 @@
 #define KERNELS_FEATURES_H
 
 /* (The estimator kernel is specialized by its passes instead: passes.h.) */
-#define FEATURE_TRIANGLES 0x10u
-#define FEATURE_SPHERES 0x20u
-#define FEATURE_DIFFUSE 0x40u
-#define FEATURE_DIELECTRIC 0x80u
-#define FEATURE_CONDUCTOR 0x100u
-#define FEATURE_COATED_DIFFUSE 0x200u
-#define FEATURE_ROUGH 0x400u        /* GGX lobes (any material with roughness) */
-#define FEATURE_AREA_LIGHTS 0x800u  /* emitting shapes */
-#define FEATURE_ENVIRONMENT 0x1000u /* a constant infinite light */
-#define FEATURE_NEE 0x2000u         /* next-event estimation with MIS; else BSDF sampling only */
-#define FEATURE_POINT_LIGHTS 0x4000u
-#define FEATURE_SPOT_LIGHTS 0x8000u
-#define FEATURE_DISTANT_LIGHTS 0x10000u
-#define FEATURE_ENVIRONMENT_MAP 0x20000u  /* an infinite light with an image */
-#define FEATURE_FILM_MATRIX 0x40000u      /* a film that is not the identity on radiance */
-#define FEATURE_FILM_CLAMP 0x80000u       /* Film "maxcomponentvalue" */
-#define FEATURE_SHADING_NORMALS 0x100000u /* meshes with vertex normals */
-#define FEATURE_GONIOMETRIC_LIGHTS 0x200000u
-#define FEATURE_PROJECTION_LIGHTS 0x400000u
-#define FEATURE_THIN_LENS 0x800000u     /* a camera with lensradius > 0 */
-#define FEATURE_ORTHOGRAPHIC 0x1000000u /* Camera "orthographic" */
-#define FEATURE_PIXEL_FILTER 0x2000000u /* a filter other than the box of radius 0.5 */
-#define FEATURES_ALL 0x3fffff0u
+#define FEATURE_TRIANGLES 0x10ul
+#define FEATURE_SPHERES 0x20ul
+#define FEATURE_DIFFUSE 0x40ul
+#define FEATURE_DIELECTRIC 0x80ul
+#define FEATURE_CONDUCTOR 0x100ul
+#define FEATURE_COATED_DIFFUSE 0x200ul
+#define FEATURE_ROUGH 0x400ul        /* GGX lobes (any material with roughness) */
+#define FEATURE_AREA_LIGHTS 0x800ul  /* emitting shapes */
+#define FEATURE_ENVIRONMENT 0x1000ul /* a constant infinite light */
+#define FEATURE_NEE 0x2000ul         /* next-event estimation with MIS; else BSDF sampling only */
+#define FEATURE_POINT_LIGHTS 0x4000ul
+#define FEATURE_SPOT_LIGHTS 0x8000ul
+#define FEATURE_DISTANT_LIGHTS 0x10000ul
+#define FEATURE_ENVIRONMENT_MAP 0x20000ul  /* an infinite light with an image */
+#define FEATURE_FILM_MATRIX 0x40000ul      /* a film that is not the identity on radiance */
+#define FEATURE_FILM_CLAMP 0x80000ul       /* Film "maxcomponentvalue" */
+#define FEATURE_SHADING_NORMALS 0x100000ul /* meshes with vertex normals */
+#define FEATURE_GONIOMETRIC_LIGHTS 0x200000ul
+#define FEATURE_PROJECTION_LIGHTS 0x400000ul
+#define FEATURE_THIN_LENS 0x800000ul     /* a camera with lensradius > 0 */
+#define FEATURE_ORTHOGRAPHIC 0x1000000ul /* Camera "orthographic" */
+#define FEATURE_PIXEL_FILTER 0x2000000ul /* a filter other than the box of radius 0.5 */
+/* 64 bits ("ul": OpenCL C's long and LP64 hosts' long are both 64 bits). */
+#define FEATURES_ALL 0x3fffff0ul
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL

@@ -23,6 +23,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -326,7 +327,7 @@ static void test_sample_range_not_starting_at_set_zero(void **state)
 static void test_feature_mask_follows_scene_and_outputs(void **state)
 {
     (void)state;
-    uint32_t glass_features = render_scene_features(&glass);
+    uint64_t glass_features = render_scene_features(&glass);
     assert_true(glass_features & FEATURE_DIELECTRIC);
     assert_true(glass_features & FEATURE_TRIANGLES);
     assert_true(glass_features & FEATURE_AREA_LIGHTS);
@@ -338,7 +339,7 @@ static void test_feature_mask_follows_scene_and_outputs(void **state)
     assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &diffuse, &summary, error, sizeof error), 0);
     diffuse.constants.integrator.flags = 0; /* BSDF sampling only */
     assert_int_equal(render_scene_finalize(&diffuse, error, sizeof error), 0);
-    uint32_t features = render_scene_features(&diffuse);
+    uint64_t features = render_scene_features(&diffuse);
     assert_int_equal(features & (FEATURE_DIELECTRIC | FEATURE_CONDUCTOR | FEATURE_COATED_DIFFUSE | FEATURE_ROUGH |
                                  FEATURE_SPHERES | FEATURE_ENVIRONMENT | FEATURE_NEE),
                      0);
@@ -365,7 +366,8 @@ static void test_specialized_kernels_match_all_features(void **state)
         sum_a += ((const float *)all.pass[PASS_MEAN])[i];
         sum_b += ((const float *)specialized.pass[PASS_MEAN])[i];
     }
-    printf("  features 0x%x vs all: image means %.6f and %.6f\n", specialized.features, sum_b / values, sum_a / values);
+    printf("  features 0x%" PRIx64 " vs all: image means %.6f and %.6f\n", specialized.features, sum_b / values,
+           sum_a / values);
     assert_true(fabs(sum_a - sum_b) <= 1e-4 * fabs(sum_a));
     render_output_free(&specialized);
     render_output_free(&all);

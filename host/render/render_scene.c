@@ -542,9 +542,9 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     return 0;
 }
 
-uint32_t render_scene_features(const RenderScene *scene)
+uint64_t render_scene_features(const RenderScene *scene)
 {
-    uint32_t features = 0;
+    uint64_t features = 0;
     for (int i = 0; i < scene->primitive_count; ++i)
         features |= (scene->primitives[i].kind & PRIM_KIND_MASK) == PRIM_SPHERE ? FEATURE_SPHERES : FEATURE_TRIANGLES;
     static const uint32_t by_type[] = {

@@ -118,6 +118,6 @@ int render_scene_set_filter(RenderScene *scene, const PixelFilter *filter, char 
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
 
 /* The feature mask (kernels/feature_mask.h) of what rendering the scene uses. */
-uint32_t render_scene_features(const RenderScene *scene);
+uint64_t render_scene_features(const RenderScene *scene);
 
 #endif

@@ -9,6 +9,7 @@
 #include "estimators.h"
 #include "feature_mask.h"
 
+#include <inttypes.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -503,7 +504,7 @@ static int is_power_of_two(uint64_t x)
 }
 
 /* Writes the specialized path tracer source with its defines. */
-static int dump_kernel(const RenderSettings *s, const char *options, int sets, uint32_t features, char *error,
+static int dump_kernel(const RenderSettings *s, const char *options, int sets, uint64_t features, char *error,
                        size_t error_size)
 {
     const char *include_dir = NULL;
@@ -517,7 +518,7 @@ static int dump_kernel(const RenderSettings *s, const char *options, int sets, u
     int ok = f != NULL;
     if (f) {
         fprintf(f, "/* gmonrt: the path tracer as built for this render.\n * Build options: %s */\n", options);
-        fprintf(f, "#define EST_SETS %d\n#define GMON_FEATURES 0x%x\n", sets, (unsigned)features);
+        fprintf(f, "#define EST_SETS %d\n#define GMON_FEATURES 0x%" PRIx64 "ul\n", sets, features);
         fputs(source, f);
         ok = fclose(f) == 0 && ok;
     }
@@ -644,8 +645,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
      * integer accumulation does, which no float option touches), so it may
      * reassociate: about 10% faster on PoCL. */
     char options[160];
-    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%x -cl-unsafe-math-optimizations", r.sets,
-             (unsigned)out->features);
+    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -cl-unsafe-math-optimizations",
+             r.sets, out->features);
     if (s->dump_kernel && dump_kernel(s, options, r.sets, out->features, error, error_size))
         goto done;
     for (int i = 0; i < device_count; ++i) {

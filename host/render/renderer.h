@@ -82,7 +82,7 @@ struct RenderOutput {
     uint64_t rays;
     double seconds;       /* rendering passes and estimates */
     double build_seconds; /* program builds, all devices */
-    uint32_t features;    /* the kernels' feature mask (feature_mask.h) */
+    uint64_t features;    /* the kernels' feature mask (feature_mask.h) */
     int rebalances;       /* times pixels moved between devices */
     int device_count;
     RenderDeviceReport devices[RENDER_MAX_DEVICES];
