@@ -1,7 +1,9 @@
-/* BSDFs in the local shading frame (normal = +z): Lambertian diffuse,
- * dielectric and conductor (smooth, or rough with the GGX / Trowbridge-Reitz
- * microfacet distribution and visible-normal sampling), and an approximate
- * coated diffuse. Shared by host (tests) and kernels.
+/* BSDFs in the local shading frame (normal = +z), one section a material
+ * type: Lambertian diffuse, diffuse transmission, dielectric and thin
+ * dielectric, conductor (smooth, or rough with the GGX / Trowbridge-Reitz
+ * microfacet distribution and visible-normal sampling), and pbrt-v4's
+ * layered BSDFs (coated diffuse, coated conductor). Shared by host (tests)
+ * and kernels.
  *
  * Values follow pbrt-v4's definitions (radiance transport: transmission is
  * divided by the squared relative index). Reflection-only materials are
@@ -10,6 +12,8 @@
 #define KERNELS_BSDF_H
 
 #include "feature_mask.h"
+#include "mis.h"
+#include "rng.h"
 #include "scene_types.h"
 #include "vec3.h"
 
@@ -169,9 +173,14 @@ KERNEL_FN Vec3 ggx_sample_visible(Vec3 w, float ax, float ay, float u1, float u2
 
 /* Without rough materials in the build, every surface is smooth and the
  * GGX code drops out. */
+KERNEL_FN int alpha_is_smooth(float alpha_x, float alpha_y)
+{
+    return !GMON_HAS_ROUGH || (alpha_x < SMOOTH_ALPHA && alpha_y < SMOOTH_ALPHA);
+}
+
 KERNEL_FN int material_is_smooth(const GLOBAL Material *m)
 {
-    return !GMON_HAS_ROUGH || (m->alpha_x < SMOOTH_ALPHA && m->alpha_y < SMOOTH_ALPHA);
+    return alpha_is_smooth(m->alpha_x, m->alpha_y);
 }
 
 KERNEL_FN Vec3 cosine_hemisphere(float u1, float u2)
@@ -181,23 +190,17 @@ KERNEL_FN Vec3 cosine_hemisphere(float u1, float u2)
     return vec3(r * cos_float(phi), r * sin_float(phi), sqrt_float(z2 > 0.0f ? z2 : 0.0f));
 }
 
-KERNEL_FN Vec3 conductor_fresnel(const GLOBAL Material *m, float cos_i)
+KERNEL_FN void bsdf_sample_clear(BsdfSample *s)
 {
-    return vec3(fresnel_conductor(cos_i, m->conductor_eta[0], m->conductor_k[0]),
-                fresnel_conductor(cos_i, m->conductor_eta[1], m->conductor_k[1]),
-                fresnel_conductor(cos_i, m->conductor_eta[2], m->conductor_k[2]));
+    s->is_delta = 0;
+    s->is_transmission = 0;
+    s->etap = 1.0f;
+    s->pdf = 0.0f;
+    s->f = vec3(0.0f, 0.0f, 0.0f);
 }
 
-/* Probability that the coated diffuse samples its specular coat. */
-KERNEL_FN float coat_pick(const GLOBAL Material *m, float cos_o)
-{
-    float f = fresnel_dielectric(cos_o, m->eta);
-    return f < 0.1f ? 0.1f : (f > 0.9f ? 0.9f : f);
-}
-
-/* ---- evaluation: f(wo, wi) and the pdf of sampling wi; delta lobes give 0 ---- */
-
-/* Microfacet reflection with Fresnel term `fresnel`, both in +z. */
+/* Microfacet reflection, both directions in +z: D G / (4 cos_o cos_i), the
+ * half vector and the density of sampling wi by visible normals. */
 KERNEL_FN float microfacet_reflection(Vec3 wo, Vec3 wi, float ax, float ay, Vec3 *wm_out, float *pdf)
 {
     Vec3 wm = v_add(wo, wi);
@@ -211,40 +214,609 @@ KERNEL_FN float microfacet_reflection(Vec3 wo, Vec3 wi, float ax, float ay, Vec3
     return ggx_d(wm, ax, ay) * ggx_g(wo, wi, ax, ay) / (4.0f * wo.z * wi.z);
 }
 
+/* ---- dielectric interface: the dielectric material and the coating of the
+ * layered ones ----
+ *
+ * Relative index eta (the -z side over the +z side), roughness (ax, ay).
+ * `radiance`: radiance transport (transmission divided by etap^2), else
+ * importance (the layered BSDFs trace the light's side with it). `lobes`
+ * restricts sampling and its density to reflection or transmission, as
+ * pbrt-v4's BxDFReflTransFlags; f is the full BSDF either way. */
+#define LOBE_REFLECTION 1
+#define LOBE_TRANSMISSION 2
+#define LOBE_ALL 3
+
+/* The chance of picking reflection (r) or transmission (1 - r) among `lobes`. */
+KERNEL_FN float lobe_chance(float r, int lobe, int lobes)
+{
+    if (lobes == LOBE_ALL)
+        return lobe == LOBE_REFLECTION ? r : 1.0f - r;
+    return (lobes & lobe) ? 1.0f : 0.0f;
+}
+
+KERNEL_FN float dielectric_f(float eta, float ax, float ay, Vec3 wo, Vec3 wi, int radiance, int lobes, float *pdf)
+{
+    *pdf = 0.0f;
+    if (alpha_is_smooth(ax, ay) || wo.z == 0.0f || wi.z == 0.0f)
+        return 0.0f;
+    int reflect = wo.z * wi.z > 0.0f;
+    float etap = reflect ? 1.0f : (wo.z > 0.0f ? eta : 1.0f / eta);
+    Vec3 wm = v_add(v_scale(wi, etap), wo);
+    if (v_dot(wm, wm) == 0.0f)
+        return 0.0f;
+    wm = v_normalize(wm);
+    if (wm.z < 0.0f)
+        wm = v_scale(wm, -1.0f);
+    float wi_m = v_dot(wi, wm), wo_m = v_dot(wo, wm);
+    if (wi_m * wi.z < 0.0f || wo_m * wo.z < 0.0f)
+        return 0.0f; /* back-facing microfacet */
+    float r = fresnel_dielectric(wo_m, eta), t = 1.0f - r;
+    float d = ggx_d(wm, ax, ay), g = ggx_g(wo, wi, ax, ay);
+    if (reflect) {
+        *pdf = ggx_visible_d(wo, wm, ax, ay) / (4.0f * (wo_m < 0.0f ? -wo_m : wo_m)) *
+               lobe_chance(r, LOBE_REFLECTION, lobes);
+        float value = d * g * r / (4.0f * wi.z * wo.z);
+        return value < 0.0f ? -value : value;
+    }
+    float denominator = wi_m + wo_m / etap;
+    denominator *= denominator;
+    *pdf = ggx_visible_d(wo, wm, ax, ay) * (wi_m < 0.0f ? -wi_m : wi_m) / denominator *
+           lobe_chance(r, LOBE_TRANSMISSION, lobes);
+    float value = t * d * g * (wi_m * wo_m / (wi.z * wo.z * denominator));
+    value = value < 0.0f ? -value : value;
+    return radiance ? value / (etap * etap) : value;
+}
+
+KERNEL_FN int dielectric_sample(float eta, float ax, float ay, Vec3 wo, float u_lobe, float u1, float u2, int radiance,
+                                int lobes, BsdfSample *s)
+{
+    bsdf_sample_clear(s);
+    if (wo.z == 0.0f)
+        return 0;
+    if (alpha_is_smooth(ax, ay)) {
+        float r = fresnel_dielectric(wo.z, eta), t = 1.0f - r;
+        float pick_reflection = lobe_chance(r, LOBE_REFLECTION, lobes);
+        if (lobes != LOBE_ALL && r == (lobes == LOBE_REFLECTION ? 0.0f : 1.0f))
+            return 0; /* the only lobe allowed carries nothing */
+        s->is_delta = 1;
+        if (u_lobe < pick_reflection) {
+            s->wi = vec3(-wo.x, -wo.y, wo.z);
+            s->pdf = pick_reflection;
+            float value = r / (wo.z < 0.0f ? -wo.z : wo.z);
+            s->f = vec3(value, value, value);
+            return 1;
+        }
+        if (!refract_about(wo, vec3(0.0f, 0.0f, 1.0f), eta, &s->etap, &s->wi))
+            return 0;
+        s->is_transmission = 1;
+        s->pdf = lobe_chance(r, LOBE_TRANSMISSION, lobes);
+        float value = t / (s->wi.z < 0.0f ? -s->wi.z : s->wi.z);
+        if (radiance)
+            value /= s->etap * s->etap;
+        s->f = vec3(value, value, value);
+        return 1;
+    }
+    Vec3 wm = ggx_sample_visible(wo, ax, ay, u1, u2);
+    float r = fresnel_dielectric(v_dot(wo, wm), eta);
+    if (u_lobe < lobe_chance(r, LOBE_REFLECTION, lobes)) {
+        s->wi = reflect_about(wo, wm);
+        if (s->wi.z * wo.z <= 0.0f)
+            return 0;
+    } else {
+        float etap = 1.0f;
+        if (!refract_about(wo, wm, eta, &etap, &s->wi) || s->wi.z * wo.z >= 0.0f || s->wi.z == 0.0f)
+            return 0;
+        s->is_transmission = 1;
+        s->etap = etap;
+    }
+    float value = dielectric_f(eta, ax, ay, wo, s->wi, radiance, lobes, &s->pdf);
+    s->f = vec3(value, value, value);
+    return s->pdf > 0.0f;
+}
+
+/* ---- thin dielectric: a slab whose internal reflections are summed
+ * (pbrt-v4's ThinDielectricBxDF); only delta lobes, transmission straight
+ * through ---- */
+
+KERNEL_FN int thin_dielectric_sample(float eta, Vec3 wo, float u_lobe, BsdfSample *s)
+{
+    bsdf_sample_clear(s);
+    float cos_o = wo.z < 0.0f ? -wo.z : wo.z;
+    if (cos_o == 0.0f)
+        return 0;
+    float r = fresnel_dielectric(cos_o, eta), t = 1.0f - r;
+    if (r < 1.0f) {
+        r += t * t * r / (1.0f - r * r);
+        t = 1.0f - r;
+    }
+    s->is_delta = 1;
+    if (u_lobe < r) {
+        s->wi = vec3(-wo.x, -wo.y, wo.z);
+        s->pdf = r;
+        s->f = vec3(r / cos_o, r / cos_o, r / cos_o);
+    } else {
+        s->wi = v_scale(wo, -1.0f);
+        s->is_transmission = 1;
+        s->pdf = t;
+        s->f = vec3(t / cos_o, t / cos_o, t / cos_o);
+    }
+    return s->pdf > 0.0f;
+}
+
+/* ---- conductor (wo, wi in +z; callers mirror them there) ---- */
+
+KERNEL_FN Vec3 conductor_fresnel(const GLOBAL Material *m, float cos_i)
+{
+    return vec3(fresnel_conductor(cos_i, m->conductor_eta[0], m->conductor_k[0]),
+                fresnel_conductor(cos_i, m->conductor_eta[1], m->conductor_k[1]),
+                fresnel_conductor(cos_i, m->conductor_eta[2], m->conductor_k[2]));
+}
+
+KERNEL_FN Vec3 conductor_f(const GLOBAL Material *m, float ax, float ay, Vec3 wo, Vec3 wi, float *pdf)
+{
+    *pdf = 0.0f;
+    if (alpha_is_smooth(ax, ay))
+        return vec3(0.0f, 0.0f, 0.0f);
+    Vec3 wm = vec3(0.0f, 0.0f, 1.0f);
+    float value = microfacet_reflection(wo, wi, ax, ay, &wm, pdf);
+    return v_scale(conductor_fresnel(m, v_dot(wo, wm)), value);
+}
+
+KERNEL_FN int conductor_sample(const GLOBAL Material *m, float ax, float ay, Vec3 wo, float u1, float u2, BsdfSample *s)
+{
+    if (alpha_is_smooth(ax, ay)) {
+        s->is_delta = 1;
+        s->wi = vec3(-wo.x, -wo.y, wo.z);
+        s->pdf = 1.0f;
+        s->f = v_scale(conductor_fresnel(m, wo.z), 1.0f / wo.z);
+        return 1;
+    }
+    Vec3 wm = ggx_sample_visible(wo, ax, ay, u1, u2);
+    s->wi = reflect_about(wo, wm);
+    if (s->wi.z <= 0.0f)
+        return 0;
+    s->f = conductor_f(m, ax, ay, wo, s->wi, &s->pdf);
+    return s->pdf > 0.0f;
+}
+
+/* ---- diffuse transmission: Lambertian reflection (reflectance) and
+ * Lambertian transmission to the other side (transmittance), each lobe
+ * sampled by its largest component ---- */
+
+KERNEL_FN float diffuse_transmission_pick(const GLOBAL Material *m)
+{
+    float r = v_max_component(vec3_from_global(m->reflectance));
+    float t = v_max_component(vec3_from_global(m->transmittance));
+    return r + t > 0.0f ? r / (r + t) : 0.0f;
+}
+
+KERNEL_FN Vec3 diffuse_transmission_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+{
+    float pick = diffuse_transmission_pick(m);
+    float cos_i = wi.z < 0.0f ? -wi.z : wi.z;
+    if (wo.z * wi.z > 0.0f) {
+        *pdf = pick * cos_i / PI_F;
+        return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+    }
+    *pdf = wo.z * wi.z < 0.0f ? (1.0f - pick) * cos_i / PI_F : 0.0f;
+    return *pdf > 0.0f ? v_scale(vec3_from_global(m->transmittance), 1.0f / PI_F) : vec3(0.0f, 0.0f, 0.0f);
+}
+
+KERNEL_FN int diffuse_transmission_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2,
+                                          BsdfSample *s)
+{
+    Vec3 wi = cosine_hemisphere(u1, u2);
+    if (wi.z <= 0.0f ||
+        v_max_component(vec3_from_global(m->reflectance)) + v_max_component(vec3_from_global(m->transmittance)) <= 0.0f)
+        return 0;
+    int transmit = u_lobe >= diffuse_transmission_pick(m);
+    float side = (wo.z < 0.0f) != transmit ? -1.0f : 1.0f;
+    s->wi = vec3(wi.x, wi.y, wi.z * side);
+    s->is_transmission = transmit;
+    s->f = diffuse_transmission_f(m, wo, s->wi, &s->pdf);
+    return s->pdf > 0.0f;
+}
+
+/* ---- the layered BSDFs (pbrt-v4's LayeredBxDF, two-sided): a dielectric
+ * coating on top (z = thickness) over an opaque base (z = 0): Lambertian
+ * for coated diffuse, a conductor for coated conductor. f, the sampling
+ * and the density are estimated by random walks between the layers,
+ * seeded by a hash of the directions (as pbrt-v4) so that the same
+ * arguments give the same value. Light cannot pass the opaque base, so
+ * only reflection has a value. ---- */
+
+typedef struct {
+    uint64_t key;
+    uint32_t next;
+} WalkRng;
+
+KERNEL_FN WalkRng walk_rng(Vec3 a, Vec3 b)
+{
+    WalkRng r;
+    r.key = rng_mix(((uint64_t)float_bits(a.x) << 32) ^ float_bits(a.y) ^ 0x5851F42D4C957F2Dul);
+    r.key = rng_mix(r.key ^ (((uint64_t)float_bits(a.z) << 32) | float_bits(b.x)));
+    r.key = rng_mix(r.key ^ (((uint64_t)float_bits(b.y) << 32) | float_bits(b.z)));
+    r.next = 0;
+    return r;
+}
+
+KERNEL_FN float walk_uniform(WalkRng *r)
+{
+    return rng_uniform(r->key, r->next++);
+}
+
+/* Henyey-Greenstein phase function of asymmetry g, for wo and wi both
+ * pointing away from the scattering point (so g > 0 scatters forward,
+ * toward -wo). */
+KERNEL_FN float hg_phase(Vec3 wo, Vec3 wi, float g)
+{
+    float d = 1.0f + g * g + 2.0f * g * v_dot(wo, wi);
+    return d > 0.0f ? (1.0f - g * g) / (4.0f * PI_F * d * sqrt_float(d)) : 0.0f;
+}
+
+KERNEL_FN Vec3 hg_sample(Vec3 wo, float g, float u1, float u2)
+{
+    float cos_forward; /* to the forward direction -wo */
+    if (g > -1e-3f && g < 1e-3f) {
+        cos_forward = 1.0f - 2.0f * u1;
+    } else {
+        float q = (1.0f - g * g) / (1.0f + g - 2.0f * g * u1);
+        cos_forward = (1.0f + g * g - q * q) / (2.0f * g);
+    }
+    cos_forward = cos_forward < -1.0f ? -1.0f : (cos_forward > 1.0f ? 1.0f : cos_forward);
+    float sin2 = 1.0f - cos_forward * cos_forward;
+    float sin_forward = sqrt_float(sin2 > 0.0f ? sin2 : 0.0f), phi = 2.0f * PI_F * u2;
+    Vec3 forward = v_scale(wo, -1.0f), s, t;
+    v_basis(forward, &s, &t);
+    return v_add(v_add(v_scale(s, sin_forward * cos_float(phi)), v_scale(t, sin_forward * sin_float(phi))),
+                 v_scale(forward, cos_forward));
+}
+
+/* Transmittance of the medium (unit extinction) over a height dz along w. */
+KERNEL_FN float layer_transmittance(float dz, Vec3 w)
+{
+    float x = dz / w.z;
+    x = x < 0.0f ? -x : x;
+    return dz == 0.0f ? 1.0f : exp_float(-x);
+}
+
+KERNEL_FN int layered_has_medium(const GLOBAL Material *m)
+{
+    return m->albedo[0] > 0.0f || m->albedo[1] > 0.0f || m->albedo[2] > 0.0f;
+}
+
+KERNEL_FN int layered_base_is_smooth(const GLOBAL Material *m)
+{
+    return GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR &&
+           alpha_is_smooth(m->base_alpha_x, m->base_alpha_y);
+}
+
+/* Every lobe a delta: a smooth coating over a smooth conductor, no medium. */
+KERNEL_FN int layered_is_delta(const GLOBAL Material *m)
+{
+    return material_is_smooth(m) && layered_base_is_smooth(m) && !layered_has_medium(m);
+}
+
+/* The base, seen from inside the layer (wo.z > 0 there). */
+KERNEL_FN Vec3 layered_base_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+{
+    *pdf = 0.0f;
+    if (wo.z <= 0.0f || wi.z <= 0.0f)
+        return vec3(0.0f, 0.0f, 0.0f);
+    if (GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR)
+        return conductor_f(m, m->base_alpha_x, m->base_alpha_y, wo, wi, pdf);
+    *pdf = wi.z / PI_F;
+    return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+}
+
+KERNEL_FN int layered_base_sample(const GLOBAL Material *m, Vec3 wo, float u1, float u2, BsdfSample *s)
+{
+    bsdf_sample_clear(s);
+    if (wo.z <= 0.0f)
+        return 0;
+    if (GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR)
+        return conductor_sample(m, m->base_alpha_x, m->base_alpha_y, wo, u1, u2, s);
+    s->wi = cosine_hemisphere(u1, u2);
+    s->f = layered_base_f(m, wo, s->wi, &s->pdf);
+    return s->pdf > 0.0f;
+}
+
+KERNEL_FN int coating_sample(const GLOBAL Material *m, Vec3 wo, WalkRng *rng, int radiance, int lobes, BsdfSample *s)
+{
+    float u_lobe = walk_uniform(rng), u1 = walk_uniform(rng), u2 = walk_uniform(rng);
+    return dielectric_sample(m->eta, m->alpha_x, m->alpha_y, wo, u_lobe, u1, u2, radiance, lobes, s) && s->pdf > 0.0f &&
+           s->wi.z != 0.0f && v_max_component(s->f) > 0.0f;
+}
+
+KERNEL_FN float coating_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, int lobes, float *pdf)
+{
+    return dielectric_f(m->eta, m->alpha_x, m->alpha_y, wo, wi, 1, lobes, pdf);
+}
+
+/* The density of the light's way in along wi reaching the layer as `down`:
+ * the strategy that competes with a walk's sampled exit toward wi. Both
+ * are densities of the direction inside the layer, so their MIS weights
+ * sum to 1. (pbrt-v4 weighs by the density of wi given the inside
+ * direction instead, a density over other directions: its estimate then
+ * differs from its own sampling, by 8% of the walks' part for a rough
+ * coating of alpha 0.3.) */
+KERNEL_FN float coating_in_pdf(const GLOBAL Material *m, Vec3 wi, Vec3 down)
+{
+    float pdf = 0.0f;
+    coating_f(m, wi, down, LOBE_TRANSMISSION, &pdf);
+    return pdf;
+}
+
+KERNEL_FN Vec3 layered_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
+{
+    Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
+    if (wo.z < 0.0f) {
+        wo = v_scale(wo, -1.0f);
+        wi = v_scale(wi, -1.0f);
+    }
+    if (wi.z <= 0.0f || wo.z == 0.0f)
+        return zero;
+    float thickness = m->thickness, pdf = 0.0f;
+    int coating_smooth = material_is_smooth(m), base_smooth = layered_base_is_smooth(m);
+    int medium = layered_has_medium(m);
+    Vec3 albedo = vec3_from_global(m->albedo);
+    float samples = (float)m->sample_count;
+    float reflected = coating_f(m, wo, wi, LOBE_ALL, &pdf) * samples;
+    Vec3 f = vec3(reflected, reflected, reflected);
+    WalkRng rng = walk_rng(wo, wi);
+    for (uint32_t sample = 0; sample < m->sample_count; ++sample) {
+        BsdfSample wos, wis;
+        /* Into the layer along wo, and a virtual light's way in along wi. */
+        if (!coating_sample(m, wo, &rng, 1, LOBE_TRANSMISSION, &wos) ||
+            !coating_sample(m, wi, &rng, 0, LOBE_TRANSMISSION, &wis))
+            continue;
+        Vec3 beta = v_scale(wos.f, (wos.wi.z < 0.0f ? -wos.wi.z : wos.wi.z) / wos.pdf);
+        Vec3 light_in = v_scale(wis.f, 1.0f / wis.pdf); /* the light's path weight through the coating */
+        Vec3 w = wos.wi, to_light = v_scale(wis.wi, -1.0f);
+        float z = thickness;
+        for (uint32_t depth = 0; depth < m->max_depth; ++depth) {
+            float largest = v_max_component(beta);
+            if (depth > 3 && largest < 0.25f) {
+                float q = 1.0f - largest;
+                if (walk_uniform(&rng) < q)
+                    break;
+                beta = v_scale(beta, 1.0f / (1.0f - q));
+            }
+            if (!medium) {
+                z = z == thickness ? 0.0f : thickness;
+                beta = v_scale(beta, layer_transmittance(thickness, w));
+            } else {
+                float u = walk_uniform(&rng);
+                float dz = -log_float(1.0f - u) * (w.z < 0.0f ? -w.z : w.z);
+                float zp = w.z > 0.0f ? z + dz : z - dz;
+                if (zp == z)
+                    continue;
+                if (zp > 0.0f && zp < thickness) {
+                    /* Scattering in the medium: toward the light through the
+                     * coating along wis, then on along the phase function. */
+                    Vec3 back = v_scale(w, -1.0f);
+                    float phase = hg_phase(back, to_light, m->g);
+                    float weight = coating_smooth ? 1.0f : power_heuristic(wis.pdf, phase);
+                    f = v_add(f, v_scale(v_mul(v_mul(beta, albedo), light_in),
+                                         phase * weight * layer_transmittance(zp - thickness, wis.wi)));
+                    Vec3 next = hg_sample(back, m->g, walk_uniform(&rng), walk_uniform(&rng));
+                    float next_pdf = hg_phase(back, next, m->g);
+                    if (!(next_pdf > 0.0f) || next.z == 0.0f)
+                        continue;
+                    beta = v_mul(beta, albedo); /* phase / pdf = 1 */
+                    w = next;
+                    z = zp;
+                    if (w.z > 0.0f && !coating_smooth) {
+                        float unused = 0.0f;
+                        Vec3 down = v_scale(w, -1.0f);
+                        float exit_f = coating_f(m, down, wi, LOBE_TRANSMISSION, &unused);
+                        if (exit_f > 0.0f)
+                            f = v_add(f, v_scale(beta, layer_transmittance(zp - thickness, w) * exit_f *
+                                                           power_heuristic(next_pdf, coating_in_pdf(m, wi, down))));
+                    }
+                    continue;
+                }
+                z = zp < 0.0f ? 0.0f : thickness;
+            }
+            BsdfSample bs;
+            if (z == thickness) {
+                /* Back down off the coating's underside. */
+                if (!coating_sample(m, v_scale(w, -1.0f), &rng, 1, LOBE_REFLECTION, &bs))
+                    break;
+            } else {
+                Vec3 up = v_scale(w, -1.0f);
+                if (!base_smooth) {
+                    /* The light through the coating, off the base. */
+                    float base_pdf = 0.0f;
+                    Vec3 base = layered_base_f(m, up, to_light, &base_pdf);
+                    float weight = coating_smooth ? 1.0f : power_heuristic(wis.pdf, base_pdf);
+                    f = v_add(f, v_scale(v_mul(v_mul(beta, base), light_in),
+                                         to_light.z * weight * layer_transmittance(thickness, wis.wi)));
+                }
+                float u1 = walk_uniform(&rng), u2 = walk_uniform(&rng);
+                if (!layered_base_sample(m, up, u1, u2, &bs) || bs.wi.z == 0.0f || v_max_component(bs.f) <= 0.0f)
+                    break;
+                if (!coating_smooth) {
+                    /* Out through the coating toward wi from the base's sample. */
+                    float unused = 0.0f;
+                    Vec3 down = v_scale(bs.wi, -1.0f);
+                    float exit_f = coating_f(m, down, wi, LOBE_TRANSMISSION, &unused);
+                    if (exit_f > 0.0f) {
+                        float weight = base_smooth ? 1.0f : power_heuristic(bs.pdf, coating_in_pdf(m, wi, down));
+                        Vec3 after = v_mul(beta, v_scale(bs.f, bs.wi.z / bs.pdf));
+                        f = v_add(f, v_scale(after, layer_transmittance(thickness, bs.wi) * exit_f * weight));
+                    }
+                }
+            }
+            beta = v_mul(beta, v_scale(bs.f, (bs.wi.z < 0.0f ? -bs.wi.z : bs.wi.z) / bs.pdf));
+            w = bs.wi;
+        }
+    }
+    return v_scale(f, 1.0f / samples);
+}
+
+/* The density of layered_sample's directions, estimated (pbrt-v4's
+ * stochastic estimate, mixed with a uniform density so that it is never 0). */
+KERNEL_FN float layered_pdf(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
+{
+    if (wo.z < 0.0f) {
+        wo = v_scale(wo, -1.0f);
+        wi = v_scale(wi, -1.0f);
+    }
+    float sum = 0.0f, pdf = 0.0f;
+    int coating_smooth = material_is_smooth(m), base_smooth = layered_base_is_smooth(m);
+    if (wi.z > 0.0f) {
+        coating_f(m, wo, wi, LOBE_REFLECTION, &pdf);
+        sum = (float)m->sample_count * pdf;
+        WalkRng rng = walk_rng(wi, wo);
+        for (uint32_t sample = 0; sample < m->sample_count; ++sample) {
+            BsdfSample wos, wis, rs;
+            if (!coating_sample(m, wo, &rng, 1, LOBE_TRANSMISSION, &wos) ||
+                !coating_sample(m, wi, &rng, 0, LOBE_TRANSMISSION, &wis))
+                continue;
+            Vec3 down_out = v_scale(wos.wi, -1.0f), down_in = v_scale(wis.wi, -1.0f);
+            if (coating_smooth) {
+                layered_base_f(m, down_out, down_in, &pdf);
+                sum += pdf;
+                continue;
+            }
+            float u1 = walk_uniform(&rng), u2 = walk_uniform(&rng);
+            if (!layered_base_sample(m, down_out, u1, u2, &rs) || v_max_component(rs.f) <= 0.0f)
+                continue;
+            float t_pdf = 0.0f;
+            coating_f(m, v_scale(rs.wi, -1.0f), wi, LOBE_ALL, &t_pdf);
+            if (base_smooth) {
+                sum += t_pdf;
+                continue;
+            }
+            float r_pdf = 0.0f;
+            layered_base_f(m, down_out, down_in, &r_pdf);
+            sum += power_heuristic(wis.pdf, r_pdf) * r_pdf + power_heuristic(rs.pdf, t_pdf) * t_pdf;
+        }
+    }
+    return 0.1f / (4.0f * PI_F) + 0.9f * sum / (float)m->sample_count;
+}
+
+/* Keeps a sample's f / pdf (its path weight) but makes pdf the estimated
+ * density (layered_pdf), so that MIS weighs it as next-event estimation
+ * does: their weights then sum to 1 (pbrt-v4 does so for the walks' own
+ * "proportional" samples; here also for a rough coating's reflection,
+ * whose lobe density alone would not match). */
+KERNEL_FN void layered_rescale(const GLOBAL Material *m, Vec3 wo, BsdfSample *s)
+{
+    float estimate = layered_pdf(m, wo, s->wi);
+    s->f = v_scale(v_scale(s->f, 1.0f / s->pdf), estimate);
+    s->pdf = estimate;
+}
+
+/* A direction by a random walk: reflection off the coating, or into the
+ * layer and on until the walk leaves through the coating. */
+KERNEL_FN int layered_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+{
+    float flip = wo.z < 0.0f ? -1.0f : 1.0f;
+    Vec3 up_wo = v_scale(wo, flip);
+    if (!dielectric_sample(m->eta, m->alpha_x, m->alpha_y, up_wo, u_lobe, u1, u2, 1, LOBE_ALL, s) ||
+        v_max_component(s->f) <= 0.0f || s->wi.z == 0.0f)
+        return 0;
+    if (!s->is_transmission) {
+        if (!s->is_delta)
+            layered_rescale(m, up_wo, s);
+        s->wi = v_scale(s->wi, flip);
+        return 1;
+    }
+    float thickness = m->thickness;
+    int medium = layered_has_medium(m);
+    Vec3 albedo = vec3_from_global(m->albedo);
+    WalkRng rng = walk_rng(up_wo, vec3(u_lobe, u1, u2));
+    Vec3 f = v_scale(s->f, -s->wi.z), w = s->wi;
+    float pdf = s->pdf, z = thickness;
+    for (uint32_t depth = 0; depth < m->max_depth; ++depth) {
+        float ratio = v_max_component(f) / pdf;
+        if (depth > 3 && ratio < 0.25f) {
+            float q = 1.0f - ratio;
+            if (walk_uniform(&rng) < q)
+                return 0;
+            pdf *= 1.0f - q;
+        }
+        if (w.z == 0.0f)
+            return 0;
+        if (medium) {
+            float u = walk_uniform(&rng);
+            float dz = -log_float(1.0f - u) * (w.z < 0.0f ? -w.z : w.z);
+            float zp = w.z > 0.0f ? z + dz : z - dz;
+            if (zp == z)
+                return 0;
+            if (zp > 0.0f && zp < thickness) {
+                Vec3 back = v_scale(w, -1.0f);
+                Vec3 next = hg_sample(back, m->g, walk_uniform(&rng), walk_uniform(&rng));
+                float phase = hg_phase(back, next, m->g);
+                if (!(phase > 0.0f) || next.z == 0.0f)
+                    return 0;
+                f = v_scale(v_mul(f, albedo), phase);
+                pdf *= phase;
+                w = next;
+                z = zp;
+                continue;
+            }
+            z = zp < 0.0f ? 0.0f : thickness;
+        } else {
+            z = z == thickness ? 0.0f : thickness;
+            f = v_scale(f, layer_transmittance(thickness, w));
+        }
+        BsdfSample bs;
+        Vec3 back = v_scale(w, -1.0f);
+        int ok = z == 0.0f ? layered_base_sample(m, back, walk_uniform(&rng), walk_uniform(&rng), &bs)
+                           : coating_sample(m, back, &rng, 1, LOBE_ALL, &bs);
+        if (!ok || v_max_component(bs.f) <= 0.0f || !(bs.pdf > 0.0f) || bs.wi.z == 0.0f)
+            return 0;
+        f = v_mul(f, bs.f);
+        pdf *= bs.pdf;
+        w = bs.wi;
+        if (bs.is_transmission) {
+            /* Out through the coating. */
+            s->wi = w;
+            s->f = f;
+            s->pdf = pdf;
+            s->is_transmission = 0;
+            s->etap = 1.0f;
+            s->is_delta = layered_is_delta(m);
+            if (!s->is_delta)
+                layered_rescale(m, up_wo, s);
+            s->wi = v_scale(s->wi, flip);
+            return 1;
+        }
+        f = v_scale(f, w.z < 0.0f ? -w.z : w.z);
+    }
+    return 0;
+}
+
+/* ---- the material dispatch: evaluation f(wo, wi) and the pdf of sampling
+ * wi (delta lobes give 0), and sampling ---- */
+
 KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
 #if GMON_HAS_DIELECTRIC
     if (m->type == MAT_DIELECTRIC) {
-        if (material_is_smooth(m) || wo.z == 0.0f || wi.z == 0.0f)
-            return zero;
-        float ax = m->alpha_x, ay = m->alpha_y;
-        int reflect = wo.z * wi.z > 0.0f;
-        float etap = reflect ? 1.0f : (wo.z > 0.0f ? m->eta : 1.0f / m->eta);
-        Vec3 wm = v_add(v_scale(wi, etap), wo);
-        if (v_dot(wm, wm) == 0.0f)
-            return zero;
-        wm = v_normalize(wm);
-        if (wm.z < 0.0f)
-            wm = v_scale(wm, -1.0f);
-        float wi_m = v_dot(wi, wm), wo_m = v_dot(wo, wm);
-        if (wi_m * wi.z < 0.0f || wo_m * wo.z < 0.0f)
-            return zero; /* back-facing microfacet */
-        float r = fresnel_dielectric(wo_m, m->eta), t = 1.0f - r;
-        float d = ggx_d(wm, ax, ay), g = ggx_g(wo, wi, ax, ay);
-        if (reflect) {
-            *pdf = ggx_visible_d(wo, wm, ax, ay) / (4.0f * (wo_m < 0.0f ? -wo_m : wo_m)) * r;
-            float value = d * g * r / (4.0f * wi.z * wo.z);
-            value = value < 0.0f ? -value : value;
-            return vec3(value, value, value);
-        }
-        float denominator = wi_m + wo_m / etap;
-        denominator *= denominator;
-        *pdf = ggx_visible_d(wo, wm, ax, ay) * (wi_m < 0.0f ? -wi_m : wi_m) / denominator * t;
-        float value = t * d * g * (wi_m * wo_m / (wi.z * wo.z * denominator));
-        value = (value < 0.0f ? -value : value) / (etap * etap);
+        float value = dielectric_f(m->eta, m->alpha_x, m->alpha_y, wo, wi, 1, LOBE_ALL, pdf);
         return vec3(value, value, value);
+    }
+#endif
+#if GMON_HAS_THIN_DIELECTRIC
+    if (m->type == MAT_THIN_DIELECTRIC)
+        return zero;
+#endif
+#if GMON_HAS_DIFFUSE_TRANSMISSION
+    if (m->type == MAT_DIFFUSE_TRANSMISSION)
+        return diffuse_transmission_f(m, wo, wi, pdf);
+#endif
+#if GMON_HAS_LAYERED
+    if (m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR) {
+        if (wo.z * wi.z <= 0.0f)
+            return zero;
+        *pdf = layered_pdf(m, wo, wi);
+        return layered_f(m, wo, wi);
     }
 #endif
     /* Reflection-only materials: two-sided. */
@@ -255,88 +827,37 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
     if (wi.z <= 0.0f || wo.z <= 0.0f)
         return zero;
 #if GMON_HAS_CONDUCTOR
-    if (m->type == MAT_CONDUCTOR) {
-        if (material_is_smooth(m))
-            return zero;
-        Vec3 wm = vec3(0.0f, 0.0f, 1.0f);
-        float value = microfacet_reflection(wo, wi, m->alpha_x, m->alpha_y, &wm, pdf);
-        return v_scale(conductor_fresnel(m, v_dot(wo, wm)), value);
-    }
-#endif
-    Vec3 diffuse = v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
-#if GMON_HAS_COATED_DIFFUSE
-    if (m->type == MAT_COATED_DIFFUSE) {
-        /* Approximation: Fresnel-weighted coat over a Lambertian base. */
-        float pick = coat_pick(m, wo.z);
-        float transmitted = (1.0f - fresnel_dielectric(wo.z, m->eta)) * (1.0f - fresnel_dielectric(wi.z, m->eta));
-        Vec3 f = v_scale(diffuse, transmitted);
-        *pdf = (1.0f - pick) * wi.z / PI_F;
-        if (!material_is_smooth(m)) {
-            Vec3 wm = vec3(0.0f, 0.0f, 1.0f);
-            float coat_pdf = 0.0f;
-            float coat = microfacet_reflection(wo, wi, m->alpha_x, m->alpha_y, &wm, &coat_pdf);
-            coat *= fresnel_dielectric(v_dot(wo, wm), m->eta);
-            f = v_add(f, vec3(coat, coat, coat));
-            *pdf += pick * coat_pdf;
-        }
-        return f;
-    }
+    if (m->type == MAT_CONDUCTOR)
+        return conductor_f(m, m->alpha_x, m->alpha_y, wo, wi, pdf);
 #endif
 #if GMON_HAS_DIFFUSE
     *pdf = wi.z / PI_F;
-    return diffuse;
+    return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
 #else
     return zero;
 #endif
 }
 
-/* ---- sampling ---- */
-
 KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
 {
-    s->is_delta = 0;
-    s->is_transmission = 0;
-    s->etap = 1.0f;
-    s->pdf = 0.0f;
-    s->f = vec3(0.0f, 0.0f, 0.0f);
+    bsdf_sample_clear(s);
     if (wo.z == 0.0f)
         return 0;
 #if GMON_HAS_DIELECTRIC
-    if (m->type == MAT_DIELECTRIC) {
-        if (material_is_smooth(m)) {
-            float r = fresnel_dielectric(wo.z, m->eta), t = 1.0f - r;
-            s->is_delta = 1;
-            if (u_lobe < r) {
-                s->wi = vec3(-wo.x, -wo.y, wo.z);
-                s->pdf = r;
-                float value = r / (wo.z < 0.0f ? -wo.z : wo.z);
-                s->f = vec3(value, value, value);
-                return 1;
-            }
-            if (!refract_about(wo, vec3(0.0f, 0.0f, 1.0f), m->eta, &s->etap, &s->wi))
-                return 0;
-            s->is_transmission = 1;
-            s->pdf = t;
-            float value = t / (s->wi.z < 0.0f ? -s->wi.z : s->wi.z) / (s->etap * s->etap);
-            s->f = vec3(value, value, value);
-            return 1;
-        }
-        Vec3 wm = ggx_sample_visible(wo, m->alpha_x, m->alpha_y, u1, u2);
-        float r = fresnel_dielectric(v_dot(wo, wm), m->eta);
-        if (u_lobe < r) {
-            s->wi = reflect_about(wo, wm);
-            if (s->wi.z * wo.z <= 0.0f)
-                return 0;
-        } else {
-            float etap = 1.0f;
-            if (!refract_about(wo, wm, m->eta, &etap, &s->wi) || s->wi.z * wo.z >= 0.0f || s->wi.z == 0.0f)
-                return 0;
-            s->is_transmission = 1;
-            s->etap = etap;
-        }
-        s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
-        return s->pdf > 0.0f;
-    }
+    if (m->type == MAT_DIELECTRIC)
+        return dielectric_sample(m->eta, m->alpha_x, m->alpha_y, wo, u_lobe, u1, u2, 1, LOBE_ALL, s);
+#endif
+#if GMON_HAS_THIN_DIELECTRIC
+    if (m->type == MAT_THIN_DIELECTRIC)
+        return thin_dielectric_sample(m->eta, wo, u_lobe, s);
+#endif
+#if GMON_HAS_DIFFUSE_TRANSMISSION
+    if (m->type == MAT_DIFFUSE_TRANSMISSION)
+        return diffuse_transmission_sample(m, wo, u_lobe, u1, u2, s);
+#endif
+#if GMON_HAS_LAYERED
+    if (m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR)
+        return layered_sample(m, wo, u_lobe, u1, u2, s);
 #endif
 
     /* Reflection-only: sample above the surface, mirror back if needed. */
@@ -344,46 +865,10 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
     Vec3 up_wo = vec3(wo.x, wo.y, wo.z * flip);
 #if GMON_HAS_CONDUCTOR
     if (m->type == MAT_CONDUCTOR) {
-        if (material_is_smooth(m)) {
-            s->is_delta = 1;
-            s->wi = vec3(-wo.x, -wo.y, wo.z);
-            s->pdf = 1.0f;
-            s->f = v_scale(conductor_fresnel(m, up_wo.z), 1.0f / up_wo.z);
-            return 1;
-        }
-        Vec3 wm = ggx_sample_visible(up_wo, m->alpha_x, m->alpha_y, u1, u2);
-        Vec3 wi = reflect_about(up_wo, wm);
-        if (wi.z <= 0.0f)
+        if (!conductor_sample(m, m->alpha_x, m->alpha_y, up_wo, u1, u2, s))
             return 0;
-        s->wi = vec3(wi.x, wi.y, wi.z * flip);
-        s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
-        return s->pdf > 0.0f;
-    }
-#endif
-#if GMON_HAS_COATED_DIFFUSE
-    if (m->type == MAT_COATED_DIFFUSE) {
-        float pick = coat_pick(m, up_wo.z);
-        if (u_lobe < pick) {
-            if (material_is_smooth(m)) {
-                float r = fresnel_dielectric(up_wo.z, m->eta);
-                s->is_delta = 1;
-                s->wi = vec3(-wo.x, -wo.y, wo.z);
-                s->pdf = pick;
-                float value = r / up_wo.z;
-                s->f = vec3(value, value, value);
-                return 1;
-            }
-            Vec3 wm = ggx_sample_visible(up_wo, m->alpha_x, m->alpha_y, u1, u2);
-            Vec3 wi = reflect_about(up_wo, wm);
-            if (wi.z <= 0.0f)
-                return 0;
-            s->wi = vec3(wi.x, wi.y, wi.z * flip);
-        } else {
-            Vec3 wi = cosine_hemisphere(u1, u2);
-            s->wi = vec3(wi.x, wi.y, wi.z * flip);
-        }
-        s->f = bsdf_eval(m, wo, s->wi, &s->pdf);
-        return s->pdf > 0.0f;
+        s->wi.z *= flip;
+        return 1;
     }
 #endif
 #if GMON_HAS_DIFFUSE
@@ -396,6 +881,39 @@ KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float
 #else
     return 0;
 #endif
+}
+
+/* ---- mix: one of two materials, materials[1] with chance `amount`, picked
+ * by a hash of the hit point and direction (as pbrt-v4's MixMaterial), so
+ * that the same hit always sees the same material: next-event estimation
+ * and the BSDF sample of a hit use the same BSDF, and the mixture is
+ * unbiased. amount 0 or 1 takes its material without the hash. ---- */
+
+KERNEL_FN const GLOBAL Material *mix_resolve(const GLOBAL Material *materials, const GLOBAL Material *m, Vec3 p,
+                                             Vec3 wo)
+{
+    for (int level = 0; level < MIX_MAX_NESTING && m->type == MAT_MIX; ++level) {
+        float amount = m->mix_amount;
+        int pick = amount >= 1.0f;
+        if (amount > 0.0f && amount < 1.0f) {
+            WalkRng hash = walk_rng(p, wo);
+            pick = rng_uniform(hash.key, (uint32_t)(m - materials)) < amount;
+        }
+        m = materials + m->mix_materials[pick];
+    }
+    return m;
+}
+
+/* Whether every lobe of m is a delta (no next-event estimation there). */
+KERNEL_FN int bsdf_is_delta(const GLOBAL Material *m)
+{
+    if (m->type == MAT_DIFFUSE || (GMON_HAS_DIFFUSE_TRANSMISSION && m->type == MAT_DIFFUSE_TRANSMISSION))
+        return 0;
+    if (GMON_HAS_THIN_DIELECTRIC && m->type == MAT_THIN_DIELECTRIC)
+        return 1;
+    if (GMON_HAS_LAYERED && (m->type == MAT_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR))
+        return layered_is_delta(m);
+    return m->alpha_x < SMOOTH_ALPHA && m->alpha_y < SMOOTH_ALPHA;
 }
 
 #endif

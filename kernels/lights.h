@@ -9,6 +9,7 @@
 
 #include "distribution.h"
 #include "equal_area.h"
+#include "mis.h"
 #include "scene.h"
 
 typedef struct {
@@ -190,12 +191,6 @@ KERNEL_FN int light_sample(const Scene *scene, __global const Light *light, Vec3
 KERNEL_FN float area_light_pdf(__global const Light *light, float t, float cos_light)
 {
     return cos_light > 0.0f ? light->pick_probability * t * t / (cos_light * light->area) : 0.0f;
-}
-
-KERNEL_FN float power_heuristic(float a, float b)
-{
-    float a2 = a * a, b2 = b * b;
-    return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
 }
 
 /* What a ray leaving along w (unit) receives from the infinite lights,

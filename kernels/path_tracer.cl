@@ -102,6 +102,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
             break;
 
         __global const Material *material = scene->materials + prim->material;
+        if (GMON_HAS_MIX)
+            material = mix_resolve(scene->materials, material, p, wo_world);
         /* The BSDF's frame is the shading normal's; rays leave by the
          * geometric one. */
         Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
@@ -110,9 +112,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
         uint dim = 2 + depth * DIMS_PER_BOUNCE;
 
         /* Next-event estimation (not for perfectly smooth surfaces). */
-        int delta_only = material->type != MAT_DIFFUSE && material->type != MAT_COATED_DIFFUSE &&
-                         material->alpha_x < SMOOTH_ALPHA && material->alpha_y < SMOOTH_ALPHA;
-        if (use_nee && !delta_only) {
+        if (use_nee && !bsdf_is_delta(material)) {
             LightSample ls;
             if (sample_light(scene, p, n, rng_uniform(key, dim), rng_uniform(key, dim + 1), rng_uniform(key, dim + 2),
                              &ls, rays)) {

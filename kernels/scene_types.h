@@ -69,20 +69,43 @@ KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
 #define MAT_DIELECTRIC 1u
 #define MAT_CONDUCTOR 2u
 #define MAT_COATED_DIFFUSE 3u
+#define MAT_DIFFUSE_TRANSMISSION 4u
+#define MAT_MIX 5u /* resolved to one of its two materials at each hit */
+#define MAT_COATED_CONDUCTOR 6u
+#define MAT_THIN_DIELECTRIC 7u
+#define MAT_INTERFACE 8u  /* no surface: the host drops its shapes, the kernel never sees it */
+#define MIX_MAX_NESTING 8 /* mixes of mixes, at most */
 
-/* 64 bytes. alpha_x/alpha_y are GGX roughnesses; below SMOOTH_ALPHA the
- * surface is treated as perfectly smooth (a delta lobe). */
+/* 128 bytes. alpha_x/alpha_y are GGX roughnesses (of the coating for the
+ * coated materials); below SMOOTH_ALPHA the surface is treated as
+ * perfectly smooth (a delta lobe). The coated materials are pbrt-v4's
+ * layered BSDFs: a dielectric coating (eta, alpha) over a diffuse base
+ * (reflectance) or a conductor (conductor_eta/k, base_alpha), `thickness`
+ * apart, with a medium of `albedo` and Henyey-Greenstein asymmetry g
+ * between them, evaluated by random walks of up to max_depth scatterings,
+ * sample_count of them per evaluation. */
 typedef struct {
     uint32_t type;
     float alpha_x;
     float alpha_y;
     float eta;            /* dielectric / coating index of refraction */
-    float reflectance[3]; /* diffuse albedo, coated base albedo */
+    float reflectance[3]; /* diffuse albedo, coated base albedo, diffuse transmission's reflection */
     float pad0;
     float conductor_eta[3];
     float pad1;
     float conductor_k[3];
     float pad2;
+    float transmittance[3]; /* diffuse transmission */
+    float mix_amount;       /* mix: the chance of mix_materials[1] */
+    float albedo[3];        /* layered: the medium between coating and base */
+    float thickness;
+    float g;
+    uint32_t max_depth;
+    uint32_t sample_count;
+    int32_t mix_materials[2]; /* mix: indices into the material array */
+    float base_alpha_x;       /* coated conductor: the conductor's roughness */
+    float base_alpha_y;
+    float pad3;
 } Material;
 
 #define SMOOTH_ALPHA 1e-3f
@@ -252,7 +275,7 @@ typedef struct {
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
 _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
-_Static_assert(sizeof(Material) == 64, "Material must match the kernel's layout");
+_Static_assert(sizeof(Material) == 128, "Material must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(SceneConstants) == 224, "SceneConstants must match the kernel's layout");
 #endif

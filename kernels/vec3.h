@@ -9,8 +9,12 @@
 #define sqrt_float(x) sqrtf(x)
 #define sin_float(x) sinf(x)
 #define cos_float(x) cosf(x)
+#define exp_float(x) expf(x)
+#define log_float(x) logf(x)
 #else
 #define sqrt_float(x) sqrt(x)
+#define exp_float(x) exp(x)
+#define log_float(x) log(x)
 /* Sampling angles in [0, 2 pi): pocl's native versions are within 1.2e-7
  * there and skip the full-range argument reduction (about 7% of a render). */
 #define sin_float(x) native_sin(x)

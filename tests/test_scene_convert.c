@@ -180,13 +180,90 @@ static void test_area_light_power(void **state)
     render_scene_destroy(&scene);
 }
 
+/* An "interface" shape is a medium's boundary, which changes nothing
+ * without media: the converted scene is the scene without it, bit for bit. */
+static void test_interface_changes_nothing(void **state)
+{
+    (void)state;
+    const char *body = "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\nShape \"sphere\" \"float radius\" 0.5\n";
+    char with_text[1024], without_text[1024];
+    snprintf(without_text, sizeof without_text, CAMERA "%s", body);
+    snprintf(with_text, sizeof with_text,
+             CAMERA
+             "%sAttributeBegin\n  Material \"interface\"\n  Shape \"sphere\" \"float radius\" 2\n"
+             "  Shape \"trianglemesh\" \"point3 P\" [ -1 -1 -1  1 -1 -1  1 1 -1 ] \"integer indices\" [ 0 1 2 ]\n"
+             "AttributeEnd\n",
+             body);
+    RenderScene with, without;
+    const char *path = write_scene("interface.pbrt", with_text);
+    int result = convert(path, &with);
+    remove(path);
+    if (result)
+        fail_msg("%s", error);
+    path = write_scene("plain.pbrt", without_text);
+    result = convert(path, &without);
+    remove(path);
+    if (result)
+        fail_msg("%s", error);
+    assert_int_equal(with.primitive_count, 1);
+    RenderSceneArrays a = render_scene_arrays(&with), b = render_scene_arrays(&without);
+    /* The material array also holds the unused interface (after the others). */
+    assert_int_equal(a.materials_count, b.materials_count + 1);
+    a.materials_count = b.materials_count;
+#define SAME_ARRAY(name, type)                                                                                         \
+    assert_int_equal(a.name##_count, b.name##_count);                                                                  \
+    if (a.name##_count > 0)                                                                                            \
+        assert_memory_equal(a.name, b.name, a.name##_count * sizeof(type));
+    GMON_SCENE_ARRAYS(SAME_ARRAY)
+#undef SAME_ARRAY
+    assert_memory_equal(&with.constants, &without.constants, sizeof with.constants);
+    assert_true(render_scene_features(&with) == render_scene_features(&without));
+    render_scene_destroy(&with);
+    render_scene_destroy(&without);
+}
+
+/* The new materials reach the kernel's Material: types, a mix's
+ * components by index, a coated conductor's two roughnesses. */
+static void test_materials_convert(void **state)
+{
+    (void)state;
+    const char *path = write_scene("materials.pbrt", CAMERA
+                                   "MakeNamedMaterial \"a\" \"string type\" \"diffusetransmission\"\n"
+                                   "MakeNamedMaterial \"b\" \"string type\" \"thindielectric\"\n"
+                                   "Material \"mix\" \"string materials\" [ \"a\" \"b\" ] \"float amount\" 0.25\n"
+                                   "Shape \"sphere\"\n"
+                                   "Material \"coatedconductor\" \"float interface.roughness\" 0.09 "
+                                   "\"float conductor.roughness\" 0.16 \"rgb albedo\" [ 0.5 0.5 0.5 ]\n"
+                                   "Shape \"sphere\" \"float radius\" 0.1\n"
+                                   "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n");
+    RenderScene scene;
+    int result = convert(path, &scene);
+    remove(path);
+    if (result)
+        fail_msg("%s", error);
+    assert_int_equal(scene.material_count, 4);
+    const Material *mix = &scene.materials[2], *coated = &scene.materials[3];
+    assert_int_equal(mix->type, MAT_MIX);
+    assert_int_equal(scene.materials[mix->mix_materials[0]].type, MAT_DIFFUSE_TRANSMISSION);
+    assert_int_equal(scene.materials[mix->mix_materials[1]].type, MAT_THIN_DIELECTRIC);
+    assert_true(mix->mix_amount == 0.25f);
+    assert_int_equal(coated->type, MAT_COATED_CONDUCTOR);
+    assert_true(fabsf(coated->alpha_x - 0.3f) < 1e-6f && fabsf(coated->base_alpha_y - 0.4f) < 1e-6f);
+    assert_true(coated->albedo[1] == 0.5f && coated->thickness == 0.01f && coated->sample_count == 1);
+    uint64_t features = render_scene_features(&scene);
+    uint64_t expected = FEATURE_DIFFUSE_TRANSMISSION | FEATURE_THIN_DIELECTRIC | FEATURE_MIX |
+                        FEATURE_COATED_CONDUCTOR | FEATURE_LAYERED | FEATURE_ROUGH;
+    assert_true((features & expected) == expected);
+    assert_true((features & (FEATURE_COATED_DIFFUSE | FEATURE_DIELECTRIC | FEATURE_CONDUCTOR)) == 0);
+    render_scene_destroy(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_repository_scenes),
-        cmocka_unit_test(test_overflowing_emitters_are_errors),
-        cmocka_unit_test(test_area_light_power),
-        cmocka_unit_test(test_geometry_at_the_limits_converts),
+        cmocka_unit_test(test_repository_scenes),         cmocka_unit_test(test_overflowing_emitters_are_errors),
+        cmocka_unit_test(test_area_light_power),          cmocka_unit_test(test_geometry_at_the_limits_converts),
+        cmocka_unit_test(test_interface_changes_nothing), cmocka_unit_test(test_materials_convert),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -597,8 +597,119 @@ static void test_materials(void **state)
     load_fails(WORLD "Material \"dielectric\" \"float eta\" -1\n", 2, "eta");
     load_fails(WORLD "Material \"dielectric\" \"spectrum eta\" \"glass-XX\"\n", 2, "not a named spectrum");
     load_fails(WORLD "Material \"diffuse\" \"texture reflectance\" \"checks\"\n", 2, "texture");
-    load_fails(WORLD "Material \"mix\"\n", 2, "Material \"mix\" is not supported");
+    load_fails(WORLD "Material \"mix\"\n", 2, "Material \"mix\": needs \"string materials\" with two material names");
     load_fails("Material \"diffuse\"\n" WORLD, 1, "after WorldBegin");
+}
+
+/* The materials of pbrt-v4 beyond the basic four: parameters, pbrt-v4's
+ * defaults, and errors. */
+static void test_layered_mix_and_transmission_materials(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(WORLD
+            "MakeNamedMaterial \"a\" \"string type\" \"diffuse\"\n"
+            "MakeNamedMaterial \"b\" \"string type\" \"conductor\"\n"
+            "MakeNamedMaterial \"glass\" \"string type\" \"interface\"\n"
+            "Material \"coatedconductor\" \"spectrum conductor.eta\" \"metal-Au-eta\" \"spectrum conductor.k\" "
+            "\"metal-Au-k\" \"float interface.roughness\" 0.04 \"float conductor.uroughness\" 0.09 "
+            "\"float conductor.vroughness\" 0.16 \"float interface.eta\" 1.4\n" TRIANGLE
+            "Material \"coatedconductor\" \"rgb reflectance\" [ 0.9 0.5 0.2 ] \"integer maxdepth\" 4\n" TRIANGLE
+            "Material \"coateddiffuse\" \"rgb albedo\" [ 0.2 0.3 0.4 ] \"float g\" -0.5 \"float thickness\" 0.5 "
+            "\"integer nsamples\" 3 \"bool remaproughness\" false \"float roughness\" 0.3\n" TRIANGLE
+            "Material \"diffusetransmission\"\n" TRIANGLE
+            "Material \"diffusetransmission\" \"rgb reflectance\" [ 0.5 0.5 0.5 ] \"rgb transmittance\" [ 1 0.5 0 ] "
+            "\"float scale\" 0.5\n" TRIANGLE
+            "Material \"mix\" \"string materials\" [ \"a\" \"b\" ] \"float amount\" 0.3\n" TRIANGLE
+            "Material \"mix\" \"string materials\" [ \"b\" \"a\" ]\n" TRIANGLE
+            "Material \"thindielectric\" \"float eta\" 1.33\n" TRIANGLE "NamedMaterial \"glass\"\n" TRIANGLE,
+            &s);
+    const SceneMaterial *m = material_of_shape(&s, 0);
+    float alpha[2];
+    assert_int_equal(m->type, SCENE_MATERIAL_COATED_CONDUCTOR);
+    assert_near(m->eta, 1.4, 1e-6);
+    assert_int_equal(m->use_reflectance, 0);
+    assert_near(m->conductor_eta[0], 0.282615, 1e-3); /* gold, as the conductor test's */
+    scene_material_alpha(m, alpha);
+    assert_near(alpha[0], 0.2, 1e-6);
+    scene_roughness_alpha(m->base_roughness, m->remap_roughness, alpha);
+    assert_near(alpha[0], 0.3, 1e-6);
+    assert_near(alpha[1], 0.4, 1e-6);
+    assert_near(m->thickness, 0.01, 1e-9); /* pbrt-v4's defaults */
+    assert_int_equal(m->max_depth, 10);
+    assert_int_equal(m->sample_count, 1);
+    assert_vec3(m->albedo, 0, 0, 0);
+    m = material_of_shape(&s, 1);
+    assert_int_equal(m->use_reflectance, 1);
+    assert_vec3(m->reflectance, 0.9, 0.5, 0.2);
+    assert_near(m->eta, 1.5, 0);
+    assert_int_equal(m->max_depth, 4);
+    m = material_of_shape(&s, 2);
+    assert_int_equal(m->type, SCENE_MATERIAL_COATED_DIFFUSE);
+    assert_vec3(m->albedo, 0.2, 0.3, 0.4);
+    assert_near(m->g, -0.5, 0);
+    assert_near(m->thickness, 0.5, 0);
+    assert_int_equal(m->sample_count, 3);
+    scene_material_alpha(m, alpha);
+    assert_near(alpha[0], 0.3, 1e-7);
+    m = material_of_shape(&s, 3);
+    assert_int_equal(m->type, SCENE_MATERIAL_DIFFUSE_TRANSMISSION);
+    assert_vec3(m->reflectance, 0.25, 0.25, 0.25);
+    assert_vec3(m->transmittance, 0.25, 0.25, 0.25);
+    m = material_of_shape(&s, 4);
+    assert_vec3(m->reflectance, 0.25, 0.25, 0.25); /* scaled */
+    assert_vec3(m->transmittance, 0.5, 0.25, 0);
+    m = material_of_shape(&s, 5);
+    assert_int_equal(m->type, SCENE_MATERIAL_MIX);
+    assert_int_equal(s.materials[m->mix_materials[0]].type, SCENE_MATERIAL_DIFFUSE);
+    assert_int_equal(s.materials[m->mix_materials[1]].type, SCENE_MATERIAL_CONDUCTOR);
+    assert_near(m->mix_amount, 0.3, 1e-7);
+    m = material_of_shape(&s, 6);
+    assert_int_equal(s.materials[m->mix_materials[0]].type, SCENE_MATERIAL_CONDUCTOR);
+    assert_near(m->mix_amount, 0.5, 0);
+    m = material_of_shape(&s, 7);
+    assert_int_equal(m->type, SCENE_MATERIAL_THIN_DIELECTRIC);
+    assert_near(m->eta, 1.33, 1e-6);
+    assert_int_equal(material_of_shape(&s, 8)->type, SCENE_MATERIAL_INTERFACE);
+    scene_destroy(&s);
+
+    load_fails(WORLD "Material \"mix\" \"string materials\" [ \"a\" ]\n", 2, "two material names");
+    load_fails(WORLD "Material \"mix\" \"string materials\" [ \"a\" \"b\" ]\n", 2, "no material named \"a\"");
+    load_fails(WORLD "MakeNamedMaterial \"i\" \"string type\" \"interface\"\n"
+                     "Material \"mix\" \"string materials\" [ \"i\" \"i\" ]\n",
+               3, "a mix cannot hold");
+    load_fails(WORLD "Material \"coateddiffuse\" \"float thickness\" 0\n", 2, "thickness > 0");
+    load_fails(WORLD "Material \"coatedconductor\" \"integer nsamples\" 0\n", 2, "nsamples");
+    load_fails(WORLD "Material \"coatedconductor\" \"rgb reflectance\" [ 1 1 1 ] \"rgb conductor.k\" [ 1 1 1 ]\n", 2,
+               "either \"reflectance\" or \"conductor.eta\"");
+    load_fails(WORLD "Material \"diffusetransmission\" \"float scale\" 3\n", 2, "scatter more than it receives");
+    load_fails(WORLD "Material \"thindielectric\" \"float roughness\" 0.1\n", 2, "unsupported parameter");
+    load_fails(WORLD "Material \"hair\"\n", 2, "Material \"hair\" is not supported");
+    load_fails(WORLD "Material \"measured\" \"string filename\" \"x.bsdf\"\n", 2,
+               "Material \"measured\" is not supported");
+    load_fails(WORLD "MakeNamedMaterial \"i\" \"string type\" \"interface\"\nNamedMaterial \"i\"\n"
+                     "AreaLightSource \"diffuse\"\n" TRIANGLE,
+               5, "an area light on a shape of Material \"interface\"");
+    /* Mixes of mixes, up to the kernel's limit. */
+    char text[4096] = WORLD "MakeNamedMaterial \"m0\" \"string type\" \"diffuse\"\n";
+    for (int i = 1; i <= SCENE_MIX_MAX_NESTING + 1; ++i)
+        snprintf(text + strlen(text), sizeof text - strlen(text),
+                 "MakeNamedMaterial \"m%d\" \"string type\" \"mix\" \"string materials\" [ \"m%d\" \"m0\" ]\n", i,
+                 i - 1);
+    load_fails(text, SCENE_MIX_MAX_NESTING + 3, "mixes nested deeper than 8");
+
+    /* Substitutes with allow_unsupported: a diffuse of the reflectance. */
+    assert_int_equal(
+        load_text("subst.pbrt",
+                  WORLD "Material \"subsurface\" \"rgb reflectance\" [ 0.2 0.4 0.6 ] \"float eta\" 1.33\n" TRIANGLE
+                        "Material \"hair\"\n" TRIANGLE,
+                  &s, 1),
+        0);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_vec3(material_of_shape(&s, 0)->reflectance, 0.2, 0.4, 0.6);
+    assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
+    assert_true(has_warning(&s, "Material \"subsurface\" is not supported; a diffuse of its \"reflectance\""));
+    scene_destroy(&s);
 }
 
 static void test_named_materials(void **state)
@@ -1729,6 +1840,7 @@ int main(void)
         cmocka_unit_test(test_integrators),
         cmocka_unit_test(test_materials),
         cmocka_unit_test(test_named_materials),
+        cmocka_unit_test(test_layered_mix_and_transmission_materials),
         cmocka_unit_test(test_area_lights_and_orientation),
         cmocka_unit_test(test_infinite_light),
         cmocka_unit_test(test_point_and_spot_lights),

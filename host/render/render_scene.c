@@ -547,16 +547,24 @@ uint64_t render_scene_features(const RenderScene *scene)
     uint64_t features = 0;
     for (int i = 0; i < scene->primitive_count; ++i)
         features |= (scene->primitives[i].kind & PRIM_KIND_MASK) == PRIM_SPHERE ? FEATURE_SPHERES : FEATURE_TRIANGLES;
-    static const uint32_t by_type[] = {
+    static const uint64_t by_type[] = {
         [MAT_DIFFUSE] = FEATURE_DIFFUSE,
         [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,
         [MAT_CONDUCTOR] = FEATURE_CONDUCTOR,
-        [MAT_COATED_DIFFUSE] = FEATURE_COATED_DIFFUSE,
+        [MAT_COATED_DIFFUSE] = FEATURE_COATED_DIFFUSE | FEATURE_LAYERED,
+        [MAT_DIFFUSE_TRANSMISSION] = FEATURE_DIFFUSE_TRANSMISSION,
+        [MAT_MIX] = FEATURE_MIX,
+        [MAT_COATED_CONDUCTOR] = FEATURE_COATED_CONDUCTOR | FEATURE_LAYERED,
+        [MAT_THIN_DIELECTRIC] = FEATURE_THIN_DIELECTRIC,
+        [MAT_INTERFACE] = 0, /* its shapes are not in the scene */
     };
     for (int i = 0; i < scene->material_count; ++i) {
         const Material *m = &scene->materials[i];
         features |= by_type[m->type];
-        if (m->type != MAT_DIFFUSE && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA))
+        int coating = m->type == MAT_DIELECTRIC || m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
+                      m->type == MAT_COATED_CONDUCTOR;
+        if ((coating && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA)) ||
+            (m->type == MAT_COATED_CONDUCTOR && (m->base_alpha_x >= SMOOTH_ALPHA || m->base_alpha_y >= SMOOTH_ALPHA)))
             features |= FEATURE_ROUGH;
     }
     static const uint32_t by_light[] = {

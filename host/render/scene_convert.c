@@ -9,45 +9,70 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* pbrt-v4: a conductor given by reflectance r is one with eta = 1 and
+ * k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence reflectance is r. */
+static void conductor_index(const SceneMaterial *in, Material *m)
+{
+    for (int c = 0; c < 3; ++c) {
+        if (in->use_reflectance) {
+            float r = in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
+            m->conductor_eta[c] = 1.0f;
+            m->conductor_k[c] = 2.0f * sqrtf(r) / sqrtf(1.0f - r);
+        } else {
+            m->conductor_eta[c] = in->conductor_eta[c];
+            m->conductor_k[c] = in->conductor_k[c];
+        }
+    }
+}
+
 static Material convert_material(const SceneMaterial *in)
 {
+    static const uint32_t types[] = {
+        [SCENE_MATERIAL_DIFFUSE] = MAT_DIFFUSE,
+        [SCENE_MATERIAL_DIELECTRIC] = MAT_DIELECTRIC,
+        [SCENE_MATERIAL_CONDUCTOR] = MAT_CONDUCTOR,
+        [SCENE_MATERIAL_COATED_DIFFUSE] = MAT_COATED_DIFFUSE,
+        [SCENE_MATERIAL_DIFFUSE_TRANSMISSION] = MAT_DIFFUSE_TRANSMISSION,
+        [SCENE_MATERIAL_MIX] = MAT_MIX,
+        [SCENE_MATERIAL_INTERFACE] = MAT_INTERFACE,
+        [SCENE_MATERIAL_COATED_CONDUCTOR] = MAT_COATED_CONDUCTOR,
+        [SCENE_MATERIAL_THIN_DIELECTRIC] = MAT_THIN_DIELECTRIC,
+    };
     Material m;
     memset(&m, 0, sizeof m);
+    m.type = types[in->type];
     float alpha[2];
     scene_material_alpha(in, alpha);
     m.alpha_x = alpha[0];
     m.alpha_y = alpha[1];
     m.eta = in->eta;
     memcpy(m.reflectance, in->reflectance, sizeof m.reflectance);
-    switch (in->type) {
-    case SCENE_MATERIAL_DIFFUSE:
-        m.type = MAT_DIFFUSE;
-        break;
-    case SCENE_MATERIAL_DIELECTRIC:
-        m.type = MAT_DIELECTRIC;
-        break;
-    case SCENE_MATERIAL_COATED_DIFFUSE:
-        m.type = MAT_COATED_DIFFUSE;
-        break;
-    case SCENE_MATERIAL_CONDUCTOR:
-        m.type = MAT_CONDUCTOR;
-        for (int c = 0; c < 3; ++c) {
-            if (in->use_reflectance) {
-                /* pbrt-v4: a reflectance r is a conductor with eta = 1 and
-                 * k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence
-                 * reflectance is r. */
-                float r =
-                    in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
-                m.conductor_eta[c] = 1.0f;
-                m.conductor_k[c] = 2.0f * sqrtf(r) / sqrtf(1.0f - r);
-            } else {
-                m.conductor_eta[c] = in->conductor_eta[c];
-                m.conductor_k[c] = in->conductor_k[c];
-            }
-        }
-        break;
+    memcpy(m.transmittance, in->transmittance, sizeof m.transmittance);
+    memcpy(m.albedo, in->albedo, sizeof m.albedo);
+    m.thickness = in->thickness;
+    m.g = in->g;
+    m.max_depth = (uint32_t)in->max_depth;
+    m.sample_count = (uint32_t)in->sample_count;
+    m.mix_amount = in->mix_amount;
+    m.mix_materials[0] = in->mix_materials[0];
+    m.mix_materials[1] = in->mix_materials[1];
+    if (in->type == SCENE_MATERIAL_CONDUCTOR || in->type == SCENE_MATERIAL_COATED_CONDUCTOR)
+        conductor_index(in, &m);
+    if (in->type == SCENE_MATERIAL_COATED_CONDUCTOR) {
+        scene_roughness_alpha(in->base_roughness, in->remap_roughness, alpha);
+        m.base_alpha_x = alpha[0];
+        m.base_alpha_y = alpha[1];
     }
     return m;
+}
+
+_Static_assert(SCENE_MIX_MAX_NESTING <= MIX_MAX_NESTING, "the kernel resolves every mix the parser accepts");
+
+/* "interface" shapes bound media, which the renderer does not have: a ray
+ * passes them unchanged, so they are left out. */
+static int is_interface(const Scene *scene, const SceneShape *shape)
+{
+    return scene->materials[shape->material].type == SCENE_MATERIAL_INTERFACE;
 }
 
 /* Each area light's radiance, with "power" applied over its shape's area
@@ -339,7 +364,6 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     }
     for (size_t i = 0; i < scene.material_count && !failed; ++i) {
         Material m = convert_material(&scene.materials[i]);
-        summary->coated_diffuse |= m.type == MAT_COATED_DIFFUSE;
         failed = render_scene_add_material(out, &m) < 0;
     }
     float(*emission)[3] = area_light_emission(&scene);
@@ -347,6 +371,8 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
         const SceneTriangle *t = &scene.triangles[i];
         const SceneShape *shape = &scene.shapes[t->shape];
+        if (is_interface(&scene, shape))
+            continue;
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
         const float *v[3], *n[3] = {NULL, NULL, NULL};
         for (int k = 0; k < 3; ++k) {
@@ -364,6 +390,8 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
         const SceneShape *shape = &scene.shapes[sphere->shape];
+        if (is_interface(&scene, shape))
+            continue;
         const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
         failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
                                          light ? emission[shape->area_light] : NULL, light && light->two_sided,
@@ -377,10 +405,5 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     }
     if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
-    if (summary->coated_diffuse && !quiet)
-        fprintf(stderr,
-                "warning: %s: \"coateddiffuse\" is approximated: a Fresnel-weighted dielectric coat "
-                "over a Lambertian base, without inter-reflection between them\n",
-                path);
     return 0;
 }

@@ -16,7 +16,6 @@ typedef struct {
     uint64_t pixel_samples;   /* Sampler "pixelsamples", 0 if none */
     char sampler[64];         /* the Sampler's name, "" if none */
     int regularize;           /* Integrator "regularize" was set */
-    int coated_diffuse;       /* some material was approximated */
 } SceneSummary;
 
 /* Loads `path` into `scene` (initialized here, not finalized), at the

@@ -440,9 +440,11 @@ int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, fl
     return 1;
 }
 
-int params_get_conductor(ParamList *list, float eta[3], float k[3])
+int params_get_conductor(ParamList *list, const char *prefix, float eta[3], float k[3])
 {
-    static const char *const names[2] = {"eta", "k"};
+    char names[2][64];
+    snprintf(names[0], sizeof names[0], "%seta", prefix);
+    snprintf(names[1], sizeof names[1], "%sk", prefix);
     float *rgb[2] = {eta, k};
     Spectrum s[2];
     double value[2][3];

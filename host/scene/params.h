@@ -67,11 +67,13 @@ int params_get_rgb(ParamList *list, const char *name, int is_albedo, float value
  * of pbrt-v4's (metal-Au-eta, ...) or an .spd file (resolved like Include).
  * Values must not be negative, and an albedo not above 1. */
 int params_get_spectrum(ParamList *list, const char *name, SpectrumKind kind, float rgb[3]);
-/* A conductor's "eta" and "k" (defaults: pbrt-v4's copper, metal-Cu-eta
- * and metal-Cu-k). Where both are spectra, spectrum_conductor_rgb fits the
- * pair; an "rgb" one is used as given and the other reduced alone. Returns
- * 1 if either is given, 0 if neither, -1 on error. */
-int params_get_conductor(ParamList *list, float eta[3], float k[3]);
+/* A conductor's "eta" and "k", named after `prefix` ("" for conductor,
+ * "conductor." for coatedconductor) (defaults: pbrt-v4's copper,
+ * metal-Cu-eta and metal-Cu-k). Where both are spectra,
+ * spectrum_conductor_rgb fits the pair; an "rgb" one is used as given and
+ * the other reduced alone. Returns 1 if either is given, 0 if neither, -1
+ * on error. */
+int params_get_conductor(ParamList *list, const char *prefix, float eta[3], float k[3]);
 /* A dielectric's "float eta", or a spectrum (a named glass such as
  * glass-BK7) reduced to one value by spectrum_eta. */
 int params_get_eta(ParamList *list, const char *name, float *eta);

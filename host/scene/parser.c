@@ -320,6 +320,10 @@ static void default_material(SceneMaterial *m)
     m->reflectance[0] = m->reflectance[1] = m->reflectance[2] = 0.5f;
     m->eta = 1.5f;
     m->remap_roughness = 1;
+    m->mix_amount = 0.5f;
+    m->thickness = 0.01f;
+    m->max_depth = 10;
+    m->sample_count = 1;
 }
 
 /* The current material's index, creating pbrt's default (diffuse 0.5) once. */
@@ -520,75 +524,184 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
 
 /* ------------------------------------------------------------ materials */
 
-static int read_roughness(ParamList *params, SceneMaterial *m, int line, Parser *p)
+/* "<prefix>roughness" or "<prefix>uroughness"/"<prefix>vroughness"
+ * (pbrt-v4's names, prefix "" or "interface." / "conductor."). */
+static int read_roughness(ParamList *params, const char *prefix, float roughness[2], int line, Parser *p)
 {
+    char names[3][64];
+    snprintf(names[0], sizeof names[0], "%sroughness", prefix);
+    snprintf(names[1], sizeof names[1], "%suroughness", prefix);
+    snprintf(names[2], sizeof names[2], "%svroughness", prefix);
     float r = 0.0f;
-    if (params_get_float(params, "roughness", &r) < 0)
+    if (params_get_float(params, names[0], &r) < 0)
         return -1;
-    m->roughness[0] = m->roughness[1] = r;
-    if (params_get_float(params, "uroughness", &m->roughness[0]) < 0 ||
-        params_get_float(params, "vroughness", &m->roughness[1]) < 0 ||
-        params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
+    roughness[0] = roughness[1] = r;
+    if (params_get_float(params, names[1], &roughness[0]) < 0 || params_get_float(params, names[2], &roughness[1]) < 0)
         return -1;
-    if (m->roughness[0] < 0.0f || m->roughness[1] < 0.0f)
+    if (roughness[0] < 0.0f || roughness[1] < 0.0f)
         return scene_error(&p->diag, params->file, line, "%s: roughness must not be negative", params->owner);
     return 0;
 }
 
-static int read_eta(ParamList *params, float *eta, int line, Parser *p)
+static int read_eta(ParamList *params, const char *name, float *eta, int line, Parser *p)
 {
-    if (params_get_eta(params, "eta", eta) < 0)
+    if (params_get_eta(params, name, eta) < 0)
         return -1;
     if (!(*eta > 0.0f))
         return scene_error(&p->diag, params->file, line, "%s: eta must be positive", params->owner);
     return 0;
 }
 
+/* A conductor's "<prefix>eta" and "<prefix>k", or "reflectance" instead. */
+static int read_conductor(ParamList *params, const char *prefix, SceneMaterial *m, int line, Parser *p)
+{
+    int has_eta_k = params_get_conductor(params, prefix, m->conductor_eta, m->conductor_k);
+    float reflectance[3];
+    int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, reflectance);
+    if (has_eta_k < 0 || has_reflectance < 0)
+        return -1;
+    if (has_reflectance && has_eta_k)
+        return scene_error(&p->diag, params->file, line, "%s: give either \"reflectance\" or \"%seta\" and \"%sk\"",
+                           params->owner, prefix, prefix);
+    m->use_reflectance = has_reflectance;
+    if (has_reflectance)
+        memcpy(m->reflectance, reflectance, sizeof reflectance);
+    return 0;
+}
+
+/* The layered BSDF's parameters of the coated materials (pbrt-v4's
+ * defaults: thickness 0.01, no medium, g 0, maxdepth 10, nsamples 1). */
+static int read_layers(ParamList *params, SceneMaterial *m, int line, Parser *p)
+{
+    if (params_get_float(params, "thickness", &m->thickness) < 0 || params_get_float(params, "g", &m->g) < 0 ||
+        params_get_spectrum(params, "albedo", SPECTRUM_ALBEDO, m->albedo) < 0 ||
+        params_get_int(params, "maxdepth", &m->max_depth) < 0 ||
+        params_get_int(params, "nsamples", &m->sample_count) < 0 ||
+        params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
+        return -1;
+    if (!(m->thickness > 0.0f) || !(m->g > -1.0f && m->g < 1.0f) || m->max_depth < 1 || m->sample_count < 1 ||
+        m->sample_count > 1024 || m->max_depth > 1024)
+        return scene_error(&p->diag, params->file, line,
+                           "%s: needs thickness > 0, -1 < g < 1, 1 <= maxdepth <= 1024 and 1 <= nsamples <= 1024",
+                           params->owner);
+    return 0;
+}
+
+/* How many mixes deep material `index` is (0: not a mix). Components come
+ * before their mix, and their nesting is bounded when they are read. */
+static int mix_nesting(const Scene *scene, int index)
+{
+    const SceneMaterial *m = &scene->materials[index];
+    if (m->type != SCENE_MATERIAL_MIX)
+        return 0;
+    int a = mix_nesting(scene, m->mix_materials[0]), b = mix_nesting(scene, m->mix_materials[1]);
+    return 1 + (a > b ? a : b);
+}
+
+/* "string materials" [ "a" "b" ]: two named materials defined before. */
+static int read_mix(Parser *p, ParamList *params, int line, SceneMaterial *m)
+{
+    const Param *names = NULL;
+    int found = params_get_array(params, "materials", PARAM_STRING, &names);
+    if (found < 0)
+        return -1;
+    if (found == 0 || names->count != 2)
+        return scene_error(&p->diag, params->file, line, "%s: needs \"string materials\" with two material names",
+                           params->owner);
+    for (int i = 0; i < 2; ++i) {
+        m->mix_materials[i] = -1;
+        for (size_t j = 0; j < p->named_count && m->mix_materials[i] < 0; ++j)
+            if (strcmp(p->named[j].name, names->strings[i]) == 0)
+                m->mix_materials[i] = p->named[j].material;
+        if (m->mix_materials[i] < 0)
+            return scene_error(&p->diag, params->file, line, "%s: no material named \"%s\"", params->owner,
+                               names->strings[i]);
+        const SceneMaterial *component = &p->scene->materials[m->mix_materials[i]];
+        if (component->type == SCENE_MATERIAL_INTERFACE)
+            return scene_error(&p->diag, params->file, line, "%s: \"%s\" is an \"interface\", which a mix cannot hold",
+                               params->owner, names->strings[i]);
+        if (mix_nesting(p->scene, m->mix_materials[i]) >= SCENE_MIX_MAX_NESTING)
+            return scene_error(&p->diag, params->file, line, "%s: mixes nested deeper than %d", params->owner,
+                               SCENE_MIX_MAX_NESTING);
+    }
+    if (params_get_float(params, "amount", &m->mix_amount) < 0)
+        return -1;
+    return 0;
+}
+
 /* Fills *m from a material type and its parameters. An unknown type is
- * unsupported; allow_unsupported substitutes grey diffuse. */
+ * unsupported; allow_unsupported substitutes grey diffuse, or for hair,
+ * measured and subsurface a diffuse of their reflectance. */
 static int parse_material(Parser *p, const char *type, ParamList *params, int line, SceneMaterial *m)
 {
     default_material(m);
     if (strcmp(type, "diffuse") == 0) {
         if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
             return -1;
-    } else if (strcmp(type, "dielectric") == 0) {
-        m->type = SCENE_MATERIAL_DIELECTRIC;
-        if (read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
+    } else if (strcmp(type, "dielectric") == 0 || strcmp(type, "thindielectric") == 0) {
+        m->type = type[0] == 't' ? SCENE_MATERIAL_THIN_DIELECTRIC : SCENE_MATERIAL_DIELECTRIC;
+        if (read_eta(params, "eta", &m->eta, line, p))
+            return -1;
+        if (m->type == SCENE_MATERIAL_DIELECTRIC &&
+            (read_roughness(params, "", m->roughness, line, p) ||
+             params_get_bool(params, "remaproughness", &m->remap_roughness) < 0))
             return -1;
     } else if (strcmp(type, "conductor") == 0) {
         m->type = SCENE_MATERIAL_CONDUCTOR;
-        int has_eta_k = params_get_conductor(params, m->conductor_eta, m->conductor_k);
-        int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance);
-        if (has_eta_k < 0 || has_reflectance < 0 || read_roughness(params, m, line, p))
+        memset(m->reflectance, 0, sizeof m->reflectance);
+        if (read_conductor(params, "", m, line, p) || read_roughness(params, "", m->roughness, line, p) ||
+            params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
             return -1;
-        if (has_reflectance && has_eta_k)
-            return scene_error(&p->diag, params->file, line, "%s: give either \"reflectance\" or \"eta\" and \"k\"",
-                               params->owner);
-        m->use_reflectance = has_reflectance;
-        if (!has_reflectance)
-            memset(m->reflectance, 0, sizeof m->reflectance);
     } else if (strcmp(type, "coateddiffuse") == 0) {
         m->type = SCENE_MATERIAL_COATED_DIFFUSE;
         if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
-            read_eta(params, &m->eta, line, p) || read_roughness(params, m, line, p))
+            read_eta(params, "eta", &m->eta, line, p) || read_roughness(params, "", m->roughness, line, p) ||
+            read_layers(params, m, line, p))
             return -1;
-        /* The renderer approximates the layered BSDF; these only tune
-         * pbrt's stochastic evaluation of a clear coating. */
-        params_ignore(params, "thickness");
-        params_ignore(params, "g");
-        params_ignore(params, "maxdepth");
-        params_ignore(params, "nsamples");
-        float albedo[3] = {0, 0, 0};
-        if (params_get_rgb(params, "albedo", 1, albedo) < 0)
+    } else if (strcmp(type, "coatedconductor") == 0) {
+        m->type = SCENE_MATERIAL_COATED_CONDUCTOR;
+        memset(m->reflectance, 0, sizeof m->reflectance);
+        if (read_eta(params, "interface.eta", &m->eta, line, p) ||
+            read_roughness(params, "interface.", m->roughness, line, p) ||
+            read_conductor(params, "conductor.", m, line, p) ||
+            read_roughness(params, "conductor.", m->base_roughness, line, p) || read_layers(params, m, line, p))
             return -1;
-        if ((albedo[0] > 0 || albedo[1] > 0 || albedo[2] > 0) &&
-            scene_unsupported(&p->diag, params->file, line, "a clear coating is used",
-                              "%s: a coating with a non-zero \"albedo\" is not supported", params->owner))
+    } else if (strcmp(type, "diffusetransmission") == 0) {
+        m->type = SCENE_MATERIAL_DIFFUSE_TRANSMISSION;
+        float scale = 1.0f;
+        m->reflectance[0] = m->reflectance[1] = m->reflectance[2] = 0.25f;
+        m->transmittance[0] = m->transmittance[1] = m->transmittance[2] = 0.25f;
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
+            params_get_spectrum(params, "transmittance", SPECTRUM_ALBEDO, m->transmittance) < 0 ||
+            params_get_float(params, "scale", &scale) < 0)
             return -1;
+        float most = 0.0f;
+        for (int c = 0; c < 3; ++c)
+            most = fmaxf(most, m->reflectance[c] + m->transmittance[c]);
+        if (!(scale >= 0.0f) || scale * most > 1.0f)
+            return scene_error(&p->diag, params->file, line,
+                               "%s: \"scale\" must not be negative nor scatter more than it receives", params->owner);
+        for (int c = 0; c < 3; ++c) {
+            m->reflectance[c] *= scale;
+            m->transmittance[c] *= scale;
+        }
+    } else if (strcmp(type, "mix") == 0) {
+        m->type = SCENE_MATERIAL_MIX;
+        if (read_mix(p, params, line, m))
+            return -1;
+    } else if (strcmp(type, "interface") == 0) {
+        m->type = SCENE_MATERIAL_INTERFACE;
+    } else if (strcmp(type, "hair") == 0 || strcmp(type, "measured") == 0 || strcmp(type, "subsurface") == 0) {
+        if (scene_unsupported(&p->diag, params->file, line, "a diffuse of its \"reflectance\" (default 0.5) is used",
+                              "Material \"%s\" is not supported", type))
+            return -1;
+        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
+            return -1;
+        return 0; /* its other parameters mean nothing to the substitute */
     } else {
         return scene_unsupported(&p->diag, params->file, line, "grey diffuse (reflectance 0.5) is used instead",
-                                 "Material \"%s\" is not supported (diffuse, dielectric, conductor, coateddiffuse)",
+                                 "Material \"%s\" is not supported (diffuse, dielectric, thindielectric, conductor, "
+                                 "coateddiffuse, coatedconductor, diffusetransmission, mix, interface)",
                                  type);
     }
     return params_check_unused(params);
@@ -1911,6 +2024,11 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
     }
     if (result == 0 && !p->skipping_object)
         result = warn_if_moving(p, lex, d);
+    if (result == 0 && !p->skipping_object && p->state.has_area_light && p->state.material >= 0 &&
+        p->scene->materials[p->state.material].type == SCENE_MATERIAL_INTERFACE)
+        result =
+            scene_unsupported(&p->diag, lex->path, d->line, "it is left out, as every \"interface\" shape",
+                              "%s: an area light on a shape of Material \"interface\" is not supported", params.owner);
     if (result == 0 && !p->skipping_object) {
         if (token_is(&type, "sphere"))
             result = shape_sphere(p, lex, d, &params);

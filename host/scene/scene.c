@@ -81,12 +81,15 @@ void scene_camera_tan_half_fov(float fov_degrees, unsigned width, unsigned heigh
     tan_half[1] = window[3];
 }
 
+void scene_roughness_alpha(const float roughness[2], int remap_roughness, float alpha[2])
+{
+    for (int i = 0; i < 2; ++i)
+        alpha[i] = remap_roughness ? sqrtf(roughness[i]) : roughness[i];
+}
+
 void scene_material_alpha(const SceneMaterial *material, float alpha[2])
 {
-    for (int i = 0; i < 2; ++i) {
-        float r = material->roughness[i];
-        alpha[i] = material->remap_roughness ? sqrtf(r) : r;
-    }
+    scene_roughness_alpha(material->roughness, material->remap_roughness, alpha);
 }
 
 static void format_located(char *out, size_t size, const char *file, int line, const char *prefix, const char *format,

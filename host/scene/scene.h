@@ -101,17 +101,35 @@ typedef enum {
     SCENE_MATERIAL_DIELECTRIC,
     SCENE_MATERIAL_CONDUCTOR,
     SCENE_MATERIAL_COATED_DIFFUSE,
+    SCENE_MATERIAL_DIFFUSE_TRANSMISSION,
+    SCENE_MATERIAL_MIX,
+    SCENE_MATERIAL_INTERFACE, /* no surface: its shapes are left out of the render */
+    SCENE_MATERIAL_COATED_CONDUCTOR,
+    SCENE_MATERIAL_THIN_DIELECTRIC,
 } SceneMaterialType;
 
+#define SCENE_MIX_MAX_NESTING 8
+
+/* A material as pbrt-v4 gives it. The coated ones are layered BSDFs: the
+ * coating (eta, roughness) over the base (coateddiffuse: reflectance;
+ * coatedconductor: conductor_eta/k or reflectance, base_roughness), with
+ * thickness, albedo, g, max_depth and sample_count as pbrt-v4's
+ * "thickness", "albedo", "g", "maxdepth", "nsamples". */
 typedef struct {
     SceneMaterialType type;
-    float reflectance[3];   /* diffuse and coateddiffuse albedo; conductor when use_reflectance */
-    float eta;              /* dielectric, coateddiffuse coating */
-    float conductor_eta[3]; /* conductor, unless use_reflectance (default: copper) */
+    float reflectance[3];   /* diffuse, coateddiffuse and diffusetransmission albedo; conductors when use_reflectance */
+    float eta;              /* dielectric, thindielectric, the coatings */
+    float conductor_eta[3]; /* conductors, unless use_reflectance (default: copper) */
     float conductor_k[3];
-    int use_reflectance; /* conductor given by "reflectance" instead of eta and k */
-    float roughness[2];  /* u, v as written (uroughness/vroughness, else roughness) */
-    int remap_roughness; /* pbrt's remaproughness: see scene_material_alpha */
+    int use_reflectance;     /* conductor given by "reflectance" instead of eta and k */
+    float roughness[2];      /* u, v as written (uroughness/vroughness, else roughness); the coating's */
+    int remap_roughness;     /* pbrt's remaproughness: see scene_material_alpha */
+    float transmittance[3];  /* diffusetransmission (scaled by its "scale", as reflectance) */
+    int mix_materials[2];    /* mix: indices into Scene.materials, mixes nested at most SCENE_MIX_MAX_NESTING deep */
+    float mix_amount;        /* mix: the chance of mix_materials[1] */
+    float base_roughness[2]; /* coatedconductor: the conductor's, as roughness */
+    float thickness, g, albedo[3];
+    int max_depth, sample_count;
 } SceneMaterial;
 
 typedef enum {
@@ -260,6 +278,7 @@ void scene_camera_window(const SceneCamera *camera, unsigned width, unsigned hei
 
 /* The GGX (Trowbridge-Reitz) alpha along u and v as pbrt-v4 derives it:
  * sqrt(roughness) when remap_roughness, else roughness itself. */
+void scene_roughness_alpha(const float roughness[2], int remap_roughness, float alpha[2]);
 void scene_material_alpha(const SceneMaterial *material, float alpha[2]);
 
 #endif
