@@ -561,9 +561,10 @@ uint64_t render_scene_features(const RenderScene *scene)
     for (int i = 0; i < scene->material_count; ++i) {
         const Material *m = &scene->materials[i];
         features |= by_type[m->type];
-        int coating = m->type == MAT_DIELECTRIC || m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
-                      m->type == MAT_COATED_CONDUCTOR;
-        if ((coating && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA)) ||
+        /* The types whose alpha is a GGX roughness (the coating's for the coated ones). */
+        int has_alpha = m->type == MAT_DIELECTRIC || m->type == MAT_CONDUCTOR || m->type == MAT_COATED_DIFFUSE ||
+                        m->type == MAT_COATED_CONDUCTOR;
+        if ((has_alpha && (m->alpha_x >= SMOOTH_ALPHA || m->alpha_y >= SMOOTH_ALPHA)) ||
             (m->type == MAT_COATED_CONDUCTOR && (m->base_alpha_x >= SMOOTH_ALPHA || m->base_alpha_y >= SMOOTH_ALPHA)))
             features |= FEATURE_ROUGH;
     }
