@@ -485,10 +485,16 @@ KERNEL_FN int layered_has_medium(const GLOBAL Material *m)
     return m->albedo[0] > 0.0f || m->albedo[1] > 0.0f || m->albedo[2] > 0.0f;
 }
 
+/* Whether the base is a conductor (else Lambertian); with one coated type
+ * in the build the test folds away. */
+KERNEL_FN int layered_base_is_conductor(const GLOBAL Material *m)
+{
+    return GMON_HAS_COATED_CONDUCTOR && (!GMON_HAS_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR);
+}
+
 KERNEL_FN int layered_base_is_smooth(const GLOBAL Material *m)
 {
-    return GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR &&
-           alpha_is_smooth(m->base_alpha_x, m->base_alpha_y);
+    return layered_base_is_conductor(m) && alpha_is_smooth(m->base_alpha_x, m->base_alpha_y);
 }
 
 /* Every lobe a delta: a smooth coating over a smooth conductor, no medium. */
@@ -503,7 +509,7 @@ KERNEL_FN Vec3 layered_base_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float 
     *pdf = 0.0f;
     if (wo.z <= 0.0f || wi.z <= 0.0f)
         return vec3(0.0f, 0.0f, 0.0f);
-    if (GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR)
+    if (layered_base_is_conductor(m))
         return conductor_f(m, m->base_alpha_x, m->base_alpha_y, wo, wi, pdf);
     *pdf = wi.z / PI_F;
     return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
@@ -514,7 +520,7 @@ KERNEL_FN int layered_base_sample(const GLOBAL Material *m, Vec3 wo, float u1, f
     bsdf_sample_clear(s);
     if (wo.z <= 0.0f)
         return 0;
-    if (GMON_HAS_COATED_CONDUCTOR && m->type == MAT_COATED_CONDUCTOR)
+    if (layered_base_is_conductor(m))
         return conductor_sample(m, m->base_alpha_x, m->base_alpha_y, wo, u1, u2, s);
     s->wi = cosine_hemisphere(u1, u2);
     s->f = layered_base_f(m, wo, s->wi, &s->pdf);
