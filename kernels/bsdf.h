@@ -169,7 +169,7 @@ KERNEL_FN Vec3 ggx_sample_visible(Vec3 w, float ax, float ay, float u1, float u2
 
 /* Without rough materials in the build, every surface is smooth and the
  * GGX code drops out. */
-KERNEL_FN int material_is_smooth(const GLOBAL Material *m)
+KERNEL_FN int material_is_smooth(const Material *m)
 {
     return !GMON_HAS_ROUGH || (m->alpha_x < SMOOTH_ALPHA && m->alpha_y < SMOOTH_ALPHA);
 }
@@ -181,7 +181,7 @@ KERNEL_FN Vec3 cosine_hemisphere(float u1, float u2)
     return vec3(r * cos_float(phi), r * sin_float(phi), sqrt_float(z2 > 0.0f ? z2 : 0.0f));
 }
 
-KERNEL_FN Vec3 conductor_fresnel(const GLOBAL Material *m, float cos_i)
+KERNEL_FN Vec3 conductor_fresnel(const Material *m, float cos_i)
 {
     return vec3(fresnel_conductor(cos_i, m->conductor_eta[0], m->conductor_k[0]),
                 fresnel_conductor(cos_i, m->conductor_eta[1], m->conductor_k[1]),
@@ -189,7 +189,7 @@ KERNEL_FN Vec3 conductor_fresnel(const GLOBAL Material *m, float cos_i)
 }
 
 /* Probability that the coated diffuse samples its specular coat. */
-KERNEL_FN float coat_pick(const GLOBAL Material *m, float cos_o)
+KERNEL_FN float coat_pick(const Material *m, float cos_o)
 {
     float f = fresnel_dielectric(cos_o, m->eta);
     return f < 0.1f ? 0.1f : (f > 0.9f ? 0.9f : f);
@@ -211,7 +211,7 @@ KERNEL_FN float microfacet_reflection(Vec3 wo, Vec3 wi, float ax, float ay, Vec3
     return ggx_d(wm, ax, ay) * ggx_g(wo, wi, ax, ay) / (4.0f * wo.z * wi.z);
 }
 
-KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+KERNEL_FN Vec3 bsdf_eval(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
@@ -263,7 +263,7 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
         return v_scale(conductor_fresnel(m, v_dot(wo, wm)), value);
     }
 #endif
-    Vec3 diffuse = v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+    Vec3 diffuse = v_scale(vec3_from(m->reflectance), 1.0f / PI_F);
 #if GMON_HAS_COATED_DIFFUSE
     if (m->type == MAT_COATED_DIFFUSE) {
         /* Approximation: Fresnel-weighted coat over a Lambertian base. */
@@ -292,7 +292,7 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
 
 /* ---- sampling ---- */
 
-KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
 {
     s->is_delta = 0;
     s->is_transmission = 0;

@@ -17,6 +17,7 @@ typedef struct {
     char sampler[64];         /* the Sampler's name, "" if none */
     int regularize;           /* Integrator "regularize" was set */
     int coated_diffuse;       /* some material was approximated */
+    size_t texture_bytes;     /* texels (8-bit and float) and decoding tables uploaded for textures */
 } SceneSummary;
 
 /* Loads `path` into `scene` (initialized here, not finalized), at the
