@@ -157,6 +157,9 @@ KERNEL_FN void material_apply_textures(const Scene *scene, int32_t material, con
                                        __global const Primitive *prim, Vec3 p, float footprint, Material *m, Vec3 *ns)
 {
     __global const MaterialTextures *t = scene->material_textures + material;
+    if ((t->reflectance & t->roughness[0] & t->roughness[1] & t->eta & t->conductor_eta & t->conductor_k &
+         t->displacement & t->normal_map) < 0)
+        return; /* every slot -1: an untextured material */
     SurfaceUv uv = surface_uv(scene, hit, prim, p);
     TextureContext c = surface_texture_context(&uv, p, *ns, footprint);
     TextureArrays a = scene_texture_arrays(scene);

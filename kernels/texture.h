@@ -18,11 +18,9 @@
 
 #ifndef __OPENCL_C_VERSION__
 #define floor_float(x) floorf(x)
-#define log2_float(x) log2f(x)
 #define atan2_float(y, x) atan2f(y, x)
 #else
 #define floor_float(x) floor(x)
-#define log2_float(x) log2(x)
 #define atan2_float(y, x) atan2(y, x)
 #endif
 
@@ -156,6 +154,17 @@ KERNEL_FN Vec3 texture_bilinear(const TextureArrays *a, const GLOBAL TextureNode
     return v_add(top, v_scale(v_sub(bottom, top), dy));
 }
 
+/* log2(x) for x >= 1, piecewise linear between powers of two (exact at
+ * them): the exponent plus the mantissa's fraction. Exact arithmetic only,
+ * so every build (and the host) picks the same levels; library log2
+ * differs in its last bits between pocl's vectorized and scalar code. */
+KERNEL_FN float texture_log2(float x)
+{
+    uint32_t bits = float_bits(x);
+    float exponent = (float)((int32_t)(bits >> 23) - 127);
+    return exponent + (float_from_bits((bits & 0x7fffffu) | 0x3f800000u) - 1.0f);
+}
+
 /* The MIP level (fractional, in [0, levels - 1]) for a footprint of
  * `width` in (s, t) units: pbrt-v4's level, log2 of the width in texels
  * of the finest level. */
@@ -163,7 +172,7 @@ KERNEL_FN float texture_mip_level(const GLOBAL TextureNode *node, float width)
 {
     uint32_t size = node->width > node->height ? node->width : node->height;
     float texels = width * (float)size;
-    float level = texels > 1.0f ? log2_float(texels) : 0.0f;
+    float level = texels > 1.0f ? texture_log2(texels < 1e30f ? texels : 1e30f) : 0.0f;
     float top = (float)(node->levels - 1u);
     return level < top ? level : top;
 }

@@ -197,12 +197,13 @@ static void test_mip_level_at_distance(void **state)
     c.footprint = 1e6f; /* beyond the coarsest level: its 1x1 texel */
     texture_map(&node, &c, &s, &t, &width);
     assert_float_equal(texture_mip_level(&node, width), 8.0f, 0.0f);
-    /* Trilinear halfway between levels 0 and 1: (texel + 0.5) / 2. */
+    /* Trilinear between levels 0 and 1 at 1.5 texels: level 0.5 (log2 is
+     * linear between powers of two), half texel (0, 0) (0) and half 0.5. */
     node.filter = TEXTURE_FILTER_TRILINEAR;
-    float half_level = 1.41421356f / 256.0f; /* 2^0.5 texels */
-    Vec3 v = texture_image_lookup(&a, &node, 0.5f / 256.0f, 0.5f / 256.0f, half_level);
-    float f = 0.5f; /* log2(sqrt 2) */
-    assert_float_equal(v.x, (1.0f - f) * 0.0f + f * 0.5f, 1e-5f);
+    assert_float_equal(texture_log2(1.5f), 0.5f, 0.0f);
+    assert_float_equal(texture_log2(12.0f), 3.5f, 0.0f);
+    Vec3 v = texture_image_lookup(&a, &node, 0.5f / 256.0f, 0.5f / 256.0f, 1.5f / 256.0f);
+    assert_float_equal(v.x, 0.5f * 0.0f + 0.5f * 0.5f, 1e-6f);
     render_scene_destroy(&scene);
 }
 
