@@ -178,7 +178,7 @@ KERNEL_FN int alpha_is_smooth(float alpha_x, float alpha_y)
     return !GMON_HAS_ROUGH || (alpha_x < SMOOTH_ALPHA && alpha_y < SMOOTH_ALPHA);
 }
 
-KERNEL_FN int material_is_smooth(const GLOBAL Material *m)
+KERNEL_FN int material_is_smooth(const Material *m)
 {
     return alpha_is_smooth(m->alpha_x, m->alpha_y);
 }
@@ -345,14 +345,14 @@ KERNEL_FN int thin_dielectric_sample(float eta, Vec3 wo, float u_lobe, BsdfSampl
 
 /* ---- conductor (wo, wi in +z; callers mirror them there) ---- */
 
-KERNEL_FN Vec3 conductor_fresnel(const GLOBAL Material *m, float cos_i)
+KERNEL_FN Vec3 conductor_fresnel(const Material *m, float cos_i)
 {
     return vec3(fresnel_conductor(cos_i, m->conductor_eta[0], m->conductor_k[0]),
                 fresnel_conductor(cos_i, m->conductor_eta[1], m->conductor_k[1]),
                 fresnel_conductor(cos_i, m->conductor_eta[2], m->conductor_k[2]));
 }
 
-KERNEL_FN Vec3 conductor_f(const GLOBAL Material *m, float ax, float ay, Vec3 wo, Vec3 wi, float *pdf)
+KERNEL_FN Vec3 conductor_f(const Material *m, float ax, float ay, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     if (alpha_is_smooth(ax, ay))
@@ -362,7 +362,7 @@ KERNEL_FN Vec3 conductor_f(const GLOBAL Material *m, float ax, float ay, Vec3 wo
     return v_scale(conductor_fresnel(m, v_dot(wo, wm)), value);
 }
 
-KERNEL_FN int conductor_sample(const GLOBAL Material *m, float ax, float ay, Vec3 wo, float u1, float u2, BsdfSample *s)
+KERNEL_FN int conductor_sample(const Material *m, float ax, float ay, Vec3 wo, float u1, float u2, BsdfSample *s)
 {
     if (alpha_is_smooth(ax, ay)) {
         s->is_delta = 1;
@@ -383,31 +383,31 @@ KERNEL_FN int conductor_sample(const GLOBAL Material *m, float ax, float ay, Vec
  * Lambertian transmission to the other side (transmittance), each lobe
  * sampled by its largest component ---- */
 
-KERNEL_FN float diffuse_transmission_pick(const GLOBAL Material *m)
+KERNEL_FN float diffuse_transmission_pick(const Material *m)
 {
-    float r = v_max_component(vec3_from_global(m->reflectance));
-    float t = v_max_component(vec3_from_global(m->transmittance));
+    float r = v_max_component(vec3_from(m->reflectance));
+    float t = v_max_component(vec3_from(m->transmittance));
     return r + t > 0.0f ? r / (r + t) : 0.0f;
 }
 
-KERNEL_FN Vec3 diffuse_transmission_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+KERNEL_FN Vec3 diffuse_transmission_f(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     float pick = diffuse_transmission_pick(m);
     float cos_i = wi.z < 0.0f ? -wi.z : wi.z;
     if (wo.z * wi.z > 0.0f) {
         *pdf = pick * cos_i / PI_F;
-        return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+        return v_scale(vec3_from(m->reflectance), 1.0f / PI_F);
     }
     *pdf = wo.z * wi.z < 0.0f ? (1.0f - pick) * cos_i / PI_F : 0.0f;
-    return *pdf > 0.0f ? v_scale(vec3_from_global(m->transmittance), 1.0f / PI_F) : vec3(0.0f, 0.0f, 0.0f);
+    return *pdf > 0.0f ? v_scale(vec3_from(m->transmittance), 1.0f / PI_F) : vec3(0.0f, 0.0f, 0.0f);
 }
 
-KERNEL_FN int diffuse_transmission_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2,
+KERNEL_FN int diffuse_transmission_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2,
                                           BsdfSample *s)
 {
     Vec3 wi = cosine_hemisphere(u1, u2);
     if (wi.z <= 0.0f ||
-        v_max_component(vec3_from_global(m->reflectance)) + v_max_component(vec3_from_global(m->transmittance)) <= 0.0f)
+        v_max_component(vec3_from(m->reflectance)) + v_max_component(vec3_from(m->transmittance)) <= 0.0f)
         return 0;
     int transmit = u_lobe >= diffuse_transmission_pick(m);
     float side = (wo.z < 0.0f) != transmit ? -1.0f : 1.0f;
@@ -480,31 +480,31 @@ KERNEL_FN float layer_transmittance(float dz, Vec3 w)
     return dz == 0.0f ? 1.0f : exp_float(-x);
 }
 
-KERNEL_FN int layered_has_medium(const GLOBAL Material *m)
+KERNEL_FN int layered_has_medium(const Material *m)
 {
     return m->albedo[0] > 0.0f || m->albedo[1] > 0.0f || m->albedo[2] > 0.0f;
 }
 
 /* Whether the base is a conductor (else Lambertian); with one coated type
  * in the build the test folds away. */
-KERNEL_FN int layered_base_is_conductor(const GLOBAL Material *m)
+KERNEL_FN int layered_base_is_conductor(const Material *m)
 {
     return GMON_HAS_COATED_CONDUCTOR && (!GMON_HAS_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR);
 }
 
-KERNEL_FN int layered_base_is_smooth(const GLOBAL Material *m)
+KERNEL_FN int layered_base_is_smooth(const Material *m)
 {
     return layered_base_is_conductor(m) && alpha_is_smooth(m->base_alpha_x, m->base_alpha_y);
 }
 
 /* Every lobe a delta: a smooth coating over a smooth conductor, no medium. */
-KERNEL_FN int layered_is_delta(const GLOBAL Material *m)
+KERNEL_FN int layered_is_delta(const Material *m)
 {
     return material_is_smooth(m) && layered_base_is_smooth(m) && !layered_has_medium(m);
 }
 
 /* The base, seen from inside the layer (wo.z > 0 there). */
-KERNEL_FN Vec3 layered_base_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+KERNEL_FN Vec3 layered_base_f(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     if (wo.z <= 0.0f || wi.z <= 0.0f)
@@ -512,10 +512,10 @@ KERNEL_FN Vec3 layered_base_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float 
     if (layered_base_is_conductor(m))
         return conductor_f(m, m->base_alpha_x, m->base_alpha_y, wo, wi, pdf);
     *pdf = wi.z / PI_F;
-    return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+    return v_scale(vec3_from(m->reflectance), 1.0f / PI_F);
 }
 
-KERNEL_FN int layered_base_sample(const GLOBAL Material *m, Vec3 wo, float u1, float u2, BsdfSample *s)
+KERNEL_FN int layered_base_sample(const Material *m, Vec3 wo, float u1, float u2, BsdfSample *s)
 {
     bsdf_sample_clear(s);
     if (wo.z <= 0.0f)
@@ -527,14 +527,14 @@ KERNEL_FN int layered_base_sample(const GLOBAL Material *m, Vec3 wo, float u1, f
     return s->pdf > 0.0f;
 }
 
-KERNEL_FN int coating_sample(const GLOBAL Material *m, Vec3 wo, WalkRng *rng, int radiance, int lobes, BsdfSample *s)
+KERNEL_FN int coating_sample(const Material *m, Vec3 wo, WalkRng *rng, int radiance, int lobes, BsdfSample *s)
 {
     float u_lobe = walk_uniform(rng), u1 = walk_uniform(rng), u2 = walk_uniform(rng);
     return dielectric_sample(m->eta, m->alpha_x, m->alpha_y, wo, u_lobe, u1, u2, radiance, lobes, s) && s->pdf > 0.0f &&
            s->wi.z != 0.0f && v_max_component(s->f) > 0.0f;
 }
 
-KERNEL_FN float coating_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, int lobes, float *pdf)
+KERNEL_FN float coating_f(const Material *m, Vec3 wo, Vec3 wi, int lobes, float *pdf)
 {
     return dielectric_f(m->eta, m->alpha_x, m->alpha_y, wo, wi, 1, lobes, pdf);
 }
@@ -546,14 +546,14 @@ KERNEL_FN float coating_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi, int lobes,
  * direction instead, a density over other directions: its estimate then
  * differs from its own sampling, by 8% of the walks' part for a rough
  * coating of alpha 0.3.) */
-KERNEL_FN float coating_in_pdf(const GLOBAL Material *m, Vec3 wi, Vec3 down)
+KERNEL_FN float coating_in_pdf(const Material *m, Vec3 wi, Vec3 down)
 {
     float pdf = 0.0f;
     coating_f(m, wi, down, LOBE_TRANSMISSION, &pdf);
     return pdf;
 }
 
-KERNEL_FN Vec3 layered_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
+KERNEL_FN Vec3 layered_f(const Material *m, Vec3 wo, Vec3 wi)
 {
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
     if (wo.z < 0.0f) {
@@ -565,7 +565,7 @@ KERNEL_FN Vec3 layered_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
     float thickness = m->thickness, pdf = 0.0f;
     int coating_smooth = material_is_smooth(m), base_smooth = layered_base_is_smooth(m);
     int medium = layered_has_medium(m);
-    Vec3 albedo = vec3_from_global(m->albedo);
+    Vec3 albedo = vec3_from(m->albedo);
     float samples = (float)m->sample_count;
     float reflected = coating_f(m, wo, wi, LOBE_ALL, &pdf) * samples;
     Vec3 f = vec3(reflected, reflected, reflected);
@@ -663,7 +663,7 @@ KERNEL_FN Vec3 layered_f(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
 
 /* The density of layered_sample's directions, estimated (pbrt-v4's
  * stochastic estimate, mixed with a uniform density so that it is never 0). */
-KERNEL_FN float layered_pdf(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
+KERNEL_FN float layered_pdf(const Material *m, Vec3 wo, Vec3 wi)
 {
     if (wo.z < 0.0f) {
         wo = v_scale(wo, -1.0f);
@@ -708,7 +708,7 @@ KERNEL_FN float layered_pdf(const GLOBAL Material *m, Vec3 wo, Vec3 wi)
  * does: their weights then sum to 1 (pbrt-v4 does so for the walks' own
  * "proportional" samples; here also for a rough coating's reflection,
  * whose lobe density alone would not match). */
-KERNEL_FN void layered_rescale(const GLOBAL Material *m, Vec3 wo, BsdfSample *s)
+KERNEL_FN void layered_rescale(const Material *m, Vec3 wo, BsdfSample *s)
 {
     float estimate = layered_pdf(m, wo, s->wi);
     s->f = v_scale(v_scale(s->f, 1.0f / s->pdf), estimate);
@@ -717,7 +717,7 @@ KERNEL_FN void layered_rescale(const GLOBAL Material *m, Vec3 wo, BsdfSample *s)
 
 /* A direction by a random walk: reflection off the coating, or into the
  * layer and on until the walk leaves through the coating. */
-KERNEL_FN int layered_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+KERNEL_FN int layered_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
 {
     float flip = wo.z < 0.0f ? -1.0f : 1.0f;
     Vec3 up_wo = v_scale(wo, flip);
@@ -732,7 +732,7 @@ KERNEL_FN int layered_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, fl
     }
     float thickness = m->thickness;
     int medium = layered_has_medium(m);
-    Vec3 albedo = vec3_from_global(m->albedo);
+    Vec3 albedo = vec3_from(m->albedo);
     WalkRng rng = walk_rng(up_wo, vec3(u_lobe, u1, u2));
     Vec3 f = v_scale(s->f, -s->wi.z), w = s->wi;
     float pdf = s->pdf, z = thickness;
@@ -799,7 +799,7 @@ KERNEL_FN int layered_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, fl
 /* ---- the material dispatch: evaluation f(wo, wi) and the pdf of sampling
  * wi (delta lobes give 0), and sampling ---- */
 
-KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
+KERNEL_FN Vec3 bsdf_eval(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
 {
     *pdf = 0.0f;
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
@@ -838,13 +838,13 @@ KERNEL_FN Vec3 bsdf_eval(const GLOBAL Material *m, Vec3 wo, Vec3 wi, float *pdf)
 #endif
 #if GMON_HAS_DIFFUSE
     *pdf = wi.z / PI_F;
-    return v_scale(vec3_from_global(m->reflectance), 1.0f / PI_F);
+    return v_scale(vec3_from(m->reflectance), 1.0f / PI_F);
 #else
     return zero;
 #endif
 }
 
-KERNEL_FN int bsdf_sample(const GLOBAL Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
 {
     bsdf_sample_clear(s);
     if (wo.z == 0.0f)
@@ -911,7 +911,7 @@ KERNEL_FN const GLOBAL Material *mix_resolve(const GLOBAL Material *materials, c
 }
 
 /* Whether every lobe of m is a delta (no next-event estimation there). */
-KERNEL_FN int bsdf_is_delta(const GLOBAL Material *m)
+KERNEL_FN int bsdf_is_delta(const Material *m)
 {
     if (m->type == MAT_DIFFUSE || (GMON_HAS_DIFFUSE_TRANSMISSION && m->type == MAT_DIFFUSE_TRANSMISSION))
         return 0;

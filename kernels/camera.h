@@ -23,6 +23,9 @@ typedef struct {
     Vec3 origin;
     Vec3 direction; /* unit */
     float weight;   /* the filter's: scales the sample's radiance */
+    /* A cone around the ray about a pixel wide, for texture filtering: its
+     * width at the origin and its growth per unit length. */
+    float cone_width, cone_spread;
 } CameraRay;
 
 /* A point of the unit disk from (u1, u2) in [0, 1)^2 by Shirley and
@@ -84,12 +87,17 @@ KERNEL_FN CameraRay camera_ray(const GLOBAL CameraData *camera, const GLOBAL Fil
     Vec3 position = vec3_from_global(camera->position), forward = vec3_from_global(camera->forward);
     Vec3 offset = v_add(v_scale(vec3_from_global(camera->right), sx), v_scale(vec3_from_global(camera->up), sy));
     Vec3 direction;
+    float pixel = 2.0f * v_length(vec3_from_global(camera->up)) / (float)camera->height;
     if (GMON_HAS_ORTHOGRAPHIC && camera->projection == CAMERA_ORTHOGRAPHIC) {
         ray.origin = v_add(position, offset);
         direction = forward;
+        ray.cone_width = pixel;
+        ray.cone_spread = 0.0f;
     } else {
         ray.origin = position;
         direction = v_add(forward, offset);
+        ray.cone_width = 0.0f;
+        ray.cone_spread = pixel;
     }
     if (GMON_HAS_THIN_LENS && camera->lens_radius > 0.0f) {
         float lx, ly;

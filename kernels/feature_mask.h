@@ -26,16 +26,20 @@
 #define FEATURE_SHADING_NORMALS 0x100000ul /* meshes with vertex normals */
 #define FEATURE_GONIOMETRIC_LIGHTS 0x200000ul
 #define FEATURE_PROJECTION_LIGHTS 0x400000ul
-#define FEATURE_THIN_LENS 0x800000ul     /* a camera with lensradius > 0 */
-#define FEATURE_ORTHOGRAPHIC 0x1000000ul /* Camera "orthographic" */
-#define FEATURE_PIXEL_FILTER 0x2000000ul /* a filter other than the box of radius 0.5 */
+#define FEATURE_THIN_LENS 0x800000ul            /* a camera with lensradius > 0 */
+#define FEATURE_ORTHOGRAPHIC 0x1000000ul        /* Camera "orthographic" */
+#define FEATURE_PIXEL_FILTER 0x2000000ul        /* a filter other than the box of radius 0.5 */
+#define FEATURE_IMAGE_TEXTURES 0x4000000ul      /* Texture "imagemap" */
+#define FEATURE_PROCEDURAL_TEXTURES 0x8000000ul /* every other Texture class (constant, scale, mix, ...) */
+#define FEATURE_BUMP_MAP 0x10000000ul           /* a material's "displacement" */
+#define FEATURE_NORMAL_MAP 0x20000000ul         /* a material's "normalmap" */
 /* 64 bits ("ul": OpenCL C's long and LP64 hosts' long are both 64 bits). */
 #define FEATURE_DIFFUSE_TRANSMISSION 0x100000000ul
 #define FEATURE_MIX 0x200000000ul
 #define FEATURE_COATED_CONDUCTOR 0x400000000ul
 #define FEATURE_THIN_DIELECTRIC 0x800000000ul
 #define FEATURE_LAYERED 0x1000000000ul /* the layered random walk: coated diffuse or coated conductor */
-#define FEATURES_ALL 0x1f03fffff0ul
+#define FEATURES_ALL 0x1f3ffffff0ul
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -70,5 +74,11 @@
 #define GMON_HAS_COATED_CONDUCTOR GMON_HAS(FEATURE_COATED_CONDUCTOR)
 #define GMON_HAS_THIN_DIELECTRIC GMON_HAS(FEATURE_THIN_DIELECTRIC)
 #define GMON_HAS_LAYERED GMON_HAS(FEATURE_LAYERED)
+#define GMON_HAS_IMAGE_TEXTURES GMON_HAS(FEATURE_IMAGE_TEXTURES)
+#define GMON_HAS_PROCEDURAL_TEXTURES GMON_HAS(FEATURE_PROCEDURAL_TEXTURES)
+#define GMON_HAS_BUMP_MAP GMON_HAS(FEATURE_BUMP_MAP)
+#define GMON_HAS_NORMAL_MAP GMON_HAS(FEATURE_NORMAL_MAP)
+/* Any texture: materials read their parameters through texture programs. */
+#define GMON_HAS_TEXTURES (GMON_HAS_IMAGE_TEXTURES || GMON_HAS_PROCEDURAL_TEXTURES)
 
 #endif

@@ -15,6 +15,9 @@
 #include "lights.h"
 #include "rng.h"
 #include "scene.h"
+#if GMON_HAS_TEXTURES
+#include "surface_textures.h"
+#endif
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -62,8 +65,12 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
     return !occluded(scene, origin, s->wi, distance * (1.0f - 1e-4f));
 }
 
-/* One path sample along a camera ray; returns its radiance. */
-KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint64_t key, uint *rays)
+/* One path sample along a camera ray; returns its radiance. Texture
+ * filtering follows a ray cone: its width grows by cone_spread per unit
+ * length from cone_width at the camera, along the whole path (as if every
+ * bounce were a mirror's). */
+KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float cone_width, float cone_spread,
+                          uint64_t key, uint *rays)
 {
     __global const IntegratorData *integrator = &scene->constants->integrator;
     const int use_nee = GMON_HAS_NEE && (integrator->flags & RENDER_NEE) != 0;
@@ -101,12 +108,22 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, uint6
         if (depth >= integrator->max_depth)
             break;
 
-        __global const Material *material = scene->materials + prim->material;
+        __global const Material *material_stored = scene->materials + prim->material;
         if (GMON_HAS_MIX)
-            material = mix_resolve(scene->materials, material, p, wo_world);
+            material_stored = mix_resolve(scene->materials, material_stored, p, wo_world);
+        /* A private copy: textures give some of its parameters. */
+        Material material_at_hit = *material_stored;
+        const Material *material = &material_at_hit;
         /* The BSDF's frame is the shading normal's; rays leave by the
          * geometric one. */
         Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
+#if GMON_HAS_TEXTURES
+        cone_width += cone_spread * hit.t;
+        float cos_hit = fabs(v_dot(n, direction));
+        if (integrator->flags & RENDER_TEXTURES)
+            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p, cone_width / fmax(cos_hit, 0.01f),
+                                    &material_at_hit, &ns);
+#endif
         v_basis(ns, &s, &t);
         Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));
         uint dim = 2 + depth * DIMS_PER_BOUNCE;
@@ -190,7 +207,8 @@ __kernel void render_samples(__global const SceneConstants *constants,
         ulong sample_index = first_sample + i;
         uint64_t key = rng_sample_key(constants->integrator.seed, pixel, sample_index);
         CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, key);
-        Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, key, &rays));
+        Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, camera.cone_width,
+                                                            camera.cone_spread, key, &rays));
         if (GMON_HAS_PIXEL_FILTER)
             L = v_scale(L, camera.weight); /* after the film's clamp, as pbrt-v4 weighs samples */
         int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,

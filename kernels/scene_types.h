@@ -110,6 +110,83 @@ typedef struct {
 
 #define SMOOTH_ALPHA 1e-3f
 
+/* Textures. A material parameter given by a texture names a texture
+ * program: TextureNode blocks [first, first + program_length) of the
+ * textures array (program_length is set on the first), evaluated in order
+ * (kernels/texture.h), each node's operands being earlier nodes of the
+ * same program (their slot in it, 0-based) or its constants; the last
+ * node's value is the parameter's. pbrt-v4's textures referencing textures
+ * (scale, mix, ...) become one program each, without recursion. */
+#define TEXTURE_MAX_PROGRAM 16 /* nodes (the scene reader checks it) */
+#define TEXTURE_CONSTANT 0u
+#define TEXTURE_IMAGE 1u        /* "imagemap" */
+#define TEXTURE_CHECKERBOARD 2u /* 2D, or 3D when mapping is TEXTURE_MAP_3D */
+#define TEXTURE_SCALE 3u        /* operand 0 times operand 2 */
+#define TEXTURE_MIX 4u          /* (1 - amount) operand 0 + amount operand 1; amount is operand 2 */
+#define TEXTURE_DIRECTION_MIX 5u
+#define TEXTURE_BILERP 6u
+
+/* How a hit becomes texture coordinates (s, t) (pbrt-v4's mappings). */
+#define TEXTURE_MAP_UV 0u        /* (uscale u + udelta, vscale v + vdelta) */
+#define TEXTURE_MAP_SPHERICAL 1u /* of the point in texture space (texture_from_world) */
+#define TEXTURE_MAP_CYLINDRICAL 2u
+#define TEXTURE_MAP_PLANAR 3u /* rows 0 and 1 of texture_from_world, plus map_delta */
+#define TEXTURE_MAP_3D 4u     /* the point in texture space */
+
+#define TEXTURE_WRAP_REPEAT 0u
+#define TEXTURE_WRAP_BLACK 1u
+#define TEXTURE_WRAP_CLAMP 2u
+#define TEXTURE_WRAP_OCTAHEDRAL_SPHERE 3u
+
+#define TEXTURE_FILTER_POINT 0u
+#define TEXTURE_FILTER_BILINEAR 1u
+#define TEXTURE_FILTER_TRILINEAR 2u /* also pbrt-v4's "ewa" */
+
+/* Texels of an image: 8-bit values decoded through a 256-entry table of
+ * floats (the image's encoding: sRGB, linear or gamma), or floats. */
+#define TEXEL_BYTES 0u
+#define TEXEL_FLOATS 1u
+
+/* One node of a texture program. 224 bytes. Operands: operand[i] >= 0 is
+ * a slot of the program, -1 the constant value[i]. An image is a MIP
+ * pyramid of `levels` levels, level k of max(1, width >> k) x max(1,
+ * height >> k) texels of `channels` (1 or 3) values each, row 0 at the top,
+ * one level after the other from texel_offset in texture_bytes or
+ * texture_floats (texel_format); 8-bit texels decode through
+ * texture_floats[decode_offset + byte]. */
+typedef struct {
+    uint32_t type;
+    uint32_t program_length; /* on a program's first node */
+    uint32_t mapping;
+    uint32_t spectrum;              /* 1: an RGB texture; 0: float (channel 0) */
+    float map_scale[2];             /* uv: uscale, vscale */
+    float map_delta[2];             /* uv and planar: udelta, vdelta */
+    float texture_from_world[3][4]; /* rows of an affine map (TEXTURE_MAP_SPHERICAL, ... ) */
+    float value[4][4];              /* constants: operands 0..2 ([3] unused); bilerp: v00, v01, v10, v11 */
+    int32_t operand[3];
+    float pad0;
+    float direction[4]; /* direction mix: unit, world space */
+    uint32_t width, height, levels, channels;
+    uint32_t texel_offset, texel_format, decode_offset, wrap;
+    uint32_t filter, invert;
+    float scale;
+    uint32_t pad;
+} TextureNode;
+
+/* A material's parameters given by textures (materials[i]'s at
+ * material_textures[i]): a texture program's first node, or -1 for the
+ * Material's constant. Present only when the scene has textures. 48 bytes. */
+typedef struct {
+    int32_t reflectance;  /* diffuse and coated albedo; a conductor's "reflectance" */
+    int32_t roughness[2]; /* u, v (pbrt's roughness: remapped to alpha when remap_roughness) */
+    int32_t eta;          /* dielectric, coating */
+    int32_t conductor_eta, conductor_k;
+    int32_t displacement; /* bump mapping */
+    int32_t normal_map;   /* an RGB image of tangent-space normals */
+    uint32_t remap_roughness;
+    uint32_t pad[3];
+} MaterialTextures;
+
 /* Light types (Light.type). Area lights are emitting primitives; the
  * infinite lights come first in the light array (BackgroundData). */
 #define LIGHT_AREA 0u
@@ -232,7 +309,8 @@ typedef struct {
     uint32_t pad[3];
 } FilmData;
 
-#define RENDER_NEE 1u /* next-event estimation with MIS; else BSDF sampling only */
+#define RENDER_NEE 1u      /* next-event estimation with MIS; else BSDF sampling only */
+#define RENDER_TEXTURES 2u /* the scene has texture programs (a kernel with every feature must know) */
 
 typedef struct {
     uint32_t max_depth;
@@ -262,7 +340,14 @@ typedef struct {
  * pixel filter's sampling distributions, `texels` the lights' images (RGB
  * floats), `shading_normals` the vertex normals of triangles flagged
  * PRIM_SHADING_NORMAL (9 floats a primitive, in the BVH's order; empty
- * when no triangle has them). */
+ * when no triangle has them). With textures: `textures` the texture
+ * programs, `material_textures` which material parameters they give,
+ * `texture_bytes` and `texture_floats` the images' texels (and 8-bit
+ * decoding tables), `surface_uvs` SURFACE_UV_FLOATS a primitive in the BVH's
+ * order: a triangle's vertex uvs (u0 v0 u1 v1 u2 v2) and its uv density,
+ * sqrt(uv area / world area) (spheres compute theirs); all empty without
+ * textures. */
+#define SURFACE_UV_FLOATS 8
 #define GMON_SCENE_ARRAYS(ARRAY)                                                                                       \
     ARRAY(nodes, BvhNode)                                                                                              \
     ARRAY(primitives, Primitive)                                                                                       \
@@ -270,12 +355,19 @@ typedef struct {
     ARRAY(lights, Light)                                                                                               \
     ARRAY(distributions, float)                                                                                        \
     ARRAY(texels, float)                                                                                               \
-    ARRAY(shading_normals, float)
+    ARRAY(shading_normals, float)                                                                                      \
+    ARRAY(textures, TextureNode)                                                                                       \
+    ARRAY(material_textures, MaterialTextures)                                                                         \
+    ARRAY(texture_bytes, uint8_t)                                                                                      \
+    ARRAY(texture_floats, float)                                                                                       \
+    ARRAY(surface_uvs, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
 _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
 _Static_assert(sizeof(Material) == 128, "Material must match the kernel's layout");
+_Static_assert(sizeof(TextureNode) == 224, "TextureNode must match the kernel's layout");
+_Static_assert(sizeof(MaterialTextures) == 48, "MaterialTextures must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(SceneConstants) == 224, "SceneConstants must match the kernel's layout");
 #endif

@@ -1110,7 +1110,7 @@ static void test_truncated_and_malformed_files(void **state)
     load_fails(WORLD "]\n", 2, "expected a directive");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ [ 1 ] ]\n", 2, "inside a list");
     load_fails("Film \"rgb\" \"string filename\" \"bad \\q escape\"\n" WORLD, 1, "escape");
-    load_fails(WORLD "Texture \"t\" \"spectrum\" \"checkerboard\"\n", 2, "Texture is not supported");
+    load_fails(WORLD "Texture \"t\" \"spectrum\" \"marble\"\n", 2, "texture class \"marble\" is not supported");
     load_fails(WORLD "ObjectBegin \"o\"\n", 2, "instancing");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1 ] ]\n", 2, "expected a directive, got ']'");
 }
@@ -1120,9 +1120,9 @@ static void test_allow_unsupported_substitutes(void **state)
     (void)state;
     Scene s;
     const char *text =
-        WORLD "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
+        WORLD "Texture \"checks\" \"spectrum\" \"wrinkled\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
               "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
-              "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* default reflectance */
+              "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* a constant texture */
               "Shape \"curve\" \"float width\" 1\n"                                        /* skipped */
               "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                                  /* skipped */
               "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
@@ -1138,7 +1138,10 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
     assert_vec3(material_of_shape(&s, 0)->reflectance, 0.5, 0.5, 0.5);
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
-    assert_true(has_warning(&s, "Texture is not supported; skipped"));
+    assert_int_equal(material_of_shape(&s, 1)->textures[SCENE_SLOT_REFLECTANCE], 0);
+    assert_int_equal(s.textures[0].texture_class, SCENE_TEXTURE_CONSTANT);
+    assert_true(has_warning(&s, "texture class \"wrinkled\" is not supported (constant, scale, mix, directionmix, "
+                                "checkerboard, bilerp, imagemap); a constant 0.5 is used instead"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
     assert_true(has_warning(&s, "Shape \"curve\" is not supported"));
     assert_true(has_warning(&s, "LightSource \"sun\""));
@@ -1507,7 +1510,7 @@ static void test_check_mode(void **state)
         fail_msg("%s", error);
     assert_int_equal(s.triangle_count, 1); /* parsing went on to the end */
     assert_int_equal(s.warning_count, 0);
-    assert_int_equal(s.diagnostic_count, 7);
+    assert_int_equal(s.diagnostic_count, 6);
     const struct {
         SceneDiagnosticKind kind;
         const char *file;
@@ -1518,11 +1521,10 @@ static void test_check_mode(void **state)
         {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 3, "Shape \"curve\" is not supported", "skipped"},
         {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 4, "Shape \"plymesh\"", "check/geometry/gone.ply"},
         {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 5, "Include", "check/gone.pbrt"},
-        {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/main.pbrt", 6, "Texture is not supported", "skipped"},
         {SCENE_DIAGNOSTIC_MISSING_FILE, "check/main.pbrt", 6, "Texture \"t\"", "check/textures/gone.png"},
         {SCENE_DIAGNOSTIC_UNSUPPORTED, "check/inc.pbrt", 1, "Shape \"curve\"", "skipped"}, /* once */
     };
-    for (size_t i = 0; i < 7; ++i) {
+    for (size_t i = 0; i < 6; ++i) {
         const SceneDiagnostic *d = &s.diagnostics[i];
         int missing = expected[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE;
         const char *detail = missing ? d->path : d->substitute;

@@ -148,3 +148,67 @@ ImageIoStatus image_read_rgb(const char *path, RgbImage *image, char *error, siz
         return read_pfm(path, image, error, error_size);
     return read_stb(path, image, error, error_size);
 }
+
+void texture_image_free(TextureImage *image)
+{
+    free(image->bytes);
+    free(image->floats);
+    memset(image, 0, sizeof *image);
+}
+
+ImageIoStatus image_read_texture(const char *path, TextureImage *image, char *error, size_t error_size)
+{
+    memset(image, 0, sizeof *image);
+    if (has_extension(path, ".exr") || has_extension(path, ".pfm") || stbi_is_hdr(path)) {
+        RgbImage rgb;
+        if (image_read_rgb(path, &rgb, error, error_size) != IMAGE_IO_OK)
+            return IMAGE_IO_ERROR;
+        image->width = rgb.width;
+        image->height = rgb.height;
+        image->channels = 3;
+        image->floats = rgb.rgb;
+        /* Grey (as the readers replicate grey files to RGB): one channel. */
+        size_t n = (size_t)rgb.width * rgb.height, grey = 1;
+        for (size_t i = 0; i < n && grey; ++i)
+            grey = rgb.rgb[3 * i] == rgb.rgb[3 * i + 1] && rgb.rgb[3 * i] == rgb.rgb[3 * i + 2];
+        for (size_t i = 0; i < n && grey; ++i)
+            image->floats[i] = rgb.rgb[3 * i];
+        image->channels = grey ? 1 : 3;
+        return IMAGE_IO_OK;
+    }
+    int width = 0, height = 0, channels = 0;
+    if (!stbi_info(path, &width, &height, &channels)) {
+        const char *why = stbi_failure_reason();
+        return fail(error, error_size, path, why ? why : "cannot decode the image");
+    }
+    int wanted = channels <= 2 ? 1 : 3;
+    int wide = stbi_is_16_bit(path);
+    void *data = wide ? (void *)stbi_load_16(path, &width, &height, &channels, wanted)
+                      : (void *)stbi_load(path, &width, &height, &channels, wanted);
+    if (!data) {
+        const char *why = stbi_failure_reason();
+        return fail(error, error_size, path, why ? why : "cannot decode the image");
+    }
+    if (width <= 0 || height <= 0 || (uint64_t)width * (uint64_t)height > ((uint64_t)1 << 31)) {
+        stbi_image_free(data);
+        return fail(error, error_size, path, "image size out of range (1 to 2^31 texels)");
+    }
+    size_t n = (size_t)width * height * wanted;
+    image->width = (uint32_t)width;
+    image->height = (uint32_t)height;
+    image->channels = (uint32_t)wanted;
+    if (wide) {
+        image->floats = malloc(n * sizeof *image->floats);
+        for (size_t i = 0; image->floats && i < n; ++i)
+            image->floats[i] = ((const uint16_t *)data)[i] / 65535.0f;
+        image->needs_decoding = 1;
+    } else {
+        image->bytes = malloc(n);
+        if (image->bytes)
+            memcpy(image->bytes, data, n);
+    }
+    stbi_image_free(data);
+    if (!image->bytes && !image->floats)
+        return fail(error, error_size, path, "out of memory");
+    return IMAGE_IO_OK;
+}

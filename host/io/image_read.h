@@ -21,4 +21,20 @@ ImageIoStatus image_read_rgb(const char *path, RgbImage *image, char *error, siz
 
 void rgb_image_free(RgbImage *image);
 
+/* An image for a texture, in the form it is stored: 8-bit files (PNG,
+ * TGA, JPEG, BMP) as their bytes, undecoded; 16-bit ones as floats v /
+ * 65535, undecoded (needs_decoding); EXR, PFM and HDR as linear floats.
+ * channels is 1 (grey, grey + alpha) or 3 (alpha dropped). */
+typedef struct {
+    uint32_t width, height, channels;
+    uint8_t *bytes;
+    float *floats;
+    int needs_decoding;
+} TextureImage;
+
+/* Returns IMAGE_IO_OK, or IMAGE_IO_ERROR with "path: cause" in error. */
+ImageIoStatus image_read_texture(const char *path, TextureImage *image, char *error, size_t error_size);
+
+void texture_image_free(TextureImage *image);
+
 #endif

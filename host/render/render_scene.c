@@ -25,6 +25,12 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->texels);
     free(scene->vertex_normals);
     free(scene->shading_normals);
+    free(scene->textures);
+    free(scene->material_textures);
+    free(scene->texture_bytes);
+    free(scene->texture_floats);
+    free(scene->vertex_uvs);
+    free(scene->surface_uvs);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -46,6 +52,16 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.texels_count = scene->texel_count;
     a.shading_normals = scene->shading_normals;
     a.shading_normals_count = scene->shading_normals ? 9 * (size_t)scene->bvh.primitive_count : 0;
+    a.textures = scene->textures;
+    a.textures_count = (size_t)scene->texture_count;
+    a.material_textures = scene->material_textures;
+    a.material_textures_count = (size_t)scene->material_texture_count;
+    a.texture_bytes = scene->texture_bytes;
+    a.texture_bytes_count = scene->texture_byte_count;
+    a.texture_floats = scene->texture_floats;
+    a.texture_floats_count = scene->texture_float_count;
+    a.surface_uvs = scene->surface_uvs;
+    a.surface_uvs_count = scene->surface_uvs ? SURFACE_UV_FLOATS * (size_t)scene->bvh.primitive_count : 0;
     return a;
 }
 
@@ -525,6 +541,9 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
                        9 * sizeof *scene->shading_normals);
     }
 
+    if (render_scene_finalize_textures(scene, error, error_size))
+        return -1;
+
     /* Pick lights in proportion to their power. */
     double radius = scene_radius(&scene->bvh), total = 0.0;
     for (int i = 0; i < n; ++i)
@@ -598,5 +617,14 @@ uint64_t render_scene_features(const RenderScene *scene)
         features |= FEATURE_ORTHOGRAPHIC;
     if (scene->constants.filter.table_width > 0)
         features |= FEATURE_PIXEL_FILTER;
+    for (int i = 0; i < scene->texture_count; ++i)
+        features |= scene->textures[i].type == TEXTURE_IMAGE ? FEATURE_IMAGE_TEXTURES : FEATURE_PROCEDURAL_TEXTURES;
+    for (int i = 0; i < scene->material_texture_count && scene->texture_count > 0; ++i) {
+        const MaterialTextures *t = &scene->material_textures[i];
+        features |= t->displacement >= 0 ? FEATURE_BUMP_MAP : 0;
+        features |= t->normal_map >= 0 ? FEATURE_NORMAL_MAP : 0;
+        if (scene->materials[i].type != MAT_DIFFUSE && (t->roughness[0] >= 0 || t->roughness[1] >= 0))
+            features |= FEATURE_ROUGH;
+    }
     return features;
 }

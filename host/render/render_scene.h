@@ -28,7 +28,23 @@ typedef struct {
     float *vertex_normals;         /* 9 a primitive in input order, or NULL: none has any */
     size_t vertex_normal_capacity; /* in primitives */
     float *shading_normals;        /* vertex_normals in the BVH's order (render_scene_finalize) */
-    Bvh bvh;                       /* valid after render_scene_finalize; owns the ordered primitives */
+    /* Textures (render_textures.c): the programs' nodes, which material
+     * parameters they give (NULL: none; else one a material, completed by
+     * render_scene_finalize), the texels, and the triangles' uvs
+     * (SURFACE_UV_FLOATS a primitive in input order, [7] = 1 where set;
+     * surface_uvs in the BVH's order, made when there are textures). */
+    TextureNode *textures;
+    int texture_count, texture_capacity;
+    MaterialTextures *material_textures;
+    int material_texture_count;
+    uint8_t *texture_bytes;
+    size_t texture_byte_count, texture_byte_capacity;
+    float *texture_floats;
+    size_t texture_float_count, texture_float_capacity;
+    float *vertex_uvs;
+    size_t vertex_uv_capacity; /* in primitives */
+    float *surface_uvs;
+    Bvh bvh; /* valid after render_scene_finalize; owns the ordered primitives */
 } RenderScene;
 
 /* The arrays of kernels/scene_types.h's list, as the path tracer takes them. */
@@ -110,6 +126,43 @@ RenderCamera render_camera_pinhole(const float position[3], const float forward[
  * with a message (a radius out of (0, PIXEL_FILTER_MAX_RADIUS], a filter
  * whose integral is not positive). */
 int render_scene_set_filter(RenderScene *scene, const PixelFilter *filter, char *error, size_t error_size);
+
+/* Appends a texture program of `count` nodes (operands as slots of it;
+ * program_length is set here). Returns its first node, or -1 when out of
+ * memory. */
+int render_scene_add_texture_program(RenderScene *scene, const TextureNode *nodes, int count);
+
+/* The texture programs giving material `material`'s parameters. Returns 0,
+ * or -1 when out of memory. */
+int render_scene_set_material_textures(RenderScene *scene, int material, const MaterialTextures *textures);
+
+/* Gives the triangle just added vertex uvs (u0 v0 u1 v1 u2 v2); triangles
+ * without get pbrt's (0,0), (1,0), (1,1). Returns 0, or -1 when out of memory. */
+int render_scene_set_uvs(RenderScene *scene, const float uv[6]);
+
+/* An image's texels for a texture, decoded or kept 8-bit: width x height
+ * texels of `channels` (1 or 3) values, rows from the top, either bytes
+ * (decoded by the 256 floats of `decode`) or floats. */
+typedef struct {
+    uint32_t width, height, channels;
+    const uint8_t *bytes;
+    const float *decode; /* with bytes: byte -> linear value, increasing */
+    const float *floats;
+} TextureTexels;
+
+/* Uploads the texels and their MIP pyramid (levels down to 1x1 by 2x2 box
+ * averages, 8-bit levels re-encoded to the nearest byte; just the image
+ * with single_level) and points node's image fields at them. Returns 0, or
+ * -1 with a message (non-finite texels, too large). */
+int render_scene_add_texture_texels(RenderScene *scene, const TextureTexels *texels, int single_level,
+                                    TextureNode *node, char *error, size_t error_size);
+
+/* Bytes of texels and programs uploaded for textures. */
+size_t render_scene_texture_bytes(const RenderScene *scene);
+
+/* render_scene_finalize's part for textures (after the BVH): the per-material table
+ * and the uvs in the BVH's order. Returns 0, or -1 with a message. */
+int render_scene_finalize_textures(RenderScene *scene, char *error, size_t error_size);
 
 /* Builds the BVH, orders the lights (infinite first) and gives each its
  * chance of being picked, in proportion to its power as pbrt-v4's "power"

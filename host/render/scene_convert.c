@@ -3,6 +3,7 @@
 #include "equal_area.h"
 #include "io/image_read.h"
 #include "scene/scene.h"
+#include "scene/textures.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -73,6 +74,201 @@ _Static_assert(SCENE_MIX_MAX_NESTING <= MIX_MAX_NESTING, "the kernel resolves ev
 static int is_interface(const Scene *scene, const SceneShape *shape)
 {
     return scene->materials[shape->material].type == SCENE_MATERIAL_INTERFACE;
+}
+
+/* pbrt-v4's decoding of an 8- or 16-bit value v in [0, 1]. */
+static float decode_texel(const SceneTexture *t, float v)
+{
+    if (t->encoding == SCENE_ENCODING_SRGB)
+        return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+    if (t->encoding == SCENE_ENCODING_GAMMA)
+        return powf(v, t->gamma);
+    return v;
+}
+
+typedef struct {
+    const Scene *scene;
+    RenderScene *out;
+    TextureNode *images; /* per scene texture: its image fields, once loaded */
+    int *loaded;
+    int *program; /* per scene texture: its program's first node, or -1 */
+    char *error;
+    size_t error_size;
+} TextureConversion;
+
+/* The image fields of scene texture i's node: the image read (or shared
+ * with an earlier texture of the same file and decoding). Returns 0 or -1. */
+static int image_texels(TextureConversion *c, int i, TextureNode *node)
+{
+    const SceneTexture *t = &c->scene->textures[i];
+    for (size_t j = 0; j < c->scene->texture_count && !c->loaded[i]; ++j) {
+        const SceneTexture *u = &c->scene->textures[j];
+        if (c->loaded[j] && strcmp(u->filename, t->filename) == 0 && u->encoding == t->encoding &&
+            u->gamma == t->gamma && u->single_level == t->single_level) {
+            c->images[i] = c->images[j];
+            c->loaded[i] = 1;
+        }
+    }
+    if (!c->loaded[i]) {
+        TextureImage image;
+        char why[512];
+        if (image_read_texture(t->filename, &image, why, sizeof why) != IMAGE_IO_OK) {
+            snprintf(c->error, c->error_size, "%s: Texture \"%s\": %s", t->origin, t->name, why);
+            return -1;
+        }
+        float decode[256];
+        for (int b = 0; b < 256; ++b)
+            decode[b] = decode_texel(t, b / 255.0f);
+        size_t n = (size_t)image.width * image.height * image.channels;
+        for (size_t k = 0; image.needs_decoding && k < n; ++k)
+            image.floats[k] = decode_texel(t, image.floats[k]);
+        TextureTexels texels = {image.width, image.height, image.channels, image.bytes, decode, image.floats};
+        memset(&c->images[i], 0, sizeof c->images[i]);
+        int failed = render_scene_add_texture_texels(c->out, &texels, t->single_level, &c->images[i], why, sizeof why);
+        texture_image_free(&image);
+        if (failed) {
+            snprintf(c->error, c->error_size, "%s: Texture \"%s\": %s: %s", t->origin, t->name, t->filename, why);
+            return -1;
+        }
+        c->loaded[i] = 1;
+    }
+    const TextureNode *image = &c->images[i];
+    node->width = image->width;
+    node->height = image->height;
+    node->levels = image->levels;
+    node->channels = image->channels;
+    node->texel_offset = image->texel_offset;
+    node->texel_format = image->texel_format;
+    node->decode_offset = image->decode_offset;
+    return 0;
+}
+
+/* Appends scene texture i and its inputs to nodes[*count...] in the order
+ * they are evaluated; its slot, or -1 on an error. */
+static int emit_texture(TextureConversion *c, int i, TextureNode *nodes, int *count)
+{
+    static const uint32_t types[] = {
+        [SCENE_TEXTURE_CONSTANT] = TEXTURE_CONSTANT,
+        [SCENE_TEXTURE_IMAGE] = TEXTURE_IMAGE,
+        [SCENE_TEXTURE_CHECKERBOARD] = TEXTURE_CHECKERBOARD,
+        [SCENE_TEXTURE_SCALE] = TEXTURE_SCALE,
+        [SCENE_TEXTURE_MIX] = TEXTURE_MIX,
+        [SCENE_TEXTURE_DIRECTION_MIX] = TEXTURE_DIRECTION_MIX,
+        [SCENE_TEXTURE_BILERP] = TEXTURE_BILERP,
+    };
+    static const uint32_t mappings[] = {
+        [SCENE_MAPPING_UV] = TEXTURE_MAP_UV,
+        [SCENE_MAPPING_SPHERICAL] = TEXTURE_MAP_SPHERICAL,
+        [SCENE_MAPPING_CYLINDRICAL] = TEXTURE_MAP_CYLINDRICAL,
+        [SCENE_MAPPING_PLANAR] = TEXTURE_MAP_PLANAR,
+        [SCENE_MAPPING_3D] = TEXTURE_MAP_3D,
+    };
+    static const uint32_t wraps[] = {
+        [SCENE_WRAP_REPEAT] = TEXTURE_WRAP_REPEAT,
+        [SCENE_WRAP_BLACK] = TEXTURE_WRAP_BLACK,
+        [SCENE_WRAP_CLAMP] = TEXTURE_WRAP_CLAMP,
+        [SCENE_WRAP_OCTAHEDRAL_SPHERE] = TEXTURE_WRAP_OCTAHEDRAL_SPHERE,
+    };
+    static const uint32_t filters[] = {
+        [SCENE_TEXTURE_FILTER_POINT] = TEXTURE_FILTER_POINT,
+        [SCENE_TEXTURE_FILTER_BILINEAR] = TEXTURE_FILTER_BILINEAR,
+        [SCENE_TEXTURE_FILTER_TRILINEAR] = TEXTURE_FILTER_TRILINEAR,
+    };
+    const SceneTexture *t = &c->scene->textures[i];
+    TextureNode node;
+    memset(&node, 0, sizeof node);
+    for (int k = 0; k < 3; ++k) {
+        node.operand[k] = -1;
+        if (t->input[k].texture >= 0 && (node.operand[k] = emit_texture(c, t->input[k].texture, nodes, count)) < 0)
+            return -1;
+        memcpy(node.value[k], t->input[k].value, sizeof t->input[k].value);
+    }
+    node.type = types[t->texture_class];
+    node.mapping = mappings[t->mapping];
+    node.spectrum = (uint32_t)t->is_spectrum;
+    memcpy(node.map_scale, t->map_scale, sizeof node.map_scale);
+    memcpy(node.map_delta, t->map_delta, sizeof node.map_delta);
+    memcpy(node.texture_from_world, t->texture_from_world, sizeof node.texture_from_world);
+    memcpy(node.direction, t->direction, sizeof t->direction);
+    if (t->texture_class == SCENE_TEXTURE_BILERP)
+        for (int k = 0; k < 4; ++k)
+            memcpy(node.value[k], t->bilerp[k], sizeof t->bilerp[k]);
+    if (t->texture_class == SCENE_TEXTURE_IMAGE) {
+        node.wrap = wraps[t->wrap];
+        node.filter = filters[t->filter];
+        node.invert = (uint32_t)t->invert;
+        node.scale = t->scale;
+        if (image_texels(c, i, &node))
+            return -1;
+    }
+    nodes[*count] = node;
+    return (*count)++;
+}
+
+_Static_assert(SCENE_TEXTURE_MAX_NODES == TEXTURE_MAX_PROGRAM, "the scene reader checks the kernels' limit");
+
+/* Scene texture i's program (made once), its first node; -1 on an error. */
+static int texture_program(TextureConversion *c, int i)
+{
+    if (i < 0)
+        return -1;
+    if (c->program[i] < 0) {
+        TextureNode nodes[TEXTURE_MAX_PROGRAM];
+        int count = 0;
+        if (emit_texture(c, i, nodes, &count) < 0)
+            return -2;
+        c->program[i] = render_scene_add_texture_program(c->out, nodes, count);
+        if (c->program[i] < 0) {
+            snprintf(c->error, c->error_size, "%s: out of memory", c->scene->textures[i].origin);
+            return -2;
+        }
+    }
+    return c->program[i];
+}
+
+/* The materials' texture programs. Returns 0 or -1. */
+static int convert_textures(const Scene *scene, RenderScene *out, char *error, size_t error_size)
+{
+    if (scene->texture_count == 0)
+        return 0;
+    TextureConversion c = {scene,
+                           out,
+                           calloc(scene->texture_count, sizeof(TextureNode)),
+                           calloc(scene->texture_count, sizeof(int)),
+                           malloc(scene->texture_count * sizeof(int)),
+                           error,
+                           error_size};
+    int failed = !c.images || !c.loaded || !c.program;
+    if (failed)
+        snprintf(error, error_size, "out of memory for the textures");
+    for (size_t i = 0; !failed && i < scene->texture_count; ++i)
+        c.program[i] = -1;
+    for (size_t i = 0; i < scene->material_count && !failed; ++i) {
+        const SceneMaterial *m = &scene->materials[i];
+        int first[SCENE_SLOT_COUNT], any = 0;
+        for (int k = 0; k < SCENE_SLOT_COUNT && !failed; ++k) {
+            first[k] = texture_program(&c, m->textures[k]);
+            failed = first[k] == -2;
+            any |= first[k] >= 0;
+        }
+        MaterialTextures t = {first[SCENE_SLOT_REFLECTANCE],
+                              {first[SCENE_SLOT_ROUGHNESS_U], first[SCENE_SLOT_ROUGHNESS_V]},
+                              first[SCENE_SLOT_ETA],
+                              first[SCENE_SLOT_CONDUCTOR_ETA],
+                              first[SCENE_SLOT_CONDUCTOR_K],
+                              first[SCENE_SLOT_DISPLACEMENT],
+                              first[SCENE_SLOT_NORMAL_MAP],
+                              (uint32_t)m->remap_roughness,
+                              {0, 0, 0}};
+        if (!failed && any && render_scene_set_material_textures(out, (int)i, &t)) {
+            snprintf(error, error_size, "out of memory for the textures");
+            failed = 1;
+        }
+    }
+    free(c.images);
+    free(c.loaded);
+    free(c.program);
+    return failed ? -1 : 0;
 }
 
 /* Each area light's radiance, with "power" applied over its shape's area
@@ -366,6 +562,11 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         Material m = convert_material(&scene.materials[i]);
         failed = render_scene_add_material(out, &m) < 0;
     }
+    if (!failed && convert_textures(&scene, out, error, error_size)) {
+        render_scene_destroy(out);
+        return -1;
+    }
+    int textured = out->texture_count > 0;
     float(*emission)[3] = area_light_emission(&scene);
     failed = scene.area_light_count > 0 && !emission;
     for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
@@ -386,6 +587,14 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
                                            light ? emission[shape->area_light] : NULL, light && light->two_sided,
                                            flip) != 0 ||
                  (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
+        if (!failed && textured && shape->has_uvs && scene.uvs) {
+            float uv[6];
+            for (int k = 0; k < 3; ++k) {
+                uv[2 * k] = scene.uvs[2 * (size_t)t->vertex[k]];
+                uv[2 * k + 1] = scene.uvs[2 * (size_t)t->vertex[k] + 1];
+            }
+            failed = render_scene_set_uvs(out, uv) != 0;
+        }
     }
     for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
         const SceneSphere *sphere = &scene.spheres[i];
@@ -403,6 +612,11 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         render_scene_destroy(out);
         return -1;
     }
+    summary->texture_bytes = out->texture_byte_count + out->texture_float_count * sizeof(float);
+    if (textured && !quiet)
+        fprintf(stderr, "note: %s: textures: %d texture nodes, %zu bytes of texels (%zu 8-bit, %zu float)\n", path,
+                out->texture_count, summary->texture_bytes, out->texture_byte_count,
+                out->texture_float_count * sizeof(float));
     if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
     return 0;

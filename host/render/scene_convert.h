@@ -16,6 +16,7 @@ typedef struct {
     uint64_t pixel_samples;   /* Sampler "pixelsamples", 0 if none */
     char sampler[64];         /* the Sampler's name, "" if none */
     int regularize;           /* Integrator "regularize" was set */
+    size_t texture_bytes;     /* texels (8-bit and float) and decoding tables uploaded for textures */
 } SceneSummary;
 
 /* Loads `path` into `scene` (initialized here, not finalized), at the

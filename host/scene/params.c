@@ -285,6 +285,23 @@ static int lookup(ParamList *list, const char *name, ParamType type, size_t coun
     return 1;
 }
 
+int params_take_texture(ParamList *list, const char *name, const char **texture)
+{
+    for (size_t i = 0; i < list->count; ++i) {
+        Param *p = &list->items[i];
+        if (!p->name || strcmp(p->name, name) != 0 || p->type != PARAM_TEXTURE)
+            continue;
+        if (p->count != 1)
+            return params_error(list, p, "expected 1 texture name, got %zu", p->count);
+        *texture = p->strings[0];
+        p->used = 1;
+        free(p->name); /* out of the lookups: the value's getters see no texture */
+        p->name = NULL;
+        return 1;
+    }
+    return 0;
+}
+
 int params_get_float(ParamList *list, const char *name, float *value)
 {
     const Param *p = NULL;

@@ -77,6 +77,10 @@ int params_get_conductor(ParamList *list, const char *prefix, float eta[3], floa
 /* A dielectric's "float eta", or a spectrum (a named glass such as
  * glass-BK7) reduced to one value by spectrum_eta. */
 int params_get_eta(ParamList *list, const char *name, float *eta);
+/* A "texture name" parameter: *texture the texture's name (alive until the
+ * list is freed); the parameter then leaves the list, so that a value
+ * getter for the same name finds nothing. 1 taken, 0 none, -1 error. */
+int params_take_texture(ParamList *list, const char *name, const char **texture);
 /* Any number of values of one numeric type (P, N, indices). */
 int params_get_array(ParamList *list, const char *name, ParamType type, const Param **param);
 

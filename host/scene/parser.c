@@ -10,6 +10,7 @@
 #include "scene/scene_internal.h"
 #include "scene/shapes.h"
 #include "scene/spectrum.h"
+#include "scene/textures.h"
 
 #include <cglm/cglm.h>
 
@@ -76,8 +77,8 @@ typedef struct {
     size_t coordinate_system_count, coordinate_system_capacity;
     int motion_warned; /* one warning for all animated transforms */
     int default_material;
-    size_t material_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity, triangle_capacity,
-        sphere_capacity;
+    size_t material_capacity, texture_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity,
+        triangle_capacity, sphere_capacity;
     char **paths; /* every file read, alive until scene_load returns (messages point at them) */
     size_t path_count, path_capacity;
     const char *main_path;
@@ -317,6 +318,8 @@ static void default_material(SceneMaterial *m)
 {
     memset(m, 0, sizeof *m);
     m->type = SCENE_MATERIAL_DIFFUSE;
+    for (int i = 0; i < SCENE_SLOT_COUNT; ++i)
+        m->textures[i] = -1;
     m->reflectance[0] = m->reflectance[1] = m->reflectance[2] = 0.5f;
     m->eta = 1.5f;
     m->remap_roughness = 1;
@@ -524,20 +527,70 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
 
 /* ------------------------------------------------------------ materials */
 
+/* A material parameter that may be a texture: 1 when it is one (its
+ * index in m->textures[slot]), 0 when not (read the constant), -1 error. */
+static int read_slot(Parser *p, ParamList *params, SceneMaterial *m, SceneMaterialSlot slot, const char *name,
+                     int is_spectrum)
+{
+    return scene_texture_param(&p->diag, p->scene, params, name, is_spectrum, &m->textures[slot]);
+}
+
+/* A spectrum parameter given by a texture or a constant. Returns 0 or -1. */
+static int read_spectrum_slot(Parser *p, ParamList *params, SceneMaterial *m, SceneMaterialSlot slot, const char *name,
+                              SpectrumKind kind, float rgb[3], int *given)
+{
+    int taken = read_slot(p, params, m, slot, name, 1);
+    if (taken == 0)
+        taken = params_get_spectrum(params, name, kind, rgb);
+    if (given)
+        *given = taken > 0;
+    return taken < 0 ? -1 : 0;
+}
+
+/* Every material's bump and normal maps. Returns 0 or -1. */
+static int read_bump(Parser *p, ParamList *params, SceneMaterial *m, int line)
+{
+    if (read_slot(p, params, m, SCENE_SLOT_DISPLACEMENT, "displacement", 0) < 0)
+        return -1;
+    params_ignore(params, "displacement"); /* a constant displacement changes nothing */
+    return scene_texture_normal_map(&p->diag, p->scene, &p->texture_capacity, params, line,
+                                    &m->textures[SCENE_SLOT_NORMAL_MAP]) < 0
+               ? -1
+               : 0;
+}
+
 /* "<prefix>roughness" or "<prefix>uroughness"/"<prefix>vroughness"
- * (pbrt-v4's names, prefix "" or "interface." / "conductor."). */
-static int read_roughness(ParamList *params, const char *prefix, float roughness[2], int line, Parser *p)
+ * (pbrt-v4's names, prefix "" or "interface." / "conductor."; pbrt-v4
+ * prefers u and v). With `textured`, each may be a float texture
+ * (m->textures' roughness slots); else constants only. */
+static int read_roughness(Parser *p, ParamList *params, SceneMaterial *m, const char *prefix, float roughness[2],
+                          int textured, int line)
 {
     char names[3][64];
     snprintf(names[0], sizeof names[0], "%sroughness", prefix);
     snprintf(names[1], sizeof names[1], "%suroughness", prefix);
     snprintf(names[2], sizeof names[2], "%svroughness", prefix);
+    int *slot_u = &m->textures[SCENE_SLOT_ROUGHNESS_U], *slot_v = &m->textures[SCENE_SLOT_ROUGHNESS_V];
+    if (textured) {
+        if (read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_U, names[0], 0) < 0)
+            return -1;
+        *slot_v = *slot_u;
+        if (read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_U, names[1], 0) < 0 ||
+            read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_V, names[2], 0) < 0)
+            return -1;
+    }
     float r = 0.0f;
     if (params_get_float(params, names[0], &r) < 0)
         return -1;
     roughness[0] = roughness[1] = r;
-    if (params_get_float(params, names[1], &roughness[0]) < 0 || params_get_float(params, names[2], &roughness[1]) < 0)
+    int constant_u = params_get_float(params, names[1], &roughness[0]);
+    int constant_v = params_get_float(params, names[2], &roughness[1]);
+    if (constant_u < 0 || constant_v < 0)
         return -1;
+    if (textured && constant_u > 0)
+        *slot_u = -1;
+    if (textured && constant_v > 0)
+        *slot_v = -1;
     if (roughness[0] < 0.0f || roughness[1] < 0.0f)
         return scene_error(&p->diag, params->file, line, "%s: roughness must not be negative", params->owner);
     return 0;
@@ -552,14 +605,25 @@ static int read_eta(ParamList *params, const char *name, float *eta, int line, P
     return 0;
 }
 
-/* A conductor's "<prefix>eta" and "<prefix>k", or "reflectance" instead. */
-static int read_conductor(ParamList *params, const char *prefix, SceneMaterial *m, int line, Parser *p)
+/* A conductor's "<prefix>eta" and "<prefix>k", or "reflectance" instead;
+ * each may be a spectrum texture. */
+static int read_conductor(Parser *p, ParamList *params, const char *prefix, SceneMaterial *m, int line)
 {
-    int has_eta_k = params_get_conductor(params, prefix, m->conductor_eta, m->conductor_k);
+    char eta_name[64], k_name[64];
+    snprintf(eta_name, sizeof eta_name, "%seta", prefix);
+    snprintf(k_name, sizeof k_name, "%sk", prefix);
+    int eta_texture = read_slot(p, params, m, SCENE_SLOT_CONDUCTOR_ETA, eta_name, 1);
+    int k_texture = read_slot(p, params, m, SCENE_SLOT_CONDUCTOR_K, k_name, 1);
     float reflectance[3];
-    int has_reflectance = params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, reflectance);
-    if (has_eta_k < 0 || has_reflectance < 0)
+    int has_reflectance = 0;
+    if (eta_texture < 0 || k_texture < 0 ||
+        read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, reflectance,
+                           &has_reflectance))
         return -1;
+    int has_eta_k = params_get_conductor(params, prefix, m->conductor_eta, m->conductor_k);
+    if (has_eta_k < 0)
+        return -1;
+    has_eta_k |= eta_texture | k_texture;
     if (has_reflectance && has_eta_k)
         return scene_error(&p->diag, params->file, line, "%s: give either \"reflectance\" or \"%seta\" and \"%sk\"",
                            params->owner, prefix, prefix);
@@ -635,36 +699,40 @@ static int read_mix(Parser *p, ParamList *params, int line, SceneMaterial *m)
 static int parse_material(Parser *p, const char *type, ParamList *params, int line, SceneMaterial *m)
 {
     default_material(m);
+    if (read_bump(p, params, m, line))
+        return -1;
     if (strcmp(type, "diffuse") == 0) {
-        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
+        if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
+                               NULL))
             return -1;
     } else if (strcmp(type, "dielectric") == 0 || strcmp(type, "thindielectric") == 0) {
         m->type = type[0] == 't' ? SCENE_MATERIAL_THIN_DIELECTRIC : SCENE_MATERIAL_DIELECTRIC;
-        if (read_eta(params, "eta", &m->eta, line, p))
+        if (read_slot(p, params, m, SCENE_SLOT_ETA, "eta", 0) < 0 || read_eta(params, "eta", &m->eta, line, p))
             return -1;
         if (m->type == SCENE_MATERIAL_DIELECTRIC &&
-            (read_roughness(params, "", m->roughness, line, p) ||
+            (read_roughness(p, params, m, "", m->roughness, 1, line) ||
              params_get_bool(params, "remaproughness", &m->remap_roughness) < 0))
             return -1;
     } else if (strcmp(type, "conductor") == 0) {
         m->type = SCENE_MATERIAL_CONDUCTOR;
         memset(m->reflectance, 0, sizeof m->reflectance);
-        if (read_conductor(params, "", m, line, p) || read_roughness(params, "", m->roughness, line, p) ||
+        if (read_conductor(p, params, "", m, line) || read_roughness(p, params, m, "", m->roughness, 1, line) ||
             params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
             return -1;
     } else if (strcmp(type, "coateddiffuse") == 0) {
         m->type = SCENE_MATERIAL_COATED_DIFFUSE;
-        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
-            read_eta(params, "eta", &m->eta, line, p) || read_roughness(params, "", m->roughness, line, p) ||
+        if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
+                               NULL) ||
+            read_eta(params, "eta", &m->eta, line, p) || read_roughness(p, params, m, "", m->roughness, 1, line) ||
             read_layers(params, m, line, p))
             return -1;
     } else if (strcmp(type, "coatedconductor") == 0) {
         m->type = SCENE_MATERIAL_COATED_CONDUCTOR;
         memset(m->reflectance, 0, sizeof m->reflectance);
         if (read_eta(params, "interface.eta", &m->eta, line, p) ||
-            read_roughness(params, "interface.", m->roughness, line, p) ||
-            read_conductor(params, "conductor.", m, line, p) ||
-            read_roughness(params, "conductor.", m->base_roughness, line, p) || read_layers(params, m, line, p))
+            read_roughness(p, params, m, "interface.", m->roughness, 1, line) ||
+            read_conductor(p, params, "conductor.", m, line) ||
+            read_roughness(p, params, m, "conductor.", m->base_roughness, 0, line) || read_layers(params, m, line, p))
             return -1;
     } else if (strcmp(type, "diffusetransmission") == 0) {
         m->type = SCENE_MATERIAL_DIFFUSE_TRANSMISSION;
@@ -2067,8 +2135,7 @@ static int on_include(Parser *p, Lexer *lex, const Token *d)
     return result < 0 ? -1 : 0;
 }
 
-/* Texture "name" "type" "class" params: unsupported (the texture issue),
- * but read, so that check mode lists a missing image file. */
+/* Texture "name" "float|spectrum" "class" params (host/scene/textures.c). */
 static int on_texture(Parser *p, Lexer *lex, const Token *d)
 {
     Token name, type, texture_class;
@@ -2076,20 +2143,22 @@ static int on_texture(Parser *p, Lexer *lex, const Token *d)
     if (expect_string(p, lex, d, "the texture's name", &name) || expect_string(p, lex, d, "the texture's type", &type))
         return -1;
     int result = read_typed_directive(p, lex, d, "the texture class", &texture_class, &params);
-    if (result == 0)
-        result = scene_unsupported(&p->diag, lex->path, d->line, "skipped", "Texture is not supported");
-    const char *filename = NULL;
-    if (result == 0 && params_get_string(&params, "filename", &filename) < 0)
-        result = -1;
-    if (result == 0 && filename) {
-        char *path = resolve_path(p, lex->path, filename), owner[100];
-        char shown[64];
-        token_describe(&name, shown, sizeof shown);
-        snprintf(owner, sizeof owner, "Texture %s", shown);
-        result =
-            path ? scene_missing_file(&p->diag, lex->path, d->line, path, owner) : out_of_memory(p, lex->path, d->line);
-        free(path);
+    char *name_text = NULL, *type_text = NULL, *class_text = NULL;
+    if (result == 0) {
+        name_text = scene_strndup(name.text, name.length);
+        type_text = scene_strndup(type.text, type.length);
+        class_text = scene_strndup(texture_class.text, texture_class.length);
     }
+    if (result == 0 && (!name_text || !type_text || !class_text))
+        result = out_of_memory(p, lex->path, d->line);
+    if (result == 0) {
+        snprintf(params.owner, sizeof params.owner, "Texture \"%.40s\"", name_text);
+        result = scene_texture_parse(&p->diag, p->scene, &p->texture_capacity, name_text, type_text, class_text,
+                                     &params, p->state.ctm, d->line);
+    }
+    free(name_text);
+    free(type_text);
+    free(class_text);
     params_free(&params);
     return result < 0 ? -1 : 0;
 }

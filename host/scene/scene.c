@@ -21,6 +21,12 @@ void scene_destroy(Scene *scene)
     free(scene->sampler);
     free(scene->light_sampler);
     free(scene->materials);
+    for (size_t i = 0; i < scene->texture_count; ++i) {
+        free(scene->textures[i].name);
+        free(scene->textures[i].filename);
+        free(scene->textures[i].origin);
+    }
+    free(scene->textures);
     free(scene->shapes);
     free(scene->area_lights);
     for (size_t i = 0; i < scene->light_count; ++i) {

@@ -108,6 +108,19 @@ typedef enum {
     SCENE_MATERIAL_THIN_DIELECTRIC,
 } SceneMaterialType;
 
+/* A material's parameters that may be textures (SceneMaterial.textures). */
+typedef enum {
+    SCENE_SLOT_REFLECTANCE,   /* spectrum: diffuse, coated albedo; conductor "reflectance" */
+    SCENE_SLOT_ROUGHNESS_U,   /* float: uroughness (or roughness) */
+    SCENE_SLOT_ROUGHNESS_V,   /* float: vroughness (or roughness) */
+    SCENE_SLOT_ETA,           /* float: dielectric eta */
+    SCENE_SLOT_CONDUCTOR_ETA, /* spectrum */
+    SCENE_SLOT_CONDUCTOR_K,   /* spectrum */
+    SCENE_SLOT_DISPLACEMENT,  /* float: bump mapping */
+    SCENE_SLOT_NORMAL_MAP,    /* spectrum: the image "string normalmap" names */
+    SCENE_SLOT_COUNT
+} SceneMaterialSlot;
+
 #define SCENE_MIX_MAX_NESTING 8
 
 /* A material as pbrt-v4 gives it. The coated ones are layered BSDFs: the
@@ -117,6 +130,7 @@ typedef enum {
  * "thickness", "albedo", "g", "maxdepth", "nsamples". */
 typedef struct {
     SceneMaterialType type;
+    int textures[SCENE_SLOT_COUNT]; /* index into Scene.textures, or -1: the constant below */
     float reflectance[3];   /* diffuse, coateddiffuse and diffusetransmission albedo; conductors when use_reflectance */
     float eta;              /* dielectric, thindielectric, the coatings */
     float conductor_eta[3]; /* conductors, unless use_reflectance (default: copper) */
@@ -131,6 +145,64 @@ typedef struct {
     float thickness, g, albedo[3];
     int max_depth, sample_count;
 } SceneMaterial;
+
+typedef enum {
+    SCENE_TEXTURE_CONSTANT,
+    SCENE_TEXTURE_IMAGE,
+    SCENE_TEXTURE_CHECKERBOARD,
+    SCENE_TEXTURE_SCALE,
+    SCENE_TEXTURE_MIX,
+    SCENE_TEXTURE_DIRECTION_MIX,
+    SCENE_TEXTURE_BILERP,
+} SceneTextureClass;
+
+typedef enum {
+    SCENE_MAPPING_UV,
+    SCENE_MAPPING_SPHERICAL,
+    SCENE_MAPPING_CYLINDRICAL,
+    SCENE_MAPPING_PLANAR,
+    SCENE_MAPPING_3D, /* checkerboard "dimension" 3 */
+} SceneTextureMapping;
+
+typedef enum { SCENE_ENCODING_SRGB, SCENE_ENCODING_LINEAR, SCENE_ENCODING_GAMMA } SceneTextureEncoding;
+typedef enum { SCENE_WRAP_REPEAT, SCENE_WRAP_BLACK, SCENE_WRAP_CLAMP, SCENE_WRAP_OCTAHEDRAL_SPHERE } SceneTextureWrap;
+typedef enum {
+    SCENE_TEXTURE_FILTER_POINT,
+    SCENE_TEXTURE_FILTER_BILINEAR,
+    SCENE_TEXTURE_FILTER_TRILINEAR,
+} SceneTextureFilter;
+
+/* A texture's input: a constant (a float in all three) or a texture. */
+typedef struct {
+    float value[3];
+    int texture; /* index into Scene.textures, or -1 */
+} SceneTextureInput;
+
+/* One Texture directive (host/scene/textures.c), pbrt-v4's parameters
+ * applied. Inputs: tex1 (scale: tex), tex2, amount (scale: scale). */
+typedef struct {
+    char *name;
+    int is_spectrum;
+    SceneTextureClass texture_class;
+    SceneTextureMapping mapping;
+    float map_scale[2], map_delta[2]; /* uv: uscale vscale udelta vdelta; planar: udelta vdelta */
+    /* spherical, cylindrical, 3D: the inverse of the CTM at the directive
+     * (rows of an affine map); planar: rows 0 and 1 are v1 and v2 times it. */
+    float texture_from_world[3][4];
+    SceneTextureInput input[3];
+    float bilerp[4][3]; /* v00 v01 v10 v11 */
+    float direction[3]; /* directionmix: unit, world space */
+    /* imagemap */
+    char *filename; /* resolved */
+    SceneTextureFilter filter;
+    SceneTextureWrap wrap;
+    SceneTextureEncoding encoding;
+    float gamma;
+    float scale;
+    int invert;
+    int single_level; /* a normal map: bilinear on the image itself, as pbrt-v4 reads one */
+    char *origin;     /* "file:line" of the directive, for messages */
+} SceneTexture;
 
 typedef enum {
     SCENE_SHAPE_TRIANGLES,
@@ -230,6 +302,8 @@ typedef struct {
 
     SceneMaterial *materials;
     size_t material_count;
+    SceneTexture *textures;
+    size_t texture_count;
     SceneShape *shapes;
     size_t shape_count;
     SceneAreaLight *area_lights;

@@ -1,0 +1,30 @@
+/* The Texture directive and texture-valued parameters (SceneTexture). */
+#ifndef HOST_SCENE_TEXTURES_H
+#define HOST_SCENE_TEXTURES_H
+
+#include "scene/params.h"
+#include "scene/scene_internal.h"
+
+/* The most textures one texture may reach through its inputs, itself
+ * included (the kernels' TEXTURE_MAX_PROGRAM). */
+#define SCENE_TEXTURE_MAX_NODES 16
+
+/* Texture "name" "float|spectrum" "class" params, at `line` of params->file,
+ * with the CTM world_from_texture (column-major, [column][row]). Adds it
+ * to scene->textures (*capacity of them). Returns 0 or -1. */
+int scene_texture_parse(Diagnostics *diag, Scene *scene, size_t *capacity, const char *name, const char *type,
+                        const char *texture_class, ParamList *params, float world_from_texture[4][4], int line);
+
+/* A parameter that may name a texture ("texture name" "tex"): when it
+ * does, *texture is its index (a float or, with is_spectrum, a spectrum
+ * texture; anything else is an error) and the parameter is consumed.
+ * Returns 1 taken, 0 not a texture (read the constant), -1 error. */
+int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
+                        int *texture);
+
+/* A material's "string normalmap": an image texture of tangent-space
+ * normals added to the scene, *texture its index; 0 when absent, -1 error. */
+int scene_texture_normal_map(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, int line,
+                             int *texture);
+
+#endif

@@ -1,0 +1,603 @@
+/* Textures: lookups against hand-computed texel values (nearest,
+ * bilinear, every wrap mode, sRGB bytes), MIP pyramids and level
+ * selection at a known distance, procedural textures and mappings at known
+ * points (kernels/texture.h, included here as the kernels include it); the
+ * scene reader's and converter's textures and their errors; and on a
+ * device: a constant displacement changes nothing, a flat normal map is no
+ * normal map bit for bit, a checkerboard shows its two colours. */
+#define _POSIX_C_SOURCE 200809L
+
+#include "camera.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "test_device.h"
+#include "texture.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+static char temp_dir[64];
+static char error[1024];
+
+/* A 4 x 2 grey float image, texel (x, y) = 10 y + x. */
+static const float grey[8] = {0, 1, 2, 3, 10, 11, 12, 13};
+
+static TextureNode image_node(uint32_t width, uint32_t height, uint32_t channels, uint32_t wrap)
+{
+    TextureNode node;
+    memset(&node, 0, sizeof node);
+    node.type = TEXTURE_IMAGE;
+    node.width = width;
+    node.height = height;
+    node.levels = 1;
+    node.channels = channels;
+    node.texel_format = TEXEL_FLOATS;
+    node.wrap = wrap;
+    node.scale = 1.0f;
+    node.map_scale[0] = node.map_scale[1] = 1.0f;
+    for (int i = 0; i < 3; ++i)
+        node.operand[i] = -1;
+    return node;
+}
+
+static TextureArrays arrays_of(const TextureNode *nodes, const uint8_t *bytes, const float *floats)
+{
+    TextureArrays a = {nodes, bytes, floats};
+    return a;
+}
+
+static void test_nearest_and_wrap(void **state)
+{
+    (void)state;
+    TextureNode node = image_node(4, 2, 1, TEXTURE_WRAP_REPEAT);
+    TextureArrays a = arrays_of(&node, NULL, grey);
+    /* (0.3, 0.75): texel (floor(1.2), floor(1.5)) = (1, 1). */
+    assert_float_equal(texture_nearest(&a, &node, 0, 0.3f, 0.75f).x, 11.0f, 0.0f);
+    assert_float_equal(texture_nearest(&a, &node, 0, 1.3f, 0.75f).x, 11.0f, 0.0f);
+    assert_float_equal(texture_nearest(&a, &node, 0, -0.7f, -0.25f).x, 11.0f, 0.0f);
+    node.wrap = TEXTURE_WRAP_CLAMP; /* column 5 clamps to 3 */
+    assert_float_equal(texture_nearest(&a, &node, 0, 1.3f, 0.75f).x, 13.0f, 0.0f);
+    assert_float_equal(texture_nearest(&a, &node, 0, -1e30f, 0.25f).x, 0.0f, 0.0f);
+    node.wrap = TEXTURE_WRAP_BLACK;
+    assert_float_equal(texture_nearest(&a, &node, 0, 1.3f, 0.75f).x, 0.0f, 0.0f);
+    assert_float_equal(texture_nearest(&a, &node, 0, 0.3f, 0.75f).x, 11.0f, 0.0f);
+    /* pbrt-v4's octahedral wrap: past an edge, mirrored across it and
+     * across the middle of the other axis. */
+    int32_t x = -1, y = 0;
+    assert_true(texture_wrap(TEXTURE_WRAP_OCTAHEDRAL_SPHERE, 4, 2, &x, &y));
+    assert_int_equal(x, 1);
+    assert_int_equal(y, 1);
+    x = 4, y = 0;
+    texture_wrap(TEXTURE_WRAP_OCTAHEDRAL_SPHERE, 4, 2, &x, &y);
+    assert_int_equal(x, 3);
+    assert_int_equal(y, 1);
+    x = 1, y = 2;
+    texture_wrap(TEXTURE_WRAP_OCTAHEDRAL_SPHERE, 4, 2, &x, &y);
+    assert_int_equal(x, 2);
+    assert_int_equal(y, 1);
+    x = -3, y = 7;
+    texture_wrap(TEXTURE_WRAP_REPEAT, 4, 2, &x, &y);
+    assert_int_equal(x, 1);
+    assert_int_equal(y, 1);
+}
+
+static void test_bilinear(void **state)
+{
+    (void)state;
+    TextureNode node = image_node(4, 2, 1, TEXTURE_WRAP_REPEAT);
+    TextureArrays a = arrays_of(&node, NULL, grey);
+    /* (0.5, 0.5) lies between texel centres (1..2, 0..1): their mean. */
+    assert_float_equal(texture_bilinear(&a, &node, 0, 0.5f, 0.5f).x, (1 + 2 + 11 + 12) / 4.0f, 1e-6f);
+    /* (0.125, 0.25): texel (0, 0)'s centre exactly. */
+    assert_float_equal(texture_bilinear(&a, &node, 0, 0.125f, 0.25f).x, 0.0f, 1e-6f);
+    /* At s = 0, t = 0.75: half of column -1 and half of column 0, row 1. */
+    assert_float_equal(texture_bilinear(&a, &node, 0, 0.0f, 0.75f).x, 0.5f * 13 + 0.5f * 10, 1e-6f);
+    node.wrap = TEXTURE_WRAP_CLAMP;
+    assert_float_equal(texture_bilinear(&a, &node, 0, 0.0f, 0.75f).x, 10.0f, 1e-6f);
+    node.wrap = TEXTURE_WRAP_BLACK;
+    assert_float_equal(texture_bilinear(&a, &node, 0, 0.0f, 0.75f).x, 5.0f, 1e-6f);
+    /* A quarter of the way: 0.75 (1, 0) + 0.25 (2, 0) at x = 1.25 (s = 1.75 / 4). */
+    node.wrap = TEXTURE_WRAP_REPEAT;
+    assert_float_equal(texture_bilinear(&a, &node, 0, 1.75f / 4.0f, 0.25f).x, 0.75f * 1 + 0.25f * 2, 1e-6f);
+}
+
+/* The sRGB transfer function, in double, as the standard writes it. */
+static double srgb_decode(int byte)
+{
+    double v = byte / 255.0;
+    return v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+}
+
+static void test_srgb_bytes_and_pyramid(void **state)
+{
+    (void)state;
+    RenderScene scene;
+    render_scene_init(&scene);
+    float decode[256];
+    for (int b = 0; b < 256; ++b)
+        decode[b] = (float)srgb_decode(b);
+    const uint8_t rgb[6] = {0, 128, 255, 64, 200, 10}; /* 2 x 1 */
+    TextureTexels texels = {2, 1, 3, rgb, decode, NULL};
+    TextureNode node = image_node(0, 0, 0, TEXTURE_WRAP_REPEAT);
+    assert_int_equal(render_scene_add_texture_texels(&scene, &texels, 0, &node, error, sizeof error), 0);
+    assert_int_equal(node.levels, 2); /* 2x1, 1x1 */
+    assert_int_equal(node.texel_format, TEXEL_BYTES);
+    assert_int_equal(scene.texture_byte_count, 6 + 3); /* 8-bit stays 8-bit */
+    TextureArrays a = arrays_of(&node, scene.texture_bytes, scene.texture_floats);
+    Vec3 left = texture_nearest(&a, &node, 0, 0.25f, 0.5f), right = texture_nearest(&a, &node, 0, 0.75f, 0.5f);
+    assert_float_equal(left.y, 0.21586050f, 1e-7f); /* sRGB 128 */
+    assert_float_equal(left.z, 1.0f, 0.0f);
+    assert_float_equal(right.x, (float)srgb_decode(64), 0.0f);
+    /* Level 1: each channel's linear mean, re-encoded to the nearest byte. */
+    Vec3 top = texture_nearest(&a, &node, 1, 0.5f, 0.5f);
+    const int channel_bytes[3][2] = {{0, 64}, {128, 200}, {255, 10}};
+    float got[3] = {top.x, top.y, top.z};
+    for (int c = 0; c < 3; ++c) {
+        double mean = 0.5 * (srgb_decode(channel_bytes[c][0]) + srgb_decode(channel_bytes[c][1]));
+        int best = 0;
+        for (int b = 1; b < 256; ++b)
+            if (fabs(srgb_decode(b) - mean) < fabs(srgb_decode(best) - mean))
+                best = b;
+        assert_float_equal(got[c], (float)srgb_decode(best), 0.0f);
+    }
+    render_scene_destroy(&scene);
+}
+
+static void test_mip_level_at_distance(void **state)
+{
+    (void)state;
+    /* A 256 x 256 checker of single texels, 0 and 1: every coarser level is 0.5. */
+    float *texels = malloc(256 * 256 * sizeof *texels);
+    assert_non_null(texels);
+    for (int y = 0; y < 256; ++y)
+        for (int x = 0; x < 256; ++x)
+            texels[y * 256 + x] = (float)((x + y) & 1);
+    RenderScene scene;
+    render_scene_init(&scene);
+    TextureTexels image = {256, 256, 1, NULL, NULL, texels};
+    TextureNode node = image_node(0, 0, 0, TEXTURE_WRAP_REPEAT);
+    node.filter = TEXTURE_FILTER_POINT;
+    assert_int_equal(render_scene_add_texture_texels(&scene, &image, 0, &node, error, sizeof error), 0);
+    free(texels);
+    assert_int_equal(node.levels, 9);
+    /* The camera's cone: a pixel spans 2 tan(fov / 2) / height. */
+    const float position[3] = {0, 0, 0}, forward[3] = {0, 0, -1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
+    RenderCamera camera = render_camera_pinhole(position, forward, right, up, 0.5f, 0.5f, 128, 128);
+    render_scene_set_camera(&scene, &camera);
+    CameraRay ray = camera_ray(&scene.constants.camera, &scene.constants.filter, NULL, 64, 64, 1);
+    assert_float_equal(ray.cone_spread, 1.0f / 128.0f, 1e-9f);
+    assert_float_equal(ray.cone_width, 0.0f, 0.0f);
+    /* A 4 x 4 plane with uv 0..1 (0.25 uv a unit) facing the camera at
+     * distance 8: the footprint is 8 / 128 wide, twice that is 1/32 of the
+     * texture, 8 texels: level 3. At distance 1, 1 texel: level 0. */
+    TextureContext c;
+    memset(&c, 0, sizeof c);
+    c.u = c.v = 0.3f;
+    c.uv_density = 0.25f;
+    c.footprint = 8.0f * ray.cone_spread;
+    float s, t, width;
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(texture_mip_level(&node, width), 3.0f, 1e-6f);
+    TextureArrays a = arrays_of(&node, NULL, scene.texture_floats);
+    assert_float_equal(texture_image_lookup(&a, &node, s, t, width).x, 0.5f, 1e-6f);
+    c.footprint = 1.0f * ray.cone_spread;
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(texture_mip_level(&node, width), 0.0f, 1e-6f);
+    float fine = texture_image_lookup(&a, &node, s, t, width).x;
+    assert_true(fine == 0.0f || fine == 1.0f);
+    c.footprint = 1e6f; /* beyond the coarsest level: its 1x1 texel */
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(texture_mip_level(&node, width), 8.0f, 0.0f);
+    /* Trilinear between levels 0 and 1 at 1.5 texels: level 0.5 (log2 is
+     * linear between powers of two), half texel (0, 0) (0) and half 0.5. */
+    node.filter = TEXTURE_FILTER_TRILINEAR;
+    assert_float_equal(texture_log2(1.5f), 0.5f, 0.0f);
+    assert_float_equal(texture_log2(12.0f), 3.5f, 0.0f);
+    Vec3 v = texture_image_lookup(&a, &node, 0.5f / 256.0f, 0.5f / 256.0f, 1.5f / 256.0f);
+    assert_float_equal(v.x, 0.5f * 0.0f + 0.5f * 0.5f, 1e-6f);
+    render_scene_destroy(&scene);
+}
+
+static TextureNode procedural(uint32_t type)
+{
+    TextureNode node = image_node(0, 0, 0, 0);
+    node.type = type;
+    return node;
+}
+
+static void set_value(TextureNode *node, int i, float x, float y, float z)
+{
+    node->value[i][0] = x;
+    node->value[i][1] = y;
+    node->value[i][2] = z;
+}
+
+static void test_procedural_textures(void **state)
+{
+    (void)state;
+    TextureContext c;
+    memset(&c, 0, sizeof c);
+    TextureNode checker = procedural(TEXTURE_CHECKERBOARD);
+    checker.program_length = 1;
+    checker.map_scale[0] = checker.map_scale[1] = 4.0f;
+    set_value(&checker, 0, 1, 0, 0);
+    set_value(&checker, 1, 0, 0, 1);
+    TextureArrays a = arrays_of(&checker, NULL, NULL);
+    c.u = 0.1f, c.v = 0.1f; /* (0.4, 0.4): square (0, 0), tex1 */
+    assert_float_equal(texture_evaluate(&a, 0, &c).x, 1.0f, 0.0f);
+    c.u = 0.3f; /* (1.2, 0.4): tex2 */
+    assert_float_equal(texture_evaluate(&a, 0, &c).z, 1.0f, 0.0f);
+    c.u = -0.1f; /* (-0.4, 0.4): square (-1, 0), tex2 */
+    assert_float_equal(texture_evaluate(&a, 0, &c).z, 1.0f, 0.0f);
+    c.u = 0.3f, c.v = 0.3f; /* (1.2, 1.2): tex1 */
+    assert_float_equal(texture_evaluate(&a, 0, &c).x, 1.0f, 0.0f);
+    c.u = 1e9f + 0.1f; /* far away still a square's parity (1e9 * 4 is even) */
+    assert_float_equal(texture_evaluate(&a, 0, &c).x + texture_evaluate(&a, 0, &c).z, 1.0f, 0.0f);
+
+    /* 3D: (0.5, 1.5, 0.5) in texture space (the identity): 0 + 1 + 0, odd. */
+    checker.mapping = TEXTURE_MAP_3D;
+    for (int i = 0; i < 3; ++i)
+        checker.texture_from_world[i][i] = 1.0f;
+    c.p = vec3(0.5f, 1.5f, 0.5f);
+    assert_float_equal(texture_evaluate(&a, 0, &c).z, 1.0f, 0.0f);
+    c.p = vec3(0.5f, 1.5f, 1.5f);
+    assert_float_equal(texture_evaluate(&a, 0, &c).x, 1.0f, 0.0f);
+
+    TextureNode bilerp = procedural(TEXTURE_BILERP);
+    bilerp.program_length = 1;
+    for (int i = 0; i < 4; ++i)
+        set_value(&bilerp, i, (float)i, (float)i, (float)i);
+    a = arrays_of(&bilerp, NULL, NULL);
+    c.u = 0.25f, c.v = 0.75f; /* 0.75 * 0.75 * 1 + 0.25 * 0.25 * 2 + 0.25 * 0.75 * 3 */
+    assert_float_equal(texture_evaluate_float(&a, 0, &c), 1.25f, 1e-6f);
+
+    /* A program: mix(constant 2, constant 4, amount 0.25), scaled by 3. */
+    TextureNode program[4] = {procedural(TEXTURE_CONSTANT), procedural(TEXTURE_CONSTANT), procedural(TEXTURE_MIX),
+                              procedural(TEXTURE_SCALE)};
+    program[0].program_length = 4;
+    set_value(&program[0], 0, 2, 2, 2);
+    set_value(&program[1], 0, 4, 4, 4);
+    program[2].operand[0] = 0;
+    program[2].operand[1] = 1;
+    set_value(&program[2], 2, 0.25f, 0.25f, 0.25f);
+    program[3].operand[0] = 2;
+    set_value(&program[3], 2, 3, 3, 3);
+    a = arrays_of(program, NULL, NULL);
+    assert_float_equal(texture_evaluate_float(&a, 0, &c), 3.0f * (0.75f * 2 + 0.25f * 4), 1e-6f);
+
+    /* directionmix: |n . dir| weighs tex1 (pbrt-v4). */
+    TextureNode mix = procedural(TEXTURE_DIRECTION_MIX);
+    mix.program_length = 1;
+    set_value(&mix, 0, 1, 1, 1);
+    set_value(&mix, 1, 5, 5, 5);
+    mix.direction[1] = 1.0f;
+    a = arrays_of(&mix, NULL, NULL);
+    c.n = vec3(0.0f, 0.6f, 0.8f);
+    assert_float_equal(texture_evaluate_float(&a, 0, &c), 0.6f * 1 + 0.4f * 5, 1e-6f);
+}
+
+static void test_mappings(void **state)
+{
+    (void)state;
+    TextureContext c;
+    memset(&c, 0, sizeof c);
+    TextureNode node = procedural(TEXTURE_BILERP);
+    float s, t, width;
+    node.map_scale[0] = 2.0f, node.map_scale[1] = 3.0f;
+    node.map_delta[0] = 0.5f, node.map_delta[1] = -1.0f;
+    c.u = 0.25f, c.v = 0.5f;
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(s, 1.0f, 0.0f);
+    assert_float_equal(t, 0.5f, 0.0f);
+    /* planar with v1 = x, v2 = z (folded into the rows by the reader). */
+    node.mapping = TEXTURE_MAP_PLANAR;
+    node.texture_from_world[0][0] = 1.0f;
+    node.texture_from_world[1][2] = 1.0f;
+    c.p = vec3(0.3f, 5.0f, 0.7f);
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(s, 0.8f, 1e-6f);
+    assert_float_equal(t, -0.3f, 1e-6f);
+    /* spherical: pbrt-v4's equal-area square of the direction; +z is its centre. */
+    memset(node.texture_from_world, 0, sizeof node.texture_from_world);
+    for (int i = 0; i < 3; ++i)
+        node.texture_from_world[i][i] = 1.0f;
+    node.texture_from_world[2][3] = -1.0f; /* centre at z = 1 */
+    node.mapping = TEXTURE_MAP_SPHERICAL;
+    c.p = vec3(0.0f, 0.0f, 3.0f);
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(s, 0.5f, 1e-6f);
+    assert_float_equal(t, 0.5f, 1e-6f);
+    /* cylindrical: ((pi + atan2(y, x)) / 2 pi, z). */
+    node.mapping = TEXTURE_MAP_CYLINDRICAL;
+    c.p = vec3(0.0f, 2.0f, 1.3f);
+    texture_map(&node, &c, &s, &t, &width);
+    assert_float_equal(s, 0.75f, 1e-6f);
+    assert_float_equal(t, 0.3f, 1e-6f);
+}
+
+/* ---- the scene reader and converter ---- */
+
+static int setup(void **state)
+{
+    (void)state;
+    strcpy(temp_dir, "/tmp/gmon-textures-XXXXXX");
+    return mkdtemp(temp_dir) ? 0 : -1;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    char command[128];
+    snprintf(command, sizeof command, "rm -rf %s", temp_dir);
+    return system(command);
+}
+
+static const char *write_file(const char *name, const void *data, size_t size)
+{
+    static char path[256];
+    snprintf(path, sizeof path, "%s/%s", temp_dir, name);
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(data, 1, size, f), size);
+    fclose(f);
+    return path;
+}
+
+/* A grey PFM of width x height texels all `value`. */
+static void write_pfm(const char *name, int width, int height, float value)
+{
+    char header[64];
+    int n = snprintf(header, sizeof header, "Pf\n%d %d\n-1\n", width, height);
+    size_t count = (size_t)(width > 0 ? width : 0) * (height > 0 ? height : 0);
+    unsigned char *data = malloc((size_t)n + 4 * count + 1);
+    memcpy(data, header, (size_t)n);
+    for (size_t i = 0; i < count; ++i)
+        memcpy(data + n + 4 * i, &value, 4); /* little endian hosts */
+    write_file(name, data, (size_t)n + 4 * count);
+    free(data);
+}
+
+/* A scene: camera looking down -z at a 2x2 quad at z = 0 with uv 0..1,
+ * a point light above; `material` (and `textures` before it) shade the quad. */
+static const char *quad_scene(const char *name, const char *textures, const char *material)
+{
+    static char text[4096];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 4  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 40\n"
+             "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16\n"
+             "WorldBegin\nLightSource \"point\" \"rgb I\" [ 4 4 4 ] \"point3 from\" [ 0.3 0.2 2 ]\n%s%s\n"
+             "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+             "  \"integer indices\" [ 0 1 2  0 2 3 ] \"point2 uv\" [ 0 0  1 0  1 1  0 1 ]\n",
+             textures, material);
+    return write_file(name, text, strlen(text));
+}
+
+static int convert(const char *path, RenderScene *scene)
+{
+    SceneSummary summary;
+    error[0] = '\0';
+    if (scene_convert_load(path, 0, 16, 16, 1, scene, &summary, error, sizeof error))
+        return -1;
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+    return 0;
+}
+
+static void convert_fails(const char *textures, const char *material, const char *needle)
+{
+    RenderScene scene;
+    const char *path = quad_scene("bad.pbrt", textures, material);
+    if (convert(path, &scene) == 0) {
+        render_scene_destroy(&scene);
+        fail_msg("converted, expected an error with \"%s\"", needle);
+    }
+    if (!strstr(error, needle) || !strstr(error, "bad.pbrt:"))
+        fail_msg("error \"%s\" lacks \"%s\" or the file", error, needle);
+}
+
+static void test_scene_textures(void **state)
+{
+    (void)state;
+    write_pfm("grey.pfm", 4, 2, 0.25f);
+    RenderScene scene;
+    const char *path =
+        quad_scene("ok.pbrt",
+                   "Texture \"img\" \"spectrum\" \"imagemap\" \"string filename\" \"grey.pfm\" \"float uscale\" 2\n"
+                   "Texture \"rough\" \"float\" \"imagemap\" \"string filename\" \"grey.pfm\"\n"
+                   "Texture \"checks\" \"spectrum\" \"checkerboard\" \"texture tex1\" \"img\" \"rgb tex2\" [ 0 1 0 ]\n",
+                   "Material \"conductor\" \"texture reflectance\" \"checks\" \"texture roughness\" \"rough\"\n");
+    assert_int_equal(convert(path, &scene), 0);
+    /* checks is a program of 2 nodes (img, then the checkerboard); rough one. */
+    assert_int_equal(scene.texture_count, 3);
+    assert_int_equal(scene.textures[0].program_length, 2);
+    assert_int_equal(scene.textures[0].type, TEXTURE_IMAGE);
+    assert_float_equal(scene.textures[0].map_scale[0], 2.0f, 0.0f);
+    assert_int_equal(scene.textures[1].type, TEXTURE_CHECKERBOARD);
+    assert_int_equal(scene.textures[1].operand[0], 0);
+    assert_int_equal(scene.textures[1].operand[1], -1);
+    assert_float_equal(scene.textures[1].value[1][1], 1.0f, 0.0f);
+    assert_int_equal(scene.textures[2].program_length, 1);
+    /* The same file and decoding: its texels once (4x2, 2x1, 1x1 levels). */
+    assert_int_equal(scene.textures[2].texel_offset, scene.textures[0].texel_offset);
+    assert_int_equal(scene.texture_float_count, 8 + 2 + 1);
+    assert_int_equal(scene.material_texture_count, 1);
+    assert_int_equal(scene.material_textures[0].reflectance, 0);
+    assert_int_equal(scene.material_textures[0].roughness[0], 2);
+    assert_int_equal(scene.material_textures[0].roughness[1], 2);
+    assert_int_equal(scene.material_textures[0].displacement, -1);
+    uint64_t features = render_scene_features(&scene);
+    assert_true(features & FEATURE_IMAGE_TEXTURES);
+    assert_true(features & FEATURE_PROCEDURAL_TEXTURES);
+    assert_true(features & FEATURE_ROUGH); /* from the texture: the constant roughness is 0 */
+    assert_false(features & (FEATURE_BUMP_MAP | FEATURE_NORMAL_MAP));
+    RenderSceneArrays arrays = render_scene_arrays(&scene);
+    assert_int_equal(arrays.surface_uvs_count, SURFACE_UV_FLOATS * 2);
+    /* The quad's uv density: 1 uv unit over 2 world units. */
+    assert_float_equal(arrays.surface_uvs[6], 0.5f, 1e-6f);
+    render_scene_destroy(&scene);
+
+    /* Without textures nothing of them is made. */
+    path = quad_scene("plain.pbrt", "", "Material \"diffuse\"\n");
+    assert_int_equal(convert(path, &scene), 0);
+    arrays = render_scene_arrays(&scene);
+    assert_int_equal(arrays.textures_count + arrays.material_textures_count + arrays.texture_bytes_count +
+                         arrays.texture_floats_count + arrays.surface_uvs_count,
+                     0);
+    assert_false(render_scene_features(&scene) &
+                 (FEATURE_IMAGE_TEXTURES | FEATURE_PROCEDURAL_TEXTURES | FEATURE_BUMP_MAP | FEATURE_NORMAL_MAP));
+    render_scene_destroy(&scene);
+}
+
+static void test_bad_textures(void **state)
+{
+    (void)state;
+    convert_fails("", "Material \"diffuse\" \"texture reflectance\" \"nope\"\n", "no spectrum texture named \"nope\"");
+    convert_fails("Texture \"f\" \"float\" \"constant\" \"float value\" 0.5\n",
+                  "Material \"diffuse\" \"texture reflectance\" \"f\"\n",
+                  "\"f\" is a float texture, \"reflectance\" takes a spectrum texture");
+    convert_fails("Texture \"s\" \"spectrum\" \"constant\"\n", "Material \"diffuse\" \"texture displacement\" \"s\"\n",
+                  "\"s\" is a spectrum texture, \"displacement\" takes a float texture");
+    convert_fails("Texture \"t\" \"rgb\" \"constant\"\n", "", "must be \"float\" or \"spectrum\"");
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\"\n", "", "missing \"string filename\"");
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"g.pfm\" \"string wrap\" \"mirror\"\n",
+                  "", "unknown \"wrap\" \"mirror\"");
+    convert_fails(
+        "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"g.pfm\" \"string encoding\" \"gamma\"\n", "",
+        "unknown \"encoding\" \"gamma\"");
+    convert_fails("Texture \"t\" \"spectrum\" \"checkerboard\" \"string mapping\" \"torus\"\n", "",
+                  "unknown \"mapping\" \"torus\"");
+    const char *use = "Material \"diffuse\" \"texture reflectance\" \"t\"\n";
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"gone.png\"\n", use, "gone.png");
+    write_file("corrupt.png", "\x89PNG\r\n\x1a\nnot really", 18);
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"corrupt.png\"\n", use, "corrupt.png");
+    write_file("odd.webp", "RIFF0000WEBPVP8 ", 16);
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"odd.webp\"\n", use, "odd.webp");
+    write_pfm("nan.pfm", 2, 1, NAN);
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"nan.pfm\"\n", use, "not finite");
+    write_pfm("empty.pfm", 0, 0, 0.0f);
+    convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"empty.pfm\"\n", use,
+                  "image size out of range");
+    /* More texels than 2^31: refused before any texel is read. */
+    RenderScene scene;
+    render_scene_init(&scene);
+    TextureTexels huge = {65536, 65536, 1, NULL, NULL, NULL};
+    TextureNode node = image_node(0, 0, 0, 0);
+    assert_int_equal(render_scene_add_texture_texels(&scene, &huge, 0, &node, error, sizeof error), -1);
+    assert_non_null(strstr(error, "2^31"));
+    render_scene_destroy(&scene);
+}
+
+/* ---- on a device ---- */
+
+/* The mean pass of the scene at `path`, 16x16 at 4 spp (malloc'd). */
+static float *render_mean(const char *path)
+{
+    RenderScene scene;
+    if (convert(path, &scene))
+        fail_msg("%s", error);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 4;
+    settings.seed = 3;
+    RenderOutput out;
+    if (renderer_run(&test_device, 1, &scene, &settings, &out, error, sizeof error) != 0)
+        fail_msg("%s", error);
+    size_t n = (size_t)out.width * out.height * 3;
+    float *mean = malloc(n * sizeof *mean);
+    memcpy(mean, out.pass[PASS_MEAN], n * sizeof *mean);
+    render_output_free(&out);
+    render_scene_destroy(&scene);
+    return mean;
+}
+
+static void test_constant_displacement_changes_nothing(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    float *plain = render_mean(quad_scene("flat.pbrt", "", "Material \"diffuse\"\n"));
+    float *bumped = render_mean(quad_scene("bumped.pbrt", "Texture \"d\" \"float\" \"constant\" \"float value\" 0.3\n",
+                                           "Material \"diffuse\" \"texture displacement\" \"d\"\n"));
+    /* The bumped normal is cross(dpdu, dpdv), the geometric normal up to rounding. */
+    double largest = 0.0;
+    for (size_t i = 0; i < 16 * 16 * 3; ++i)
+        largest = fmax(largest, fabs((double)plain[i] - bumped[i]) / fmax(1e-3, fabs((double)plain[i])));
+    printf("  constant displacement: largest relative difference %.3g\n", largest);
+    assert_true(largest < 1e-5);
+    free(plain);
+    free(bumped);
+}
+
+static void test_flat_normal_map_is_no_normal_map(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    /* An RGB PFM of (0.5, 0.5, 1): the tangent-space normal (0, 0, 1). */
+    char header[] = "PF\n2 2\n-1\n";
+    unsigned char data[sizeof header - 1 + 4 * 12];
+    memcpy(data, header, sizeof header - 1);
+    for (int i = 0; i < 12; ++i) {
+        float v = i % 3 == 2 ? 1.0f : 0.5f;
+        memcpy(data + sizeof header - 1 + 4 * i, &v, 4);
+    }
+    write_file("flat.pfm", data, sizeof data);
+    /* A textured reflectance in both, so that the two builds differ only by the normal map. */
+    const char *texture = "Texture \"r\" \"spectrum\" \"checkerboard\" \"float uscale\" 3\n";
+    float *plain =
+        render_mean(quad_scene("none.pbrt", texture, "Material \"diffuse\" \"texture reflectance\" \"r\"\n"));
+    float *mapped = render_mean(
+        quad_scene("mapped.pbrt", texture,
+                   "Material \"diffuse\" \"texture reflectance\" \"r\" \"string normalmap\" \"flat.pfm\"\n"));
+    assert_memory_equal(plain, mapped, 16 * 16 * 3 * sizeof(float));
+    free(plain);
+    free(mapped);
+}
+
+static void test_checkerboard_on_device(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    /* Red and blue squares of the quad (2 x 2 of them), lit alike: each
+     * pixel is all red or all blue. */
+    float *image = render_mean(quad_scene("checks.pbrt",
+                                          "Texture \"c\" \"spectrum\" \"checkerboard\" \"float uscale\" 2 "
+                                          "\"float vscale\" 2 \"rgb tex1\" [ 0.8 0 0 ] \"rgb tex2\" [ 0 0 0.8 ]\n",
+                                          "Material \"diffuse\" \"texture reflectance\" \"c\"\n"));
+    /* Pixels (4, 4) and (11, 4) see opposite upper squares (u < 0.5 and u > 0.5, v > 0.5). */
+    const float *a = image + 3 * (4 * 16 + 4), *b = image + 3 * (4 * 16 + 11);
+    int a_red = a[0] > 0.0f && a[1] == 0.0f && a[2] == 0.0f, a_blue = a[2] > 0.0f && a[0] == 0.0f && a[1] == 0.0f;
+    int b_red = b[0] > 0.0f && b[1] == 0.0f && b[2] == 0.0f, b_blue = b[2] > 0.0f && b[0] == 0.0f && b[1] == 0.0f;
+    assert_true((a_red && b_blue) || (a_blue && b_red));
+    free(image);
+}
+
+int main(void)
+{
+    const struct CMUnitTest host[] = {
+        cmocka_unit_test(test_nearest_and_wrap),       cmocka_unit_test(test_bilinear),
+        cmocka_unit_test(test_srgb_bytes_and_pyramid), cmocka_unit_test(test_mip_level_at_distance),
+        cmocka_unit_test(test_procedural_textures),    cmocka_unit_test(test_mappings),
+        cmocka_unit_test(test_scene_textures),         cmocka_unit_test(test_bad_textures),
+    };
+    const struct CMUnitTest device[] = {
+        cmocka_unit_test(test_constant_displacement_changes_nothing),
+        cmocka_unit_test(test_flat_normal_map_is_no_normal_map),
+        cmocka_unit_test(test_checkerboard_on_device),
+    };
+    int failed = cmocka_run_group_tests_name("host", host, setup, teardown);
+    if (setup(NULL))
+        return 1;
+    int status = test_device_setup(NULL);
+    if (status == 0)
+        failed += cmocka_run_group_tests_name("device", device, NULL, NULL);
+    test_device_teardown(NULL);
+    teardown(NULL);
+    return failed || status;
+}
