@@ -402,8 +402,7 @@ KERNEL_FN Vec3 diffuse_transmission_f(const Material *m, Vec3 wo, Vec3 wi, float
     return *pdf > 0.0f ? v_scale(vec3_from(m->transmittance), 1.0f / PI_F) : vec3(0.0f, 0.0f, 0.0f);
 }
 
-KERNEL_FN int diffuse_transmission_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2,
-                                          BsdfSample *s)
+KERNEL_FN int diffuse_transmission_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
 {
     Vec3 wi = cosine_hemisphere(u1, u2);
     if (wi.z <= 0.0f ||

@@ -121,8 +121,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         cone_width += cone_spread * hit.t;
         float cos_hit = fabs(v_dot(n, direction));
         if (integrator->flags & RENDER_TEXTURES)
-            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p, cone_width / fmax(cos_hit, 0.01f),
-                                    &material_at_hit, &ns);
+            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p,
+                                    cone_width / fmax(cos_hit, 0.01f), &material_at_hit, &ns);
 #endif
         v_basis(ns, &s, &t);
         Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));
