@@ -29,8 +29,10 @@
 #define FEATURE_THIN_LENS 0x800000ul     /* a camera with lensradius > 0 */
 #define FEATURE_ORTHOGRAPHIC 0x1000000ul /* Camera "orthographic" */
 #define FEATURE_PIXEL_FILTER 0x2000000ul /* a filter other than the box of radius 0.5 */
+#define FEATURE_INSTANCING 0x40000000ul  /* ObjectInstance: a two-level BVH */
+#define FEATURE_ALPHA 0x80000000ul       /* shapes with alpha cut-outs */
 /* 64 bits ("ul": OpenCL C's long and LP64 hosts' long are both 64 bits). */
-#define FEATURES_ALL 0x3fffff0ul
+#define FEATURES_ALL (0x3fffff0ul | FEATURE_INSTANCING | FEATURE_ALPHA)
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -60,5 +62,7 @@
 #define GMON_HAS_THIN_LENS GMON_HAS(FEATURE_THIN_LENS)
 #define GMON_HAS_ORTHOGRAPHIC GMON_HAS(FEATURE_ORTHOGRAPHIC)
 #define GMON_HAS_PIXEL_FILTER GMON_HAS(FEATURE_PIXEL_FILTER)
+#define GMON_HAS_INSTANCING GMON_HAS(FEATURE_INSTANCING)
+#define GMON_HAS_ALPHA GMON_HAS(FEATURE_ALPHA)
 
 #endif
