@@ -318,10 +318,15 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
 {
     const GLOBAL BvhNode *nodes = geometry->nodes;
     const GLOBAL Primitive *primitives = geometry->primitives;
-    Ray ray = *world_ray; /* in the space of the tree being traversed */
+    const Ray *ray = world_ray; /* in the space of the tree being traversed */
+#if GMON_HAS_INSTANCING
+    Ray object_ray;
     int32_t instance = -1;
+#else
+    const int32_t instance = -1;
+#endif
     float inverse_direction[3];
-    inverse_direction_of(&ray, inverse_direction);
+    inverse_direction_of(ray, inverse_direction);
     hit->t = t_max;
     hit->primitive = -1;
     hit->u = 0.0f;
@@ -333,7 +338,7 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
     int node_index = 0;
     while (node_index >= 0) {
         float entry[BVH_WIDTH];
-        int bits = intersect_children(&nodes[node_index].node, ray.origin, inverse_direction, hit->t, entry);
+        int bits = intersect_children(&nodes[node_index].node, ray->origin, inverse_direction, hit->t, entry);
         for (int base = top; bits; bits &= bits - 1) { /* the builder bounds the stack */
             int lane = lowest_bit(bits), i = top++;
             for (; i > base && stack_entry[i - 1] < entry[lane]; --i) {
@@ -351,17 +356,18 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
 #if GMON_HAS_INSTANCING
             if (stack[top] < 0) {
                 if (stack[top] == STACK_LEAVE_INSTANCE) {
-                    ray = *world_ray;
+                    ray = world_ray;
                     instance = -1;
                 } else {
                     instance = primitives[-2 - stack[top]].material;
                     const GLOBAL Instance *entered = geometry->instances + instance;
-                    instance_ray(entered, world_ray, &ray);
+                    instance_ray(entered, world_ray, &object_ray);
+                    ray = &object_ray;
                     stack[top] = STACK_LEAVE_INSTANCE;
                     stack_entry[top++] = -INFINITY;
                     node_index = entered->root;
                 }
-                inverse_direction_of(&ray, inverse_direction);
+                inverse_direction_of(ray, inverse_direction);
                 continue;
             }
 #endif
@@ -374,7 +380,7 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
             int found = 0;
             if (parent->packet[lane] >= 0) {
                 float t = 0.0f, u = 0.0f, v = 0.0f;
-                int k = intersect_packet(&ray, &nodes[parent->packet[lane]].triangles, t_min, hit->t, &t, &u, &v);
+                int k = intersect_packet(ray, &nodes[parent->packet[lane]].triangles, t_min, hit->t, &t, &u, &v);
                 if (k >= 0) {
                     hit->t = t;
                     hit->u = u;
@@ -384,7 +390,9 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
                     found = 1;
                 }
             } else {
+#if GMON_HAS_INSTANCING
                 float leaf_entry = stack_entry[top];
+#endif
                 for (int i = first; i < first + count; ++i) {
                     const GLOBAL Primitive *p = primitives + i;
 #if GMON_HAS_INSTANCING
@@ -394,16 +402,18 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
                         continue;
                     }
 #endif
-                    Hit candidate;
-                    if (!intersect_primitive(&ray, p, t_min, hit->t, &candidate))
-                        continue;
 #if GMON_HAS_ALPHA
-                    if ((p->kind & PRIM_ALPHA) && !alpha_keeps_hit(geometry, p, world_ray, i, instance, &candidate))
+                    Hit candidate;
+                    if (!intersect_primitive(ray, p, t_min, hit->t, &candidate) ||
+                        ((p->kind & PRIM_ALPHA) && !alpha_keeps_hit(geometry, p, world_ray, i, instance, &candidate)))
                         continue;
-#endif
                     hit->t = candidate.t;
                     hit->u = candidate.u;
                     hit->v = candidate.v;
+#else
+                    if (!intersect_primitive(ray, p, t_min, hit->t, hit))
+                        continue;
+#endif
                     hit->primitive = i;
                     hit->instance = instance;
                     found = 1;
