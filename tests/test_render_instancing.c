@@ -3,6 +3,7 @@
  * exactly: tests/data/scenes/instances.pbrt says why); a fully transparent
  * quad changes nothing; a quad of alpha 0.5 blocks half the light its
  * opaque twin blocks, within standard errors. */
+#include "io/exr_image.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "test_device.h"
@@ -70,6 +71,38 @@ static void test_instanced_scene_renders_as_flattened(void **state)
     assert_int_equal(differ, 0);
     render_output_free(&instanced);
     render_output_free(&flat);
+}
+
+/* The same through gmonrt: the images it writes hold the same layers, bit
+ * for bit (the files differ: they name their scenes). */
+static void test_cli_renders_instanced_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const char *names[2] = {"instances", "instances-flat"};
+    ExrImage images[2];
+    for (int i = 0; i < 2; ++i) {
+        char command[2048], path[1024], error[1024];
+        snprintf(path, sizeof path, "%s/test_render_instancing_%s.exr", GMON_BINARY_DIR, names[i]);
+        snprintf(command, sizeof command,
+                 "'%s' --spp 8 --seed 3 --resolution 24x24 --quiet --outfile '%s' '%s/tests/data/scenes/%s.pbrt' "
+                 ">/dev/null 2>&1",
+                 GMONRT, path, GMON_SOURCE_DIR, names[i]);
+        assert_int_equal(system(command), 0);
+        if (exr_image_read(path, &images[i], error, sizeof error) != IMAGE_IO_OK)
+            fail_msg("%s", error);
+    }
+    assert_int_equal(images[0].layer_count, images[1].layer_count);
+    assert_true(images[0].layer_count > 0);
+    size_t values = 3 * (size_t)images[0].width * images[0].height;
+    for (int l = 0; l < images[0].layer_count; ++l) {
+        const ExrRgbLayer *a = &images[0].layers[l], *b = exr_image_layer(&images[1], a->name);
+        assert_non_null(b);
+        assert_memory_equal(a->data, b->data, values * 4);
+    }
+    printf("  gmonrt: %d layers of %zu values equal bit for bit\n", images[0].layer_count, values);
+    exr_image_free(&images[0]);
+    exr_image_free(&images[1]);
 }
 
 /* The Cornell box with a quad of the given alpha (or none: alpha < 0)
@@ -168,6 +201,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_instanced_scene_renders_as_flattened),
+        cmocka_unit_test(test_cli_renders_instanced_as_flattened),
         cmocka_unit_test(test_transparent_quad_changes_nothing),
         cmocka_unit_test(test_half_alpha_halves_occlusion),
     };

@@ -623,21 +623,26 @@ static int build_instanced_bvh(RenderScene *scene, char *error, size_t error_siz
     int objects = scene->object_count, in_object = 0;
     Bvh *trees = calloc((size_t)objects, sizeof *trees);
     char *is_object_primitive = calloc((size_t)(scene->primitive_count ? scene->primitive_count : 1), 1);
+    char *drawn = calloc((size_t)objects, 1);
     int *top_order = malloc((size_t)(scene->primitive_count + scene->instance_input_count + 1) * sizeof *top_order);
     Primitive *top = malloc((size_t)(scene->primitive_count + scene->instance_input_count + 1) * sizeof *top);
     scene->instances = malloc((size_t)(scene->instance_input_count + 1) * sizeof *scene->instances);
     Bvh world;
     memset(&world, 0, sizeof world);
     int result = -1, stack_need = 0;
-    if (!trees || !is_object_primitive || !top_order || !top || !scene->instances) {
+    if (!trees || !is_object_primitive || !drawn || !top_order || !top || !scene->instances) {
         snprintf(error, error_size, "out of memory building the instanced BVH");
         goto done;
     }
+    for (int i = 0; i < scene->instance_input_count; ++i)
+        drawn[scene->instance_inputs[i].object] = 1;
     for (int k = 0; k < objects; ++k) {
         const RenderObject *o = &scene->objects[k];
         memset(is_object_primitive + o->first, 1, (size_t)o->count);
+        if (o->count == 0 || !drawn[k])
+            continue; /* no tree for an object without instances */
         in_object += o->count;
-        if (o->count > 0 && bvh_build(scene->primitives + o->first, o->count, &trees[k], error, error_size))
+        if (bvh_build(scene->primitives + o->first, o->count, &trees[k], error, error_size))
             goto done;
         if (trees[k].stack_need > stack_need)
             stack_need = trees[k].stack_need;
@@ -732,6 +737,7 @@ done:
         bvh_destroy(&trees[k]);
     free(trees);
     free(is_object_primitive);
+    free(drawn);
     free(top_order);
     free(top);
     bvh_destroy(&world);
