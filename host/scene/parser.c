@@ -1988,18 +1988,20 @@ static int shape_alpha(Parser *p, ParamList *params, float *alpha)
 {
     for (size_t i = 0; i < params->count; ++i) {
         Param *param = &params->items[i];
-        if (param->type != PARAM_TEXTURE || strcmp(param->name, "alpha") != 0)
+        if (strcmp(param->name, "alpha") != 0)
             continue;
-        param->used = 1;
-        return scene_unsupported(&p->diag, params->file, param->line, "the shape is opaque",
-                                 "%s: \"texture alpha\" \"%s\": alpha textures are not supported yet, only \"float "
-                                 "alpha\"",
-                                 params->owner, param->count > 0 ? param->strings[0] : "");
+        if (param->type == PARAM_TEXTURE) {
+            param->used = 1;
+            return scene_unsupported(&p->diag, params->file, param->line, "the shape is opaque",
+                                     "%s: \"texture alpha\" \"%s\": alpha textures are not supported yet, only "
+                                     "\"float alpha\"",
+                                     params->owner, param->count > 0 ? param->strings[0] : "");
+        }
+        if (params_get_float(params, "alpha", alpha) < 0)
+            return -1;
+        if (!isfinite(*alpha))
+            return params_error(params, param, "must be finite");
     }
-    if (params_get_float(params, "alpha", alpha) < 0)
-        return -1;
-    if (!isfinite(*alpha))
-        return scene_error(&p->diag, params->file, 0, "%s: \"float alpha\" must be finite", params->owner);
     return 0;
 }
 
