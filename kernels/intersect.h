@@ -244,12 +244,21 @@ KERNEL_FN int intersect_packet(const Ray *ray, const TrianglePacket *p, float t_
 }
 #endif
 
-/* The ray in an instance's object space. */
-KERNEL_FN void instance_ray(const GLOBAL Instance *instance, const Ray *world, Ray *object)
+/* A world-space point in an instance's object space. */
+KERNEL_FN void instance_point(const GLOBAL Instance *instance, const float *world, float *object)
 {
     for (int r = 0; r < 3; ++r) {
         const GLOBAL float *m = instance->object_from_world[r];
-        object->origin[r] = m[0] * world->origin[0] + m[1] * world->origin[1] + m[2] * world->origin[2] + m[3];
+        object[r] = m[0] * world[0] + m[1] * world[1] + m[2] * world[2] + m[3];
+    }
+}
+
+/* The ray in an instance's object space. */
+KERNEL_FN void instance_ray(const GLOBAL Instance *instance, const Ray *world, Ray *object)
+{
+    instance_point(instance, world->origin, object->origin);
+    for (int r = 0; r < 3; ++r) {
+        const GLOBAL float *m = instance->object_from_world[r];
         object->direction[r] = m[0] * world->direction[0] + m[1] * world->direction[1] + m[2] * world->direction[2];
     }
 }

@@ -64,10 +64,7 @@ KERNEL_FN Vec3 hit_normal(const Scene *scene, const Hit *hit, __global const Pri
         Vec3 n;
         if (is_sphere(p)) {
             float world[3] = {position.x, position.y, position.z}, object[3];
-            for (int r = 0; r < 3; ++r) {
-                __global const float *m = instance->object_from_world[r];
-                object[r] = m[0] * world[0] + m[1] * world[1] + m[2] * world[2] + m[3];
-            }
+            instance_point(instance, world, object);
             n = v_sub(vec3(object[0], object[1], object[2]), vec3_from_global(p->a));
         } else {
             n = v_cross(vec3_from_global(p->b), vec3_from_global(p->c));
