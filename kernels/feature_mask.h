@@ -33,13 +33,15 @@
 #define FEATURE_PROCEDURAL_TEXTURES 0x8000000ul /* every other Texture class (constant, scale, mix, ...) */
 #define FEATURE_BUMP_MAP 0x10000000ul           /* a material's "displacement" */
 #define FEATURE_NORMAL_MAP 0x20000000ul         /* a material's "normalmap" */
+#define FEATURE_INSTANCING 0x40000000ul         /* ObjectInstance: a two-level BVH */
+#define FEATURE_ALPHA 0x80000000ul              /* shapes with alpha cut-outs */
 /* 64 bits ("ul": OpenCL C's long and LP64 hosts' long are both 64 bits). */
 #define FEATURE_DIFFUSE_TRANSMISSION 0x100000000ul
 #define FEATURE_MIX 0x200000000ul
 #define FEATURE_COATED_CONDUCTOR 0x400000000ul
 #define FEATURE_THIN_DIELECTRIC 0x800000000ul
 #define FEATURE_LAYERED 0x1000000000ul /* the layered random walk: coated diffuse or coated conductor */
-#define FEATURES_ALL 0x1f3ffffff0ul
+#define FEATURES_ALL 0x1ffffffff0ul    /* bits 4..36 */
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -80,5 +82,7 @@
 #define GMON_HAS_NORMAL_MAP GMON_HAS(FEATURE_NORMAL_MAP)
 /* Any texture: materials read their parameters through texture programs. */
 #define GMON_HAS_TEXTURES (GMON_HAS_IMAGE_TEXTURES || GMON_HAS_PROCEDURAL_TEXTURES)
+#define GMON_HAS_INSTANCING GMON_HAS(FEATURE_INSTANCING)
+#define GMON_HAS_ALPHA GMON_HAS(FEATURE_ALPHA)
 
 #endif

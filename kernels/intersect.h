@@ -4,6 +4,7 @@
 #define KERNELS_INTERSECT_H
 
 #include "compat.h"
+#include "rng.h"
 #include "scene_types.h"
 
 /* Entries; the builder checks that its tree needs no more. */
@@ -17,8 +18,18 @@ typedef struct {
 typedef struct {
     float t; /* distance along the ray; t_max if no hit */
     int32_t primitive;
-    float u, v; /* triangle barycentrics of b and c */
+    float u, v;       /* triangle barycentrics of b and c */
+    int32_t instance; /* the instance the primitive was hit in, or -1: none */
 } Hit;
+
+/* What rays are traced against: the arrays of scene_types.h's list that
+ * traversal reads. */
+typedef struct {
+    const GLOBAL BvhNode *nodes;
+    const GLOBAL Primitive *primitives;
+    const GLOBAL Instance *instances; /* FEATURE_INSTANCING */
+    const GLOBAL AlphaSlot *alphas;   /* FEATURE_ALPHA */
+} Geometry;
 
 KERNEL_FN float dot3(const float *a, const float *b)
 {
@@ -233,20 +244,103 @@ KERNEL_FN int intersect_packet(const Ray *ray, const TrianglePacket *p, float t_
 }
 #endif
 
+/* A world-space point in an instance's object space. */
+KERNEL_FN void instance_point(const GLOBAL Instance *instance, const float *world, float *object)
+{
+    for (int r = 0; r < 3; ++r) {
+        const GLOBAL float *m = instance->object_from_world[r];
+        object[r] = m[0] * world[0] + m[1] * world[1] + m[2] * world[2] + m[3];
+    }
+}
+
+/* The ray in an instance's object space. */
+KERNEL_FN void instance_ray(const GLOBAL Instance *instance, const Ray *world, Ray *object)
+{
+    instance_point(instance, world->origin, object->origin);
+    for (int r = 0; r < 3; ++r) {
+        const GLOBAL float *m = instance->object_from_world[r];
+        object->direction[r] = m[0] * world->direction[0] + m[1] * world->direction[1] + m[2] * world->direction[2];
+    }
+}
+
+/* An object-space normal in world space (not unit): the transpose of
+ * object_from_world is the inverse transpose of world_from_object. */
+KERNEL_FN void instance_normal(const GLOBAL Instance *instance, const float *object, float *world)
+{
+    const GLOBAL float(*m)[4] = instance->object_from_world;
+    for (int c = 0; c < 3; ++c)
+        world[c] = m[0][c] * object[0] + m[1][c] * object[1] + m[2][c] * object[2];
+}
+
+/* A cut-out's alpha at a hit. The hook for "texture alpha": a slot with a
+ * texture will evaluate it at the hit's (u, v) here, once the kernels
+ * have textures; until then the scene reader refuses such a slot. */
+KERNEL_FN float alpha_at(const Geometry *geometry, const GLOBAL Primitive *p, const Hit *hit)
+{
+    (void)hit;
+    return geometry->alphas[p->kind >> PRIM_ALPHA_SHIFT].value;
+}
+
+/* Uniform in [0, 1) from the world ray and the surface it met. */
+KERNEL_FN float alpha_hash(const Ray *ray, int32_t primitive, int32_t instance)
+{
+    uint64_t h = rng_mix(((uint64_t)(uint32_t)primitive << 32 | (uint32_t)instance) ^ 0x9E3779B97F4A7C15ul);
+    for (int i = 0; i < 3; ++i)
+        h = rng_mix(h ^ ((uint64_t)float_bits(ray->origin[i]) << 32 | float_bits(ray->direction[i])));
+    return (float)(uint32_t)(h >> 40) * (1.0f / 16777216.0f);
+}
+
+/* pbrt-v4's stochastic alpha (GeometricPrimitive::Intersect and
+ * IntersectP): a hit on a cut-out of alpha a counts with probability a
+ * (never for a <= 0, always for a >= 1), decided by a hash of the ray as
+ * pbrt-v4 does. The hash also takes the surface, so that the decisions of
+ * one ray at several cut-outs are independent, as pbrt-v4's are (it
+ * re-spawns the ray past a skipped hit, which changes the hashed origin). */
+KERNEL_FN int alpha_keeps_hit(const Geometry *geometry, const GLOBAL Primitive *p, const Ray *world_ray,
+                              int32_t primitive, int32_t instance, const Hit *hit)
+{
+    float a = alpha_at(geometry, p, hit);
+    if (a >= 1.0f)
+        return 1;
+    return a > 0.0f && alpha_hash(world_ray, primitive, instance) <= a;
+}
+
+KERNEL_FN void inverse_direction_of(const Ray *ray, float *inverse_direction)
+{
+    for (int i = 0; i < 3; ++i)
+        inverse_direction[i] = 1.0f / ray->direction[i];
+}
+
+/* Stack entries below 0 (FEATURE_INSTANCING): -1 returns to the world ray
+ * from an instance's tree; -2 - i enters the instance of primitive i. */
+#define STACK_LEAVE_INSTANCE (-1)
+
 /* Nearest hit in (t_min, t_max). With any_hit, returns at the first hit
  * (shadow rays). Returns 1 if something was hit. A node's children are
  * tested together; those the ray meets are pushed nearest on top, and a
- * popped one is skipped if a hit nearer than its entry has been found. */
-KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive *primitives, const Ray *ray,
-                            float t_min, float t_max, int any_hit, Hit *hit)
+ * popped one is skipped if a hit nearer than its entry has been found.
+ * An instance met in a leaf is pushed (at the leaf's entry distance); once
+ * popped, its object's tree is traversed with the ray in object space, on
+ * the same stack above an entry that brings the world ray back. */
+KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, float t_min, float t_max, int any_hit,
+                            Hit *hit)
 {
+    const GLOBAL BvhNode *nodes = geometry->nodes;
+    const GLOBAL Primitive *primitives = geometry->primitives;
+    const Ray *ray = world_ray; /* in the space of the tree being traversed */
+#if GMON_HAS_INSTANCING
+    Ray object_ray;
+    int32_t instance = -1;
+#else
+    const int32_t instance = -1;
+#endif
     float inverse_direction[3];
-    for (int i = 0; i < 3; ++i)
-        inverse_direction[i] = 1.0f / ray->direction[i];
+    inverse_direction_of(ray, inverse_direction);
     hit->t = t_max;
     hit->primitive = -1;
     hit->u = 0.0f;
     hit->v = 0.0f;
+    hit->instance = -1;
     int stack[BVH_STACK_SIZE]; /* a child as its node's block * BVH_WIDTH + its lane */
     float stack_entry[BVH_STACK_SIZE];
     int top = 0;
@@ -268,6 +362,24 @@ KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive 
             --top;
             if (stack_entry[top] > hit->t)
                 continue;
+#if GMON_HAS_INSTANCING
+            if (stack[top] < 0) {
+                if (stack[top] == STACK_LEAVE_INSTANCE) {
+                    ray = world_ray;
+                    instance = -1;
+                } else {
+                    instance = primitives[-2 - stack[top]].material;
+                    const GLOBAL Instance *entered = geometry->instances + instance;
+                    instance_ray(entered, world_ray, &object_ray);
+                    ray = &object_ray;
+                    stack[top] = STACK_LEAVE_INSTANCE;
+                    stack_entry[top++] = -INFINITY;
+                    node_index = entered->root;
+                }
+                inverse_direction_of(ray, inverse_direction);
+                continue;
+            }
+#endif
             const GLOBAL BvhWideNode *parent = &nodes[stack[top] / BVH_WIDTH].node;
             int lane = stack[top] % BVH_WIDTH, first = parent->child[lane], count = parent->count[lane];
             if (count == 0) {
@@ -283,14 +395,38 @@ KERNEL_FN int bvh_intersect(const GLOBAL BvhNode *nodes, const GLOBAL Primitive 
                     hit->u = u;
                     hit->v = v;
                     hit->primitive = first + k;
+                    hit->instance = instance;
                     found = 1;
                 }
             } else {
-                for (int i = first; i < first + count; ++i)
-                    if (intersect_primitive(ray, primitives + i, t_min, hit->t, hit)) {
-                        hit->primitive = i;
-                        found = 1;
+#if GMON_HAS_INSTANCING
+                float leaf_entry = stack_entry[top];
+#endif
+                for (int i = first; i < first + count; ++i) {
+                    const GLOBAL Primitive *p = primitives + i;
+#if GMON_HAS_INSTANCING
+                    if ((p->kind & PRIM_KIND_MASK) == PRIM_INSTANCE) {
+                        stack[top] = -2 - i;
+                        stack_entry[top++] = leaf_entry;
+                        continue;
                     }
+#endif
+#if GMON_HAS_ALPHA
+                    Hit candidate;
+                    if (!intersect_primitive(ray, p, t_min, hit->t, &candidate) ||
+                        ((p->kind & PRIM_ALPHA) && !alpha_keeps_hit(geometry, p, world_ray, i, instance, &candidate)))
+                        continue;
+                    hit->t = candidate.t;
+                    hit->u = candidate.u;
+                    hit->v = candidate.v;
+#else
+                    if (!intersect_primitive(ray, p, t_min, hit->t, hit))
+                        continue;
+#endif
+                    hit->primitive = i;
+                    hit->instance = instance;
+                    found = 1;
+                }
             }
             if (found && any_hit)
                 return 1;

@@ -83,7 +83,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         Hit hit;
         ++*rays;
         int unweighted = depth == 0 || specular_bounce || !use_nee;
-        if (!bvh_intersect(scene->nodes, scene->primitives, &ray, 0.0f, INFINITY, 0, &hit)) {
+        if (!scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit)) {
             if (GMON_HAS_INFINITE_LIGHTS)
                 radiance =
                     v_add(radiance, v_mul(throughput, infinite_radiance(scene, direction, previous_pdf, unweighted)));
@@ -91,7 +91,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         }
         __global const Primitive *prim = scene->primitives + hit.primitive;
         Vec3 p = v_add(origin, v_scale(direction, hit.t));
-        Vec3 n = surface_normal(prim, p);
+        Vec3 n = hit_normal(scene, &hit, prim, p);
         Vec3 wo_world = v_scale(direction, -1.0f);
 
         if (GMON_HAS_AREA_LIGHTS && prim->light >= 0) {

@@ -19,6 +19,18 @@ typedef struct {
 #define SCENE_ARRAY_PARAMETER(name, type) __global const type *name,
 #define SCENE_ARRAY_ASSIGN(name, type) scene.name = name;
 
+KERNEL_FN Geometry scene_geometry(const Scene *scene)
+{
+    Geometry g = {scene->nodes, scene->primitives, scene->instances, scene->alphas};
+    return g;
+}
+
+KERNEL_FN int scene_intersect(const Scene *scene, const Ray *ray, float t_min, float t_max, int any_hit, Hit *hit)
+{
+    Geometry g = scene_geometry(scene);
+    return bvh_intersect(&g, ray, t_min, t_max, any_hit, hit);
+}
+
 KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
 {
     Vec3 n;
@@ -27,6 +39,43 @@ KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
     else
         n = v_normalize(v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
     return (p->kind & PRIM_FLIP_NORMAL) ? v_scale(n, -1.0f) : n;
+}
+
+#if GMON_HAS_INSTANCING
+KERNEL_FN Vec3 instance_normal_v(__global const Instance *instance, Vec3 n)
+{
+    float object[3] = {n.x, n.y, n.z}, world[3];
+    instance_normal(instance, object, world);
+    return vec3(world[0], world[1], world[2]);
+}
+#endif
+
+/* The geometric normal (unit, world space) at a hit at `position`. In an
+ * instance, the object-space normal before its normalization is taken to
+ * world space and normalized there: for the transforms float arithmetic
+ * does exactly (power-of-two scales, axis swaps, mirrors) it is then the
+ * very normal of the flattened triangle. (pbrt-v4's rule on handedness
+ * holds without a flag: the transformed cross product turns with it.) */
+KERNEL_FN Vec3 hit_normal(const Scene *scene, const Hit *hit, __global const Primitive *p, Vec3 position)
+{
+#if GMON_HAS_INSTANCING
+    if (hit->instance >= 0) {
+        __global const Instance *instance = scene->instances + hit->instance;
+        Vec3 n;
+        if (is_sphere(p)) {
+            float world[3] = {position.x, position.y, position.z}, object[3];
+            instance_point(instance, world, object);
+            n = v_sub(vec3(object[0], object[1], object[2]), vec3_from_global(p->a));
+        } else {
+            n = v_cross(vec3_from_global(p->b), vec3_from_global(p->c));
+        }
+        n = v_normalize(instance_normal_v(instance, n));
+        return (p->kind & PRIM_FLIP_NORMAL) ? v_scale(n, -1.0f) : n;
+    }
+#else
+    (void)scene, (void)hit;
+#endif
+    return surface_normal(p, position);
 }
 
 /* The shading normal at a hit: a triangle's vertex normals interpolated
@@ -41,6 +90,10 @@ KERNEL_FN Vec3 shading_normal(const Scene *scene, const Hit *hit, __global const
     float b0 = 1.0f - hit->u - hit->v;
     Vec3 ns = vec3(b0 * v[0] + hit->u * v[3] + hit->v * v[6], b0 * v[1] + hit->u * v[4] + hit->v * v[7],
                    b0 * v[2] + hit->u * v[5] + hit->v * v[8]);
+#if GMON_HAS_INSTANCING
+    if (hit->instance >= 0)
+        ns = instance_normal_v(scene->instances + hit->instance, ns);
+#endif
     float length2 = v_dot(ns, ns);
     if (!(length2 > 0.0f))
         return n;
@@ -86,7 +139,7 @@ KERNEL_FN int occluded(const Scene *scene, Vec3 origin, Vec3 direction, float di
 {
     Ray ray = make_ray(origin, direction);
     Hit hit;
-    return bvh_intersect(scene->nodes, scene->primitives, &ray, 0.0f, distance, 1, &hit);
+    return scene_intersect(scene, &ray, 0.0f, distance, 1, &hit);
 }
 
 #endif

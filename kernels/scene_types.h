@@ -10,10 +10,13 @@
 /* Primitive kinds. */
 #define PRIM_TRIANGLE 0u
 #define PRIM_SPHERE 1u
+#define PRIM_INSTANCE 2u /* FEATURE_INSTANCING: an object instance in the top-level tree */
 
 /* A triangle (a is its first vertex, b and c the edges to the second and
  * third, which saves the intersection test two subtractions) or a sphere
- * (a is the centre, b[0] the radius). 48 bytes. */
+ * (a is the centre, b[0] the radius), or an instance (a and b the lower and
+ * upper corners of its world-space box, material its index in the instance
+ * array). 48 bytes. */
 typedef struct {
     float a[3];
     uint32_t kind;
@@ -57,6 +60,30 @@ typedef union {
 #define PRIM_KIND_MASK 0xffu
 #define PRIM_FLIP_NORMAL 0x100u    /* ReverseOrientation (or a handedness swap) */
 #define PRIM_SHADING_NORMAL 0x200u /* a triangle with vertex normals, in shading_normals */
+/* FEATURE_ALPHA: a cut-out, whose alpha is alphas[kind >> PRIM_ALPHA_SHIFT]. */
+#define PRIM_ALPHA 0x400u
+#define PRIM_ALPHA_SHIFT 16
+#define PRIM_MAX_ALPHA_SLOTS 0x10000u
+
+/* An instance of an object (FEATURE_INSTANCING): the object's own BVH,
+ * rooted at nodes[root] over its primitives (in the same arrays, reached
+ * only through instances), seen through a transform. Rays are traced in
+ * object space: object_from_world (rows of a 3x4 affine matrix) takes the
+ * ray there; a ray's parameter t is the same in both spaces. Its transpose
+ * takes object-space normals to world space (up to length). 64 bytes. */
+typedef struct {
+    float object_from_world[3][4];
+    int32_t root;
+    uint32_t pad[3];
+} Instance;
+
+/* A shape's alpha (FEATURE_ALPHA): `value`, or when texture >= 0 that
+ * texture's value at the hit (the hook for float textures: not evaluated
+ * yet, the scene reader refuses "texture alpha"). 8 bytes. */
+typedef struct {
+    float value;
+    int32_t texture;
+} AlphaSlot;
 
 /* With one shape kind in the build (feature_mask.h) the test folds away. */
 KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
@@ -360,7 +387,9 @@ typedef struct {
     ARRAY(material_textures, MaterialTextures)                                                                         \
     ARRAY(texture_bytes, uint8_t)                                                                                      \
     ARRAY(texture_floats, float)                                                                                       \
-    ARRAY(surface_uvs, float)
+    ARRAY(surface_uvs, float)                                                                                          \
+    ARRAY(instances, Instance)                                                                                         \
+    ARRAY(alphas, AlphaSlot)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
@@ -368,6 +397,8 @@ _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout")
 _Static_assert(sizeof(Material) == 128, "Material must match the kernel's layout");
 _Static_assert(sizeof(TextureNode) == 224, "TextureNode must match the kernel's layout");
 _Static_assert(sizeof(MaterialTextures) == 48, "MaterialTextures must match the kernel's layout");
+_Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout");
+_Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(SceneConstants) == 224, "SceneConstants must match the kernel's layout");
 #endif

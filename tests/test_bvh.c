@@ -2,6 +2,7 @@
  * primitive, for triangles and spheres, and any-hit agrees on occlusion. */
 #include "intersect.h"
 #include "render/bvh.h"
+#include "render/render_scene.h"
 #include "sample_streams.h"
 
 #include <math.h>
@@ -82,7 +83,7 @@ static void check_against_brute_force(int count, int sphere_every, int ray_count
             for (int k = 0; k < 3; ++k)
                 ray.direction[k] /= sqrtf(length);
         }
-        Hit hit, nearest = {INFINITY, -1, 0, 0};
+        Hit hit, nearest = {INFINITY, -1, 0, 0, -1};
         for (int i = 0; i < bvh.primitive_count; ++i) {
             Hit h;
             if (intersect_primitive(&ray, &bvh.primitives[i], 1e-4f, nearest.t, &h)) {
@@ -90,13 +91,14 @@ static void check_against_brute_force(int count, int sphere_every, int ray_count
                 nearest.primitive = i;
             }
         }
-        int found = bvh_intersect(bvh.nodes, bvh.primitives, &ray, 1e-4f, INFINITY, 0, &hit);
+        int found = bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, INFINITY, 0, &hit);
         assert_int_equal(found, nearest.primitive >= 0);
         if (found) {
             ++hits;
             assert_true(hit.t == nearest.t);
             Hit any;
-            assert_true(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 1e-4f, INFINITY, 1, &any));
+            assert_true(
+                bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, INFINITY, 1, &any));
             assert_true(any.t >= hit.t);
             /* A shadow ray stopping short of the nearest hit is blocked
              * exactly when brute force finds something before its end. */
@@ -106,7 +108,8 @@ static void check_against_brute_force(int count, int sphere_every, int ray_count
                 Hit h;
                 blocked = intersect_primitive(&ray, &bvh.primitives[i], 1e-4f, end, &h);
             }
-            assert_int_equal(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 1e-4f, end, 1, &any), blocked);
+            assert_int_equal(
+                bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, end, 1, &any), blocked);
         }
     }
     printf("  %d primitives: %d nodes, depth %d, largest leaf %d, %d/%d rays hit\n", count, bvh.node_count, bvh.depth,
@@ -135,7 +138,7 @@ static void test_empty_scene(void **state)
     assert_int_equal(bvh_build(NULL, 0, &bvh, error, sizeof error), 0);
     Ray ray = {{0, 0, 0}, {0, 0, 1}};
     Hit hit;
-    assert_false(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 0.0f, INFINITY, 0, &hit));
+    assert_false(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
     bvh_destroy(&bvh);
 }
 
@@ -152,7 +155,7 @@ static void test_identical_primitives_stay_shallow(void **state)
     assert_true(bvh.largest_leaf > BVH_WIDTH); /* too many for a packet: tested one by one */
     Ray ray = {{0.2f, 0.2f, -1}, {0, 0, 1}};
     Hit hit;
-    assert_true(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 0.0f, INFINITY, 0, &hit));
+    assert_true(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
     assert_true(fabsf(hit.t - 1.0f) < 1e-6f);
     bvh_destroy(&bvh);
 }
@@ -176,7 +179,7 @@ static void test_coordinates_near_the_float_limit(void **state)
     for (int i = 0; i < COUNT; ++i) {
         Ray ray = {{p[i].a[0] + 0.25f * width, 0.25f, 0}, {0, 0, 1}};
         Hit hit;
-        assert_true(bvh_intersect(bvh.nodes, bvh.primitives, &ray, 0.0f, INFINITY, 0, &hit));
+        assert_true(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
         assert_int_equal(bvh.primitives[hit.primitive].material, i);
         assert_true(hit.t == 5.0f);
     }
@@ -201,6 +204,146 @@ static void test_non_finite_primitive_is_an_error(void **state)
     }
 }
 
+/* An object of random triangles (input order: its primitive j is input
+ * j) drawn by instances with the given transforms, and the flattened
+ * scene: each instance's triangles transformed in double and rounded
+ * (instance k's triangle j is input k * n + j). */
+static void instanced_and_flat(const Primitive *object, int n, const double (*transforms)[3][4], int instances,
+                               RenderScene *instanced, RenderScene *flat)
+{
+    char error[256];
+    render_scene_init(instanced);
+    render_scene_init(flat);
+    Material m = {0};
+    assert_int_equal(render_scene_add_material(instanced, &m), 0);
+    assert_int_equal(render_scene_add_material(flat, &m), 0);
+    assert_int_equal(render_scene_begin_object(instanced), 0);
+    for (int j = 0; j < n; ++j) {
+        float v[3][3];
+        for (int k = 0; k < 3; ++k) {
+            v[0][k] = object[j].a[k];
+            v[1][k] = object[j].a[k] + object[j].b[k];
+            v[2][k] = object[j].a[k] + object[j].c[k];
+        }
+        assert_int_equal(render_scene_add_triangle(instanced, v[0], v[1], v[2], 0, NULL, 0, 0), 0);
+    }
+    render_scene_end_object(instanced);
+    for (int i = 0; i < instances; ++i) {
+        assert_int_equal(render_scene_add_instance(instanced, 0, transforms[i], error, sizeof error), 0);
+        for (int j = 0; j < n; ++j) {
+            const Primitive *o = &instanced->primitives[j];
+            float v[3][3];
+            for (int corner = 0; corner < 3; ++corner)
+                for (int r = 0; r < 3; ++r) {
+                    double p[3];
+                    for (int k = 0; k < 3; ++k)
+                        p[k] = o->a[k] + (corner == 1 ? o->b[k] : corner == 2 ? o->c[k] : 0.0f);
+                    const double *row = transforms[i][r];
+                    v[corner][r] = (float)(row[0] * p[0] + row[1] * p[1] + row[2] * p[2] + row[3]);
+                }
+            assert_int_equal(render_scene_add_triangle(flat, v[0], v[1], v[2], 0, NULL, 0, 0), 0);
+        }
+    }
+    assert_int_equal(render_scene_finalize(instanced, error, sizeof error), 0);
+    assert_int_equal(render_scene_finalize(flat, error, sizeof error), 0);
+    assert_int_equal(instanced->instance_count, instances);
+}
+
+static int trace(const RenderScene *scene, const Ray *ray, int any_hit, float t_max, Hit *hit)
+{
+    Geometry g = {scene->bvh.nodes, scene->bvh.primitives, scene->instances, scene->alphas};
+    return bvh_intersect(&g, ray, 0.0f, t_max, any_hit, hit);
+}
+
+/* Rays hit an instanced object where they hit it flattened. For the
+ * transforms float arithmetic does exactly (power-of-two scales, per axis
+ * too, mirrors, a quarter turn about z: the ray's object-space twin then
+ * rounds as the flattened triangles do) the hits agree bit for bit; for
+ * any rotation and translation, up to rounding. */
+static void check_instances(const double (*transforms)[3][4], int instances, int exact, uint64_t seed)
+{
+    TestRng rng = test_rng(seed);
+    enum { N = 300, RAYS = 4000 };
+    Primitive *object = random_scene(N, 0, &rng);
+    RenderScene instanced, flat;
+    instanced_and_flat(object, N, transforms, instances, &instanced, &flat);
+    int hits = 0, same = 0;
+    for (int r = 0; r < RAYS; ++r) {
+        Ray ray = random_ray(&rng);
+        Hit a, b;
+        int found = trace(&instanced, &ray, 0, INFINITY, &a), flat_found = trace(&flat, &ray, 0, INFINITY, &b);
+        if (exact)
+            assert_int_equal(found, flat_found);
+        if (!found || !flat_found)
+            continue;
+        hits++;
+        int flat_index = flat.bvh.order[b.primitive];
+        int agree = a.instance * N + instanced.bvh.order[a.primitive] == flat_index;
+        same += agree;
+        if (exact) {
+            assert_true(agree);
+            assert_memory_equal(&a.t, &b.t, sizeof a.t);
+            assert_memory_equal(&a.u, &b.u, sizeof a.u);
+            assert_memory_equal(&a.v, &b.v, sizeof a.v);
+        } else if (agree) {
+            assert_true(fabsf(a.t - b.t) <= 1e-4f * (1.0f + b.t));
+        }
+        Hit any; /* shadow rays: blocked before the hit as flattened, and by the hit */
+        float before = a.t * (1.0f - 1e-4f);
+        if (exact)
+            assert_int_equal(trace(&instanced, &ray, 1, before, &any), trace(&flat, &ray, 1, before, &b));
+        assert_true(trace(&instanced, &ray, 1, INFINITY, &any));
+    }
+    printf("  %d instances, %s transforms: %d of %d rays hit, %d on the same triangle as flattened\n", instances,
+           exact ? "exact" : "general", hits, RAYS, same);
+    assert_true(hits > RAYS / 10);
+    assert_true(same >= hits - hits / 100);
+    render_scene_destroy(&instanced);
+    render_scene_destroy(&flat);
+    free(object);
+}
+
+static void test_instances_hit_as_flattened(void **state)
+{
+    (void)state;
+    const double exact[][3][4] = {
+        {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}},      {{2, 0, 0, 0}, {0, 2, 0, 0}, {0, 0, 2, 0}},
+        {{0.5, 0, 0, 0}, {0, 0.25, 0, 0}, {0, 0, 4, 0}}, {{-1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 0.5, 0}},
+        {{0, -1, 0, 0}, {1, 0, 0, 0}, {0, 0, 1, 0}},
+    };
+    check_instances(exact, 5, 1, 21);
+    double general[4][3][4];
+    for (int i = 0; i < 4; ++i) { /* rotations about (1, 1, 1) / sqrt(3), scales, translations */
+        double angle = 0.7 + 1.3 * i, c = cos(angle), s = sin(angle), t = 1.0 - c, x = 1.0 / sqrt(3.0);
+        double scale = 0.5 + 0.75 * i, axis[3] = {x, x, x};
+        for (int r = 0; r < 3; ++r) {
+            for (int k = 0; k < 3; ++k) {
+                double cross = r == k ? 0.0 : ((k == (r + 1) % 3) ? -axis[3 - r - k] : axis[3 - r - k]);
+                general[i][r][k] = scale * (t * axis[r] * axis[k] + (r == k ? c : s * cross));
+            }
+            general[i][r][3] = 3.0 * i - 4.0 + r;
+        }
+    }
+    check_instances((const double(*)[3][4])general, 4, 0, 22);
+}
+
+/* Leaves that hold instances (several a leaf) push them on the traversal
+ * stack: many small instances stay within it and hit as flattened. */
+static void test_many_instances(void **state)
+{
+    (void)state;
+    static double transforms[512][3][4];
+    for (int i = 0; i < 512; ++i) {
+        memset(transforms[i], 0, sizeof transforms[i]);
+        for (int r = 0; r < 3; ++r)
+            transforms[i][r][r] = 0.125;
+        transforms[i][0][3] = 2.0 * (i % 8) - 7.0;
+        transforms[i][1][3] = 2.0 * (i / 8 % 8) - 7.0;
+        transforms[i][2][3] = 2.0 * (i / 64) - 7.0;
+    }
+    check_instances((const double(*)[3][4])transforms, 512, 0, 23);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -209,6 +352,8 @@ int main(void)
         cmocka_unit_test(test_identical_primitives_stay_shallow),
         cmocka_unit_test(test_coordinates_near_the_float_limit),
         cmocka_unit_test(test_non_finite_primitive_is_an_error),
+        cmocka_unit_test(test_instances_hit_as_flattened),
+        cmocka_unit_test(test_many_instances),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1111,8 +1111,87 @@ static void test_truncated_and_malformed_files(void **state)
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ [ 1 ] ]\n", 2, "inside a list");
     load_fails("Film \"rgb\" \"string filename\" \"bad \\q escape\"\n" WORLD, 1, "escape");
     load_fails(WORLD "Texture \"t\" \"spectrum\" \"marble\"\n", 2, "texture class \"marble\" is not supported");
-    load_fails(WORLD "ObjectBegin \"o\"\n", 2, "instancing");
+    load_fails(WORLD "ObjectBegin \"o\"\n", 2, "without a matching end");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1 ] ]\n", 2, "expected a directive, got ']'");
+}
+
+/* ObjectBegin / ObjectEnd / ObjectInstance: the object's shapes keep the
+ * CTM inside the definition, each instance the CTM at its directive; an
+ * instance may come before its object, as in pbrt-v4. */
+static void test_object_instances(void **state)
+{
+    (void)state;
+    Scene s;
+    const char *text = WORLD "ObjectInstance \"late\"\n"
+                             "ObjectBegin \"thing\"\n  Translate 0 0 2\n  " TRIANGLE
+                             "  Shape \"sphere\" \"float radius\" 0.5\nObjectEnd\n" TRIANGLE
+                             "AttributeBegin\n  Translate 5 0 0\n  ObjectInstance \"thing\"\nAttributeEnd\n"
+                             "Scale 2 2 2\nObjectInstance \"thing\"\n"
+                             "ObjectBegin \"late\"\nObjectEnd\n";
+    assert_int_equal(load_text("instances.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.object_count, 2);
+    assert_string_equal(s.objects[0].name, "thing");
+    assert_int_equal(s.objects[0].first_shape, 0);
+    assert_int_equal(s.objects[0].shape_count, 2);
+    assert_int_equal(s.objects[1].shape_count, 0);
+    assert_int_equal(s.shape_count, 3);
+    assert_int_equal(s.shapes[0].object, 0);
+    assert_int_equal(s.shapes[1].object, 0);
+    assert_int_equal(s.shapes[2].object, -1);
+    assert_float_equal(s.spheres[0].center[2], 2.0f, 0.0f); /* the CTM inside the definition */
+    assert_int_equal(s.instance_count, 3);
+    assert_int_equal(s.instances[0].object, 1);
+    assert_int_equal(s.instances[1].object, 0);
+    assert_float_equal(s.instances[1].world_from_object[3][0], 5.0f, 0.0f); /* column 3: the translation */
+    assert_float_equal(s.instances[2].world_from_object[0][0], 2.0f, 0.0f);
+    assert_float_equal(s.instances[2].world_from_object[3][0], 0.0f, 0.0f); /* outside the AttributeBegin */
+    scene_destroy(&s);
+}
+
+static void test_object_instance_errors(void **state)
+{
+    (void)state;
+    load_fails(WORLD "ObjectInstance \"nothing\"\n", 2, "no object \"nothing\" is defined");
+    load_fails(WORLD "ObjectEnd\n", 2, "ObjectEnd without a matching ObjectBegin");
+    load_fails(WORLD "ObjectBegin \"a\"\nObjectBegin \"b\"\n", 3, "inside the ObjectBegin at");
+    load_fails(WORLD "ObjectBegin \"a\"\nObjectEnd\nObjectBegin \"b\"\nObjectInstance \"a\"\n", 5,
+               "ObjectInstance inside the ObjectBegin");
+    load_fails(WORLD "ObjectBegin \"a\"\nObjectEnd\nObjectBegin \"a\"\nObjectEnd\n", 4, "defined already");
+    load_fails(WORLD "ObjectBegin \"a\"\nAttributeEnd\n", 3, "closes the ObjectBegin");
+    load_fails(WORLD "AttributeBegin\nObjectBegin \"a\"\nAttributeEnd\n", 4, "closes the ObjectBegin");
+    load_fails("ObjectBegin \"a\"\n", 1, "WorldBegin");
+}
+
+/* pbrt-v4 ignores area lights in object instances, with a warning. */
+static void test_area_light_in_object_is_ignored(void **state)
+{
+    (void)state;
+    Scene s;
+    const char *text = WORLD "ObjectBegin \"lamp\"\n  AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ]\n  " TRIANGLE
+                             "ObjectEnd\nObjectInstance \"lamp\"\n";
+    assert_int_equal(load_text("lamp.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.area_light_count, 0);
+    assert_int_equal(s.shapes[0].area_light, -1);
+    assert_true(has_warning(&s, "area light inside ObjectBegin is ignored"));
+    scene_destroy(&s);
+}
+
+/* "float alpha" on shapes; "texture alpha" unsupported until textures. */
+static void test_shape_alpha(void **state)
+{
+    (void)state;
+    Scene s;
+    const char *text = WORLD TRIANGLE "Shape \"sphere\" \"float alpha\" 0.25\n";
+    assert_int_equal(load_text("alpha.pbrt", text, &s, 0), 0);
+    assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
+    assert_float_equal(s.shapes[1].alpha, 0.25f, 0.0f);
+    scene_destroy(&s);
+    load_fails(WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", 2, "alpha textures are not supported");
+    load_fails(WORLD "Shape \"sphere\" \"float alpha\" [ 1 2 ]\n", 2, "alpha");
+    assert_int_equal(load_text("alpha.pbrt", WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", &s, 1), 0);
+    assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
+    assert_true(has_warning(&s, "the shape is opaque"));
+    scene_destroy(&s);
 }
 
 static void test_allow_unsupported_substitutes(void **state)
@@ -1121,13 +1200,12 @@ static void test_allow_unsupported_substitutes(void **state)
     Scene s;
     const char *text =
         WORLD "Texture \"checks\" \"spectrum\" \"wrinkled\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
-              "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                         /* grey diffuse */
-              "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE         /* a constant texture */
-              "Shape \"curve\" \"float width\" 1\n"                                        /* skipped */
-              "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                                  /* skipped */
-              "AreaLightSource \"goniometric\"\n" TRIANGLE                                 /* does not emit */
-              "ObjectBegin \"thing\"\n  " TRIANGLE "ObjectEnd\nObjectInstance \"thing\"\n" /* skipped */
-              "Shape \"sphere\" \"float phimax\" 180\n"                                    /* full sphere */
+              "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                 /* grey diffuse */
+              "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE /* a constant texture */
+              "Shape \"curve\" \"float width\" 1\n"                                /* skipped */
+              "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
+              "AreaLightSource \"goniometric\"\n" TRIANGLE                         /* does not emit */
+              "Shape \"sphere\" \"float phimax\" 180\n"                            /* full sphere */
               "MediumInterface \"\" \"fog\"\n";
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
@@ -1146,7 +1224,6 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "Shape \"curve\" is not supported"));
     assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
-    assert_true(has_warning(&s, "ObjectInstance"));
     assert_true(has_warning(&s, "phimax"));
     assert_true(has_warning(&s, "MediumInterface"));
     for (size_t i = 0; i < s.warning_count; ++i)
@@ -1857,6 +1934,10 @@ int main(void)
         cmocka_unit_test(test_wrong_parameters),
         cmocka_unit_test(test_truncated_and_malformed_files),
         cmocka_unit_test(test_allow_unsupported_substitutes),
+        cmocka_unit_test(test_object_instances),
+        cmocka_unit_test(test_object_instance_errors),
+        cmocka_unit_test(test_area_light_in_object_is_ignored),
+        cmocka_unit_test(test_shape_alpha),
         cmocka_unit_test(test_ply_ascii),
         cmocka_unit_test(test_ply_binary),
         cmocka_unit_test(test_ply_errors),

@@ -397,7 +397,7 @@ static void test_bad_parameters(void **state)
     load_fails(WORLD "Shape \"cylinder\" \"float radius\" 0\n", 2, "radius 0 must be positive");
     load_fails(WORLD "Shape \"cylinder\" \"float zmin\" 2 \"float zmax\" 2\n", 2, "no area");
     load_fails(WORLD "Shape \"cylinder\" \"float radius\" [ 1 2 ]\n", 2, "expected 1 value");
-    load_fails(WORLD "Shape \"disk\" \"float alpha\" 0.5\n", 2, "unsupported parameter \"float alpha\"");
+    load_fails(WORLD "Shape \"disk\" \"float zmin\" 0.5\n", 2, "unsupported parameter \"float zmin\"");
     load_fails(WORLD "Shape \"bilinearmesh\" \"point3 P\" [ 0 0 0 1 0 0 0 1 0 1 1 0 0 0 1 ]\n"
                      "  \"integer indices\" [ 0 1 2 3 4 ]\n",
                3, "5 vertex indices is not a multiple of 4");

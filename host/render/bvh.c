@@ -83,7 +83,10 @@ static float box_area(const Box *b)
 static Box primitive_box(const Primitive *p)
 {
     Box b = box_empty();
-    if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
+    if ((p->kind & PRIM_KIND_MASK) == PRIM_INSTANCE) {
+        box_grow_point(&b, p->a);
+        box_grow_point(&b, p->b);
+    } else if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
         for (int i = 0; i < 3; ++i) {
             b.lower[i] = p->a[i] - p->b[0];
             b.upper[i] = p->a[i] + p->b[0];
@@ -342,9 +345,10 @@ static int collapse(Builder *b, int index, int stack_base, int *stack_need)
         wide.child[j] = child->first;
         int triangles = 1;
         for (int k = child->first; k < child->first + child->count; ++k)
-            triangles &= (b->primitives[k].kind & PRIM_KIND_MASK) == PRIM_TRIANGLE;
+            triangles &=
+                (b->primitives[k].kind & PRIM_KIND_MASK) == PRIM_TRIANGLE && !(b->primitives[k].kind & PRIM_ALPHA);
         if (!triangles || child->count > BVH_WIDTH)
-            continue; /* spheres, and the rare leaf of identical centroids, are tested one by one */
+            continue; /* spheres, instances, cut-outs and the rare leaf of identical centroids: one by one */
         int packet = new_block(b);
         if (packet < 0)
             return -1;
@@ -412,6 +416,7 @@ int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, siz
     bvh->primitive_count = count;
     bvh->depth = b.depth;
     bvh->largest_leaf = b.largest_leaf;
+    bvh->stack_need = stack_need;
     free(b.items);
     free(b.nodes);
     return 0;

@@ -19,6 +19,7 @@ typedef struct {
     int primitive_count;
     int depth; /* of the binary tree */
     int largest_leaf;
+    int stack_need; /* traversal stack entries */
 } Bvh;
 
 /* Builds over a copy of `primitives`. Returns 0, or -1 with a message. An

@@ -9,6 +9,7 @@
 void render_scene_init(RenderScene *scene)
 {
     memset(scene, 0, sizeof *scene);
+    scene->open_object = -1;
     scene->constants.integrator.max_depth = 5;
     scene->constants.integrator.flags = RENDER_NEE;
     for (int i = 0; i < 3; ++i)
@@ -31,6 +32,10 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->texture_floats);
     free(scene->vertex_uvs);
     free(scene->surface_uvs);
+    free(scene->objects);
+    free(scene->instance_inputs);
+    free(scene->alphas);
+    free(scene->instances);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -62,6 +67,10 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.texture_floats_count = scene->texture_float_count;
     a.surface_uvs = scene->surface_uvs;
     a.surface_uvs_count = scene->surface_uvs ? SURFACE_UV_FLOATS * (size_t)scene->bvh.primitive_count : 0;
+    a.instances = scene->instances;
+    a.instances_count = (size_t)scene->instance_count;
+    a.alphas = scene->alphas;
+    a.alphas_count = (size_t)scene->alpha_count;
     return a;
 }
 
@@ -96,7 +105,7 @@ static int add_primitive(RenderScene *scene, const Primitive *p, const float *em
     Primitive *added = &scene->primitives[scene->primitive_count];
     *added = *p;
     added->light = -1;
-    if (emission && (emission[0] > 0.0f || emission[1] > 0.0f || emission[2] > 0.0f)) {
+    if (scene->open_object < 0 && emission && (emission[0] > 0.0f || emission[1] > 0.0f || emission[2] > 0.0f)) {
         Light light;
         memset(&light, 0, sizeof light);
         light.type = LIGHT_AREA;
@@ -164,6 +173,78 @@ int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const
     memcpy(v + 3, nb, 3 * sizeof *v);
     memcpy(v + 6, nc, 3 * sizeof *v);
     scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
+}
+
+int render_scene_begin_object(RenderScene *scene)
+{
+    if (reserve_one((void **)&scene->objects, scene->object_count, &scene->object_capacity, sizeof *scene->objects))
+        return -1;
+    scene->objects[scene->object_count].first = scene->primitive_count;
+    scene->objects[scene->object_count].count = 0;
+    scene->open_object = scene->object_count;
+    return scene->object_count++;
+}
+
+void render_scene_end_object(RenderScene *scene)
+{
+    RenderObject *object = &scene->objects[scene->open_object];
+    object->count = scene->primitive_count - object->first;
+    scene->open_object = -1;
+}
+
+/* The inverse of an affine matrix (rows of 3x4), in double; 0 when singular. */
+static int invert_affine(const double m[3][4], double inverse[3][4])
+{
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return 0;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            /* The cofactor of (c, r) over the determinant. */
+            int r0 = (c + 1) % 3, r1 = (c + 2) % 3, c0 = (r + 1) % 3, c1 = (r + 2) % 3;
+            inverse[r][c] = (m[r0][c0] * m[r1][c1] - m[r0][c1] * m[r1][c0]) / det;
+        }
+    for (int r = 0; r < 3; ++r)
+        inverse[r][3] = -(inverse[r][0] * m[0][3] + inverse[r][1] * m[1][3] + inverse[r][2] * m[2][3]);
+    return 1;
+}
+
+int render_scene_add_instance(RenderScene *scene, int object, const double world_from_object[3][4], char *error,
+                              size_t error_size)
+{
+    double inverse[3][4];
+    if (!invert_affine(world_from_object, inverse)) {
+        snprintf(error, error_size, "the instance's transform is singular or not finite");
+        return -1;
+    }
+    if (reserve_one((void **)&scene->instance_inputs, scene->instance_input_count, &scene->instance_input_capacity,
+                    sizeof *scene->instance_inputs)) {
+        snprintf(error, error_size, "out of memory for the instances");
+        return -1;
+    }
+    RenderInstance *added = &scene->instance_inputs[scene->instance_input_count++];
+    added->object = object;
+    memcpy(added->world_from_object, world_from_object, sizeof added->world_from_object);
+    return 0;
+}
+
+int render_scene_set_alpha(RenderScene *scene, float alpha)
+{
+    int slot = scene->alpha_count - 1;
+    while (slot >= 0 && (scene->alphas[slot].value != alpha || scene->alphas[slot].texture >= 0))
+        --slot;
+    if (slot < 0) {
+        if (scene->alpha_count >= (int)PRIM_MAX_ALPHA_SLOTS ||
+            reserve_one((void **)&scene->alphas, scene->alpha_count, &scene->alpha_capacity, sizeof *scene->alphas))
+            return -1;
+        slot = scene->alpha_count++;
+        scene->alphas[slot].value = alpha;
+        scene->alphas[slot].texture = -1;
+    }
+    Primitive *p = &scene->primitives[scene->primitive_count - 1];
+    p->kind = (p->kind & ((1u << PRIM_ALPHA_SHIFT) - 1u)) | PRIM_ALPHA | (uint32_t)slot << PRIM_ALPHA_SHIFT;
     return 0;
 }
 
@@ -401,17 +482,21 @@ static double luminance(const float rgb[3])
     return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
 }
 
-/* The radius of the sphere around the primitives' bounding box. */
-static double scene_radius(const Bvh *bvh)
+/* The radius of the sphere around the bounding box of the top-level
+ * tree's primitives (instances by their boxes). */
+static double scene_radius(const RenderScene *scene)
 {
+    const Bvh *bvh = &scene->bvh;
     double lower[3] = {INFINITY, INFINITY, INFINITY}, upper[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < bvh->primitive_count; ++i) {
+    for (int i = 0; i < scene->world_primitive_count; ++i) {
         const Primitive *p = &bvh->primitives[i];
         for (int k = 0; k < 3; ++k) {
             double lo = p->a[k], hi = p->a[k];
             if ((p->kind & PRIM_KIND_MASK) == PRIM_SPHERE) {
                 lo -= p->b[0];
                 hi += p->b[0];
+            } else if ((p->kind & PRIM_KIND_MASK) == PRIM_INSTANCE) {
+                hi = p->b[k];
             } else {
                 double b = p->a[k] + (double)p->b[k], c = p->a[k] + (double)p->c[k];
                 lo = fmin(lo, fmin(b, c));
@@ -421,7 +506,7 @@ static double scene_radius(const Bvh *bvh)
             upper[k] = fmax(upper[k], hi);
         }
     }
-    if (bvh->primitive_count == 0)
+    if (scene->world_primitive_count == 0)
         return 0.0;
     double d2 = 0.0;
     for (int k = 0; k < 3; ++k)
@@ -488,11 +573,206 @@ static double light_power(const RenderScene *scene, const Light *light, double r
     return 0.0;
 }
 
+/* An object's BVH moved to blocks from node_offset and primitives from
+ * primitive_offset of the combined arrays: its references follow. */
+static void offset_tree(BvhNode *nodes, int block, int node_offset, int primitive_offset)
+{
+    BvhWideNode *node = &nodes[block].node;
+    for (int j = 0; j < BVH_WIDTH; ++j) {
+        if (node->count[j] < 0)
+            continue;
+        if (node->count[j] == 0) {
+            offset_tree(nodes, node->child[j], node_offset, primitive_offset);
+            node->child[j] += node_offset;
+        } else {
+            node->child[j] += primitive_offset;
+        }
+        if (node->packet[j] >= 0)
+            node->packet[j] += node_offset;
+    }
+}
+
+/* The world-space box of a box under an affine transform, widened by a
+ * little more than float rounding: the instance's tree is traversed with
+ * the ray rounded in object space, which may meet geometry a world-space
+ * test of the exact box would pass by. */
+static void transformed_box(const double m[3][4], const float lower[3], const float upper[3], float out_lower[3],
+                            float out_upper[3])
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, reach = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        double p[3] = {corner & 1 ? upper[0] : lower[0], corner & 2 ? upper[1] : lower[1],
+                       corner & 4 ? upper[2] : lower[2]};
+        for (int r = 0; r < 3; ++r) {
+            double w = m[r][0] * p[0] + m[r][1] * p[1] + m[r][2] * p[2] + m[r][3];
+            lo[r] = fmin(lo[r], w);
+            hi[r] = fmax(hi[r], w);
+            reach = fmax(reach, fabs(w));
+        }
+    }
+    for (int r = 0; r < 3; ++r) {
+        out_lower[r] = (float)(lo[r] - 1e-6 * reach);
+        out_upper[r] = (float)(hi[r] + 1e-6 * reach);
+    }
+}
+
+/* The bounds of a BVH's root children. */
+static void root_box(const Bvh *bvh, float lower[3], float upper[3])
+{
+    const BvhWideNode *root = &bvh->nodes[0].node;
+    for (int i = 0; i < 3; ++i) {
+        lower[i] = INFINITY;
+        upper[i] = -INFINITY;
+        for (int j = 0; j < BVH_WIDTH; ++j)
+            if (root->count[j] >= 0) {
+                lower[i] = fminf(lower[i], root->lower[i][j]);
+                upper[i] = fmaxf(upper[i], root->upper[i][j]);
+            }
+    }
+}
+
+/* The two-level BVH: one tree per object, and the top-level tree over the
+ * world's primitives and one PRIM_INSTANCE per instance of a non-empty
+ * object, all in one node and one primitive array (top level first). */
+static int build_instanced_bvh(RenderScene *scene, char *error, size_t error_size)
+{
+    int objects = scene->object_count, in_object = 0;
+    Bvh *trees = calloc((size_t)objects, sizeof *trees);
+    char *is_object_primitive = calloc((size_t)(scene->primitive_count ? scene->primitive_count : 1), 1);
+    char *drawn = calloc((size_t)objects, 1);
+    int *top_order = malloc((size_t)(scene->primitive_count + scene->instance_input_count + 1) * sizeof *top_order);
+    Primitive *top = malloc((size_t)(scene->primitive_count + scene->instance_input_count + 1) * sizeof *top);
+    scene->instances = malloc((size_t)(scene->instance_input_count + 1) * sizeof *scene->instances);
+    Bvh world;
+    memset(&world, 0, sizeof world);
+    int result = -1, stack_need = 0;
+    if (!trees || !is_object_primitive || !drawn || !top_order || !top || !scene->instances) {
+        snprintf(error, error_size, "out of memory building the instanced BVH");
+        goto done;
+    }
+    for (int i = 0; i < scene->instance_input_count; ++i)
+        drawn[scene->instance_inputs[i].object] = 1;
+    for (int k = 0; k < objects; ++k) {
+        const RenderObject *o = &scene->objects[k];
+        memset(is_object_primitive + o->first, 1, (size_t)o->count);
+        if (o->count == 0 || !drawn[k])
+            continue; /* no tree for an object without instances */
+        in_object += o->count;
+        if (bvh_build(scene->primitives + o->first, o->count, &trees[k], error, error_size))
+            goto done;
+        if (trees[k].stack_need > stack_need)
+            stack_need = trees[k].stack_need;
+    }
+    int top_count = 0;
+    for (int i = 0; i < scene->primitive_count; ++i)
+        if (!is_object_primitive[i]) {
+            top_order[top_count] = i;
+            top[top_count++] = scene->primitives[i];
+        }
+    scene->instance_count = 0;
+    for (int i = 0; i < scene->instance_input_count; ++i) {
+        const RenderInstance *in = &scene->instance_inputs[i];
+        if (scene->objects[in->object].count == 0)
+            continue; /* nothing to draw */
+        double inverse[3][4];
+        invert_affine(in->world_from_object, inverse);
+        Instance *out = &scene->instances[scene->instance_count];
+        memset(out, 0, sizeof *out);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                out->object_from_world[r][c] = (float)inverse[r][c];
+        out->root = in->object; /* the object's index until the trees are placed */
+        Primitive p;
+        memset(&p, 0, sizeof p);
+        float lower[3], upper[3];
+        root_box(&trees[in->object], lower, upper);
+        transformed_box(in->world_from_object, lower, upper, p.a, p.b);
+        p.kind = PRIM_INSTANCE;
+        p.material = scene->instance_count++;
+        p.light = -1;
+        top_order[top_count] = -1;
+        top[top_count++] = p;
+    }
+    if (bvh_build(top, top_count, &world, error, error_size))
+        goto done;
+    /* An instance is entered with the top level's entries below it, up to
+     * a leaf's instances and the entry leaving it. */
+    if (world.stack_need + BVH_WIDTH + 1 + stack_need > BVH_STACK_SIZE) {
+        snprintf(error, error_size,
+                 "the instanced BVH needs %d traversal stack entries, more than the %d the kernels have",
+                 world.stack_need + BVH_WIDTH + 1 + stack_need, BVH_STACK_SIZE);
+        goto done;
+    }
+    int node_count = world.node_count, primitive_count = world.primitive_count + in_object;
+    for (int k = 0; k < objects; ++k)
+        node_count += trees[k].node_count;
+    Bvh *all = &scene->bvh;
+    memset(all, 0, sizeof *all);
+    all->nodes = malloc((size_t)node_count * sizeof *all->nodes);
+    all->primitives = malloc((size_t)primitive_count * sizeof *all->primitives);
+    all->order = malloc((size_t)primitive_count * sizeof *all->order);
+    if (!all->nodes || !all->primitives || !all->order) {
+        snprintf(error, error_size, "out of memory building the instanced BVH");
+        goto done;
+    }
+    memcpy(all->nodes, world.nodes, (size_t)world.node_count * sizeof *all->nodes);
+    memcpy(all->primitives, world.primitives, (size_t)world.primitive_count * sizeof *all->primitives);
+    for (int i = 0; i < world.primitive_count; ++i)
+        all->order[i] = top_order[world.order[i]];
+    int *root = malloc((size_t)(objects + 1) * sizeof *root);
+    if (!root) {
+        snprintf(error, error_size, "out of memory building the instanced BVH");
+        goto done;
+    }
+    int nodes_at = world.node_count, primitives_at = world.primitive_count;
+    for (int k = 0; k < objects; ++k) {
+        const Bvh *t = &trees[k];
+        root[k] = nodes_at;
+        if (t->node_count == 0)
+            continue;
+        memcpy(all->nodes + nodes_at, t->nodes, (size_t)t->node_count * sizeof *all->nodes);
+        offset_tree(all->nodes + nodes_at, 0, nodes_at, primitives_at);
+        memcpy(all->primitives + primitives_at, t->primitives, (size_t)t->primitive_count * sizeof *all->primitives);
+        for (int i = 0; i < t->primitive_count; ++i)
+            all->order[primitives_at + i] = scene->objects[k].first + t->order[i];
+        nodes_at += t->node_count;
+        primitives_at += t->primitive_count;
+    }
+    for (int i = 0; i < scene->instance_count; ++i)
+        scene->instances[i].root = root[scene->instances[i].root];
+    free(root);
+    all->node_count = node_count;
+    all->primitive_count = primitive_count;
+    all->depth = world.depth;
+    all->largest_leaf = world.largest_leaf;
+    all->stack_need = world.stack_need + BVH_WIDTH + 1 + stack_need;
+    scene->world_primitive_count = world.primitive_count;
+    result = 0;
+done:
+    for (int k = 0; k < objects && trees; ++k)
+        bvh_destroy(&trees[k]);
+    free(trees);
+    free(is_object_primitive);
+    free(drawn);
+    free(top_order);
+    free(top);
+    bvh_destroy(&world);
+    return result;
+}
+
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
 {
     bvh_destroy(&scene->bvh);
-    if (bvh_build(scene->primitives, scene->primitive_count, &scene->bvh, error, error_size))
+    free(scene->instances);
+    scene->instances = NULL;
+    scene->instance_count = 0;
+    if (scene->object_count == 0) {
+        if (bvh_build(scene->primitives, scene->primitive_count, &scene->bvh, error, error_size))
+            return -1;
+        scene->world_primitive_count = scene->bvh.primitive_count;
+    } else if (build_instanced_bvh(scene, error, error_size)) {
         return -1;
+    }
     /* Infinite lights first (the kernel loops over them on escape), the
      * others after, each keeping its order. */
     int n = scene->light_count;
@@ -545,7 +825,7 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
         return -1;
 
     /* Pick lights in proportion to their power. */
-    double radius = scene_radius(&scene->bvh), total = 0.0;
+    double radius = scene_radius(scene), total = 0.0;
     for (int i = 0; i < n; ++i)
         total += light_power(scene, &scene->lights[i], radius);
     double running = 0.0;
@@ -564,8 +844,13 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
 uint64_t render_scene_features(const RenderScene *scene)
 {
     uint64_t features = 0;
-    for (int i = 0; i < scene->primitive_count; ++i)
+    for (int i = 0; i < scene->primitive_count; ++i) {
         features |= (scene->primitives[i].kind & PRIM_KIND_MASK) == PRIM_SPHERE ? FEATURE_SPHERES : FEATURE_TRIANGLES;
+        if (scene->primitives[i].kind & PRIM_ALPHA)
+            features |= FEATURE_ALPHA;
+    }
+    if (scene->instance_count > 0)
+        features |= FEATURE_INSTANCING;
     static const uint64_t by_type[] = {
         [MAT_DIFFUSE] = FEATURE_DIFFUSE,
         [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,

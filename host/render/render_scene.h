@@ -13,6 +13,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* An object for instancing: primitives [first, first + count) of the input. */
+typedef struct {
+    int first, count;
+} RenderObject;
+
+typedef struct {
+    int object;
+    double world_from_object[3][4]; /* rows of an affine matrix */
+} RenderInstance;
+
 typedef struct {
     SceneConstants constants;
     Material *materials;
@@ -44,7 +54,20 @@ typedef struct {
     float *vertex_uvs;
     size_t vertex_uv_capacity; /* in primitives */
     float *surface_uvs;
+    RenderObject *objects;
+    int object_count, object_capacity;
+    int open_object; /* the object render_scene_begin_object opened, or -1 */
+    RenderInstance *instance_inputs;
+    int instance_input_count, instance_input_capacity;
+    AlphaSlot *alphas;
+    int alpha_count, alpha_capacity;
     Bvh bvh; /* valid after render_scene_finalize; owns the ordered primitives */
+    /* After render_scene_finalize: bvh.primitives[0, world_primitive_count)
+     * are the top-level tree's (the world's primitives and one PRIM_INSTANCE
+     * for each instance), the objects' follow; their instances. */
+    int world_primitive_count;
+    Instance *instances;
+    int instance_count;
 } RenderScene;
 
 /* The arrays of kernels/scene_types.h's list, as the path tracer takes them. */
@@ -76,6 +99,22 @@ int render_scene_add_sphere(RenderScene *scene, const float centre[3], float rad
  * front's side): the kernel interpolates them as its shading normal.
  * Returns 0, or -1 when out of memory. */
 int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const float nb[3], const float nc[3]);
+
+/* Instancing: the primitives added between render_scene_begin_object
+ * (which returns the object's index, or -1 when out of memory) and
+ * render_scene_end_object are the object's, drawn only by its instances
+ * (none of them may emit light); render_scene_add_instance draws the
+ * object through world_from_object (rows of an affine matrix). Returns 0,
+ * or -1 with a message (a singular transform, out of memory). */
+int render_scene_begin_object(RenderScene *scene);
+void render_scene_end_object(RenderScene *scene);
+int render_scene_add_instance(RenderScene *scene, int object, const double world_from_object[3][4], char *error,
+                              size_t error_size);
+
+/* Makes the primitive just added a cut-out of alpha `alpha` in [0, 1)
+ * (pbrt-v4's "float alpha"; 1 is opaque and needs no call). Returns 0, or
+ * -1 when out of memory or past PRIM_MAX_ALPHA_SLOTS distinct alphas. */
+int render_scene_set_alpha(RenderScene *scene, float alpha);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform
  * infinite: Light's fields as scene_types.h describes them; pick fields are

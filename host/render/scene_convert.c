@@ -498,6 +498,78 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
     return 0;
 }
 
+/* Adds shape `index`'s triangles or sphere (with its area light's
+ * emission, its alpha). Returns 0, or 1 when out of memory. */
+static int add_shape(const Scene *scene, size_t index, float (*emission)[3], RenderScene *out)
+{
+    const SceneShape *shape = &scene->shapes[index];
+    if (is_interface(scene, shape))
+        return 0;
+    int textured = out->texture_count > 0;
+    const SceneAreaLight *light = shape->area_light >= 0 ? &scene->area_lights[shape->area_light] : NULL;
+    const float *radiance = light ? emission[shape->area_light] : NULL;
+    int two_sided = light && light->two_sided, failed = 0;
+    for (size_t i = shape->first; i < shape->first + shape->count && !failed; ++i) {
+        if (shape->kind == SCENE_SHAPE_SPHERE) {
+            const SceneSphere *sphere = &scene->spheres[i];
+            failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material, radiance, two_sided,
+                                             shape->flip_normal) != 0;
+        } else {
+            const SceneTriangle *t = &scene->triangles[i];
+            const float *v[3], *n[3] = {NULL, NULL, NULL};
+            for (int k = 0; k < 3; ++k) {
+                v[k] = &scene->positions[3 * (size_t)t->vertex[k]];
+                n[k] = scene->normals ? &scene->normals[3 * (size_t)t->vertex[k]] : NULL;
+            }
+            int flip = shape->flip_normal, shaded = n[0] && !is_zero(n[0]) && !is_zero(n[1]) && !is_zero(n[2]);
+            if (shaded) /* pbrt-v4 turns the geometric normal to the vertex normals' side */
+                flip = faces_against(v, n) ? !shape->flip_normal : shape->flip_normal;
+            failed =
+                render_scene_add_triangle(out, v[0], v[1], v[2], shape->material, radiance, two_sided, flip) != 0 ||
+                (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
+            if (!failed && textured && shape->has_uvs && scene->uvs) {
+                float uv[6];
+                for (int k = 0; k < 3; ++k) {
+                    uv[2 * k] = scene->uvs[2 * (size_t)t->vertex[k]];
+                    uv[2 * k + 1] = scene->uvs[2 * (size_t)t->vertex[k] + 1];
+                }
+                failed = render_scene_set_uvs(out, uv) != 0;
+            }
+        }
+        failed = failed || (shape->alpha < 1.0f && render_scene_set_alpha(out, shape->alpha) != 0);
+    }
+    return failed;
+}
+
+/* The objects (their shapes have no area lights: the scene reader drops
+ * them) and their instances. Returns 0, 1 when out of memory, or -1 with a
+ * message. */
+static int add_objects(const Scene *scene, RenderScene *out, char *error, size_t error_size)
+{
+    for (size_t k = 0; k < scene->object_count; ++k) {
+        const SceneObject *object = &scene->objects[k];
+        if (render_scene_begin_object(out) < 0)
+            return 1;
+        for (size_t i = object->first_shape; i < object->first_shape + object->shape_count; ++i)
+            if (add_shape(scene, i, NULL, out))
+                return 1;
+        render_scene_end_object(out);
+    }
+    for (size_t i = 0; i < scene->instance_count; ++i) {
+        const SceneInstance *instance = &scene->instances[i];
+        double m[3][4];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                m[r][c] = instance->world_from_object[c][r];
+        char why[160];
+        if (render_scene_add_instance(out, instance->object, (const double(*)[4])m, why, sizeof why)) {
+            snprintf(error, error_size, "ObjectInstance \"%s\": %s", scene->objects[instance->object].name, why);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int scene_convert_load(const char *path, int allow_unsupported, unsigned width, unsigned height, int quiet,
                        RenderScene *out, SceneSummary *summary, char *error, size_t error_size)
 {
@@ -566,54 +638,27 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         render_scene_destroy(out);
         return -1;
     }
-    int textured = out->texture_count > 0;
     float(*emission)[3] = area_light_emission(&scene);
     failed = scene.area_light_count > 0 && !emission;
-    for (size_t i = 0; i < scene.triangle_count && !failed; ++i) {
-        const SceneTriangle *t = &scene.triangles[i];
-        const SceneShape *shape = &scene.shapes[t->shape];
-        if (is_interface(&scene, shape))
-            continue;
-        const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        const float *v[3], *n[3] = {NULL, NULL, NULL};
-        for (int k = 0; k < 3; ++k) {
-            v[k] = &scene.positions[3 * (size_t)t->vertex[k]];
-            n[k] = scene.normals ? &scene.normals[3 * (size_t)t->vertex[k]] : NULL;
-        }
-        int flip = shape->flip_normal, shaded = n[0] && !is_zero(n[0]) && !is_zero(n[1]) && !is_zero(n[2]);
-        if (shaded) /* pbrt-v4 turns the geometric normal to the vertex normals' side */
-            flip = faces_against(v, n) ? !shape->flip_normal : shape->flip_normal;
-        failed = render_scene_add_triangle(out, v[0], v[1], v[2], shape->material,
-                                           light ? emission[shape->area_light] : NULL, light && light->two_sided,
-                                           flip) != 0 ||
-                 (shaded && render_scene_set_vertex_normals(out, n[0], n[1], n[2]) != 0);
-        if (!failed && textured && shape->has_uvs && scene.uvs) {
-            float uv[6];
-            for (int k = 0; k < 3; ++k) {
-                uv[2 * k] = scene.uvs[2 * (size_t)t->vertex[k]];
-                uv[2 * k + 1] = scene.uvs[2 * (size_t)t->vertex[k] + 1];
-            }
-            failed = render_scene_set_uvs(out, uv) != 0;
-        }
-    }
-    for (size_t i = 0; i < scene.sphere_count && !failed; ++i) {
-        const SceneSphere *sphere = &scene.spheres[i];
-        const SceneShape *shape = &scene.shapes[sphere->shape];
-        if (is_interface(&scene, shape))
-            continue;
-        const SceneAreaLight *light = shape->area_light >= 0 ? &scene.area_lights[shape->area_light] : NULL;
-        failed = render_scene_add_sphere(out, sphere->center, sphere->radius, shape->material,
-                                         light ? emission[shape->area_light] : NULL, light && light->two_sided,
-                                         shape->flip_normal) != 0;
-    }
+    /* All triangles before all spheres, as the shapes' order in the primitive
+     * array decides the lights' (whose order decides which a random number picks). */
+    for (int spheres = 0; spheres < 2; ++spheres)
+        for (size_t i = 0; i < scene.shape_count && !failed; ++i)
+            if (scene.shapes[i].object < 0 && (scene.shapes[i].kind == SCENE_SHAPE_SPHERE) == spheres)
+                failed = add_shape(&scene, i, emission, out);
+    failed = failed || add_objects(&scene, out, error, error_size);
     free(emission);
+    if (failed < 0) {
+        render_scene_destroy(out);
+        return -1;
+    }
     if (failed) {
         snprintf(error, error_size, "%s: out of memory converting the scene", path);
         render_scene_destroy(out);
         return -1;
     }
     summary->texture_bytes = out->texture_byte_count + out->texture_float_count * sizeof(float);
-    if (textured && !quiet)
+    if (out->texture_count > 0 && !quiet)
         fprintf(stderr, "note: %s: textures: %d texture nodes, %zu bytes of texels (%zu 8-bit, %zu float)\n", path,
                 out->texture_count, summary->texture_bytes, out->texture_byte_count,
                 out->texture_float_count * sizeof(float));

@@ -69,7 +69,17 @@ typedef struct {
     GraphicsState *stack;
     size_t depth, stack_capacity;
     int in_world;
-    int skipping_object; /* inside an ObjectBegin that allow_unsupported skips */
+    int object; /* the object being defined (Scene.objects), or -1 */
+    const char *object_file;
+    int object_line;
+    size_t object_capacity, instance_capacity, pending_capacity;
+    /* ObjectInstance names, resolved once the whole scene is read (pbrt-v4
+     * lets an instance come before its object's definition). */
+    struct PendingInstance {
+        char *name;
+        const char *file;
+        int line;
+    } * pending;
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
@@ -359,7 +369,9 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
     shape->has_uvs = 0;
     shape->first = first;
     shape->count = count;
-    if (p->state.has_area_light) {
+    shape->object = p->object;
+    shape->alpha = 1.0f;
+    if (p->state.has_area_light && p->object < 0) {
         if (scene_reserve((void **)&s->area_lights, &p->area_light_capacity, s->area_light_count + 1,
                           sizeof *s->area_lights))
             return -1;
@@ -1107,12 +1119,29 @@ static int on_object_begin(Parser *p, Lexer *lex, const Token *d)
     Token name;
     if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the object's name", &name))
         return -1;
-    if (p->skipping_object)
-        return scene_error(&p->diag, lex->path, d->line, "ObjectBegin inside ObjectBegin");
-    if (scene_unsupported(&p->diag, lex->path, d->line, "its shapes are skipped",
-                          "ObjectBegin: object instancing is not supported"))
-        return -1;
-    p->skipping_object = 1;
+    if (p->object >= 0)
+        return scene_error(&p->diag, lex->path, d->line,
+                           "ObjectBegin inside the ObjectBegin at %s:%d (pbrt-v4 does "
+                           "not nest object definitions)",
+                           p->object_file, p->object_line);
+    Scene *s = p->scene;
+    for (size_t i = 0; i < s->object_count; ++i)
+        if (strlen(s->objects[i].name) == name.length && memcmp(s->objects[i].name, name.text, name.length) == 0)
+            return scene_error(&p->diag, lex->path, d->line,
+                               "ObjectBegin \"%s\": an object of that name is defined "
+                               "already (pbrt-v4 does not redefine objects)",
+                               s->objects[i].name);
+    if (scene_reserve((void **)&s->objects, &p->object_capacity, s->object_count + 1, sizeof *s->objects))
+        return out_of_memory(p, lex->path, d->line);
+    SceneObject *object = &s->objects[s->object_count];
+    object->name = scene_strndup(name.text, name.length);
+    if (!object->name)
+        return out_of_memory(p, lex->path, d->line);
+    object->first_shape = s->shape_count;
+    object->shape_count = 0;
+    p->object = (int)s->object_count++;
+    p->object_file = lex->path;
+    p->object_line = d->line;
     return push_state(p, lex, d, PUSHED_OBJECT);
 }
 
@@ -1120,17 +1149,73 @@ static int on_object_end(Parser *p, Lexer *lex, const Token *d)
 {
     if (pop_state(p, lex, d, PUSHED_OBJECT))
         return -1;
-    p->skipping_object = 0;
+    SceneObject *object = &p->scene->objects[p->object];
+    object->shape_count = p->scene->shape_count - object->first_shape;
+    p->object = -1;
     return 0;
 }
 
 static int on_object_instance(Parser *p, Lexer *lex, const Token *d)
 {
     Token name;
-    if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the object's name", &name))
+    if (require_world(p, lex, d, 1) || expect_string(p, lex, d, "the object's name", &name) ||
+        warn_if_moving(p, lex, d))
         return -1;
-    return scene_unsupported(&p->diag, lex->path, d->line, "skipped",
-                             "ObjectInstance: object instancing is not supported");
+    if (p->object >= 0)
+        return scene_error(&p->diag, lex->path, d->line,
+                           "ObjectInstance inside the ObjectBegin at %s:%d (pbrt-v4 does not nest instances)",
+                           p->object_file, p->object_line);
+    Scene *s = p->scene;
+    if (scene_reserve((void **)&s->instances, &p->instance_capacity, s->instance_count + 1, sizeof *s->instances) ||
+        scene_reserve((void **)&p->pending, &p->pending_capacity, s->instance_count + 1, sizeof *p->pending))
+        return out_of_memory(p, lex->path, d->line);
+    struct PendingInstance *pending = &p->pending[s->instance_count];
+    pending->name = scene_strndup(name.text, name.length);
+    pending->file = lex->path;
+    pending->line = d->line;
+    if (!pending->name)
+        return out_of_memory(p, lex->path, d->line);
+    SceneInstance *instance = &s->instances[s->instance_count++];
+    instance->object = -1;
+    memcpy(instance->world_from_object, p->state.ctm, sizeof instance->world_from_object);
+    return 0;
+}
+
+typedef struct {
+    const char *name;
+    int object;
+} NamedObject;
+
+static int compare_named_objects(const void *x, const void *y)
+{
+    return strcmp(((const NamedObject *)x)->name, ((const NamedObject *)y)->name);
+}
+
+/* Gives each ObjectInstance its object; an unknown name is an error, as
+ * in pbrt-v4. */
+static int finish_instances(Parser *p)
+{
+    Scene *s = p->scene;
+    if (s->instance_count == 0)
+        return 0;
+    NamedObject *by_name = malloc((s->object_count + 1) * sizeof *by_name);
+    if (!by_name)
+        return scene_error(&p->diag, p->main_path, 0, "out of memory");
+    for (size_t i = 0; i < s->object_count; ++i)
+        by_name[i] = (NamedObject){s->objects[i].name, (int)i};
+    qsort(by_name, s->object_count, sizeof *by_name, compare_named_objects);
+    int result = 0;
+    for (size_t i = 0; i < s->instance_count && result == 0; ++i) {
+        NamedObject key = {p->pending[i].name, -1};
+        const NamedObject *found = bsearch(&key, by_name, s->object_count, sizeof *by_name, compare_named_objects);
+        if (found)
+            s->instances[i].object = found->object;
+        else
+            result = scene_error(&p->diag, p->pending[i].file, p->pending[i].line,
+                                 "ObjectInstance: no object \"%s\" is defined (ObjectBegin)", p->pending[i].name);
+    }
+    free(by_name);
+    return result;
 }
 
 static int on_world_begin(Parser *p, Lexer *lex, const Token *d)
@@ -2077,6 +2162,30 @@ static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *p
     return result;
 }
 
+/* A shape's "float alpha" (pbrt-v4's cut-out; default 1, opaque). A
+ * "texture alpha" is the hook for alpha textures: unsupported until the
+ * kernels evaluate textures (the shape stays opaque). */
+static int shape_alpha(Parser *p, ParamList *params, float *alpha)
+{
+    for (size_t i = 0; i < params->count; ++i) {
+        Param *param = &params->items[i];
+        if (strcmp(param->name, "alpha") != 0)
+            continue;
+        if (param->type == PARAM_TEXTURE) {
+            param->used = 1;
+            return scene_unsupported(&p->diag, params->file, param->line, "the shape is opaque",
+                                     "%s: \"texture alpha\" \"%s\": alpha textures are not supported yet, only "
+                                     "\"float alpha\"",
+                                     params->owner, param->count > 0 ? param->strings[0] : "");
+        }
+        if (params_get_float(params, "alpha", alpha) < 0)
+            return -1;
+        if (!isfinite(*alpha))
+            return params_error(params, param, "must be finite");
+    }
+    return 0;
+}
+
 static int on_shape(Parser *p, Lexer *lex, const Token *d)
 {
     Token type;
@@ -2090,14 +2199,23 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
         directive_name(&type, name, sizeof name);
         builder = shape_builder(name);
     }
-    if (result == 0 && !p->skipping_object)
+    if (result == 0)
         result = warn_if_moving(p, lex, d);
-    if (result == 0 && !p->skipping_object && p->state.has_area_light && p->state.material >= 0 &&
+    size_t shapes_before = p->scene->shape_count;
+    float alpha = 1.0f;
+    if (result == 0)
+        result = shape_alpha(p, &params, &alpha);
+    if (result == 0 && p->object >= 0 && p->state.has_area_light)
+        result = scene_warn(&p->diag, lex->path, d->line,
+                            "%s: an area light inside ObjectBegin is ignored (the shape does not emit), as pbrt-v4 "
+                            "ignores area lights in object instances",
+                            params.owner);
+    if (result == 0 && p->state.has_area_light && p->state.material >= 0 &&
         p->scene->materials[p->state.material].type == SCENE_MATERIAL_INTERFACE)
         result =
             scene_unsupported(&p->diag, lex->path, d->line, "it is left out, as every \"interface\" shape",
                               "%s: an area light on a shape of Material \"interface\" is not supported", params.owner);
-    if (result == 0 && !p->skipping_object) {
+    if (result == 0) {
         if (token_is(&type, "sphere"))
             result = shape_sphere(p, lex, d, &params);
         else if (token_is(&type, "trianglemesh"))
@@ -2112,6 +2230,8 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
                                        "bilinearmesh, loopsubdiv)",
                                        params.owner);
     }
+    for (size_t i = shapes_before; result == 0 && i < p->scene->shape_count; ++i)
+        p->scene->shapes[i].alpha = alpha;
     params_free(&params);
     return result;
 }
@@ -2392,6 +2512,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     p.diag.check = options ? options->check : 0;
     p.diag.scene = scene;
     p.default_material = -1;
+    p.object = -1;
     p.state.material = -1;
     glm_mat4_identity(p.state.ctm);
     glm_mat4_identity(p.state.ctm_end);
@@ -2429,6 +2550,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = finish_film(&p);
     if (result == 0)
         result = check_precision(&p);
+    if (result == 0)
+        result = finish_instances(&p);
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
@@ -2437,6 +2560,9 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         free(p.coordinate_systems[i].name);
     free(p.coordinate_systems);
     free(p.stack);
+    for (size_t i = 0; i < scene->instance_count && p.pending; ++i)
+        free(p.pending[i].name);
+    free(p.pending);
     for (size_t i = 0; i < p.path_count; ++i)
         free(p.paths[i]);
     free(p.paths);

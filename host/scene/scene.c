@@ -39,6 +39,10 @@ void scene_destroy(Scene *scene)
     free(scene->uvs);
     free(scene->triangles);
     free(scene->spheres);
+    for (size_t i = 0; i < scene->object_count; ++i)
+        free(scene->objects[i].name);
+    free(scene->objects);
+    free(scene->instances);
     for (size_t i = 0; i < scene->warning_count; ++i)
         free(scene->warnings[i]);
     free(scene->warnings);

@@ -222,7 +222,25 @@ typedef struct {
     int has_uvs;  /* its vertices have texture coordinates in Scene.uvs (pbrt's own for the tessellated shapes) */
     size_t first; /* triangles [first, first + count); a sphere: its index, count 1 */
     size_t count;
+    int object;  /* the object (Scene.objects) it belongs to, or -1: the world's */
+    float alpha; /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
 } SceneShape;
+
+/* ObjectBegin "name" ... ObjectEnd: shapes [first_shape, first_shape +
+ * shape_count) of Scene.shapes, in the space the CTM inside the definition
+ * gives them ("object space"), drawn only by instances. An area light
+ * inside is ignored with a warning, as pbrt-v4 does. */
+typedef struct {
+    char *name;
+    size_t first_shape, shape_count;
+} SceneObject;
+
+/* ObjectInstance "name": the object drawn with world_from_object, the
+ * CTM at the directive (column-major, [column][row] like cglm's mat4). */
+typedef struct {
+    int object; /* index into Scene.objects */
+    float world_from_object[4][4];
+} SceneInstance;
 
 typedef struct {
     uint32_t vertex[3]; /* indices into Scene.positions (and normals) */
@@ -320,6 +338,11 @@ typedef struct {
 
     SceneLight *lights;
     size_t light_count;
+
+    SceneObject *objects;
+    size_t object_count;
+    SceneInstance *instances;
+    size_t instance_count;
 
     char **warnings; /* "file:line: warning: ..." lines, each once, for the renderer to print */
     size_t warning_count;

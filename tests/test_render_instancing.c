@@ -1,0 +1,209 @@
+/* Instancing and alpha cut-outs end to end: an instanced scene renders bit
+ * for bit as the same scene flattened (for transforms float arithmetic does
+ * exactly: tests/data/scenes/instances.pbrt says why); a fully transparent
+ * quad changes nothing; a quad of alpha 0.5 blocks half the light its
+ * opaque twin blocks, within standard errors. */
+#include "io/exr_image.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "test_device.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+static void load(const char *path, unsigned size, RenderScene *scene)
+{
+    char error[1024];
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, size, size, 1, scene, &summary, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+}
+
+static void render_file(const char *path, unsigned size, uint64_t samples, RenderOutput *out, uint64_t *features)
+{
+    RenderScene scene;
+    load(path, size, &scene);
+    *features = render_scene_features(&scene);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = samples;
+    settings.seed = 7;
+    char error[1024];
+    if (renderer_run(&test_device, 1, &scene, &settings, out, error, sizeof error))
+        fail_msg("%s", error);
+    render_scene_destroy(&scene);
+}
+
+/* How many of the mean pass's values differ in their bits. */
+static size_t differing_values(const RenderOutput *a, const RenderOutput *b)
+{
+    assert_int_equal(a->width, b->width);
+    assert_int_equal(a->height, b->height);
+    size_t n = 3 * (size_t)a->width * a->height, differ = 0;
+    const float *x = a->pass[PASS_MEAN], *y = b->pass[PASS_MEAN];
+    for (size_t i = 0; i < n; ++i)
+        differ += memcmp(&x[i], &y[i], sizeof x[i]) != 0;
+    return differ;
+}
+
+static void test_instanced_scene_renders_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderOutput instanced, flat;
+    uint64_t instanced_features, flat_features;
+    render_file(GMON_SOURCE_DIR "/tests/data/scenes/instances.pbrt", 32, 16, &instanced, &instanced_features);
+    render_file(GMON_SOURCE_DIR "/tests/data/scenes/instances-flat.pbrt", 32, 16, &flat, &flat_features);
+    assert_true(instanced_features & FEATURE_INSTANCING);
+    assert_false(flat_features & FEATURE_INSTANCING);
+    size_t differ = differing_values(&instanced, &flat);
+    printf("  instances.pbrt vs instances-flat.pbrt: %zu of %u values differ\n", differ,
+           3 * instanced.width * instanced.height);
+    assert_int_equal(differ, 0);
+    render_output_free(&instanced);
+    render_output_free(&flat);
+}
+
+/* The same through gmonrt: the images it writes hold the same layers, bit
+ * for bit (the files differ: they name their scenes). */
+static void test_cli_renders_instanced_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const char *names[2] = {"instances", "instances-flat"};
+    ExrImage images[2];
+    for (int i = 0; i < 2; ++i) {
+        char command[2048], path[1024], error[1024];
+        snprintf(path, sizeof path, "%s/test_render_instancing_%s.exr", GMON_BINARY_DIR, names[i]);
+        snprintf(command, sizeof command,
+                 "'%s' --spp 8 --seed 3 --resolution 24x24 --quiet --outfile '%s' '%s/tests/data/scenes/%s.pbrt' "
+                 ">/dev/null 2>&1",
+                 GMONRT, path, GMON_SOURCE_DIR, names[i]);
+        assert_int_equal(system(command), 0);
+        if (exr_image_read(path, &images[i], error, sizeof error) != IMAGE_IO_OK)
+            fail_msg("%s", error);
+    }
+    assert_int_equal(images[0].layer_count, images[1].layer_count);
+    assert_true(images[0].layer_count > 0);
+    size_t values = 3 * (size_t)images[0].width * images[0].height;
+    for (int l = 0; l < images[0].layer_count; ++l) {
+        const ExrRgbLayer *a = &images[0].layers[l], *b = exr_image_layer(&images[1], a->name);
+        assert_non_null(b);
+        assert_memory_equal(a->data, b->data, values * 4);
+    }
+    printf("  gmonrt: %d layers of %zu values equal bit for bit\n", images[0].layer_count, values);
+    exr_image_free(&images[0]);
+    exr_image_free(&images[1]);
+}
+
+/* The Cornell box with a quad of the given alpha (or none: alpha < 0)
+ * between its light and the floor, written beside the build. */
+static void write_occluder_scene(const char *path, float alpha)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f,
+            "Film \"rgb\" \"integer xresolution\" [ 64 ] \"integer yresolution\" [ 64 ]\n"
+            "Include \"%s/scenes/include/cornell-camera.pbrt\"\n"
+            "Integrator \"path\" \"integer maxdepth\" [ 1 ]\n"
+            "WorldBegin\n"
+            "Include \"%s/scenes/include/cornell-walls.pbrt\"\n"
+            "AttributeBegin\n"
+            "  AreaLightSource \"diffuse\" \"rgb L\" [ 17 12 4 ]\n"
+            "  Shape \"trianglemesh\" \"point3 P\" [ -0.3 1.9 -0.3  0.3 1.9 -0.3  -0.3 1.9 0.3  0.3 1.9 0.3 ]\n"
+            "    \"integer indices\" [ 0 1 2  2 1 3 ]\n"
+            "AttributeEnd\n",
+            GMON_SOURCE_DIR, GMON_SOURCE_DIR);
+    if (alpha >= 0.0f)
+        fprintf(f,
+                "Shape \"trianglemesh\" \"point3 P\" [ -0.6 1.2 -0.6  0.6 1.2 -0.6  -0.6 1.2 0.6  0.6 1.2 0.6 ]\n"
+                "  \"integer indices\" [ 0 1 2  2 1 3 ] \"float alpha\" [ %.9g ]\n",
+                (double)alpha);
+    fclose(f);
+}
+
+static void render_occluded(float alpha, uint64_t samples, RenderOutput *out, uint64_t *features)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/test_render_instancing_alpha.pbrt", GMON_BINARY_DIR);
+    write_occluder_scene(path, alpha);
+    render_file(path, 64, samples, out, features);
+}
+
+static void test_transparent_quad_changes_nothing(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderOutput without, transparent;
+    uint64_t features;
+    render_occluded(-1.0f, 16, &without, &features);
+    assert_false(features & FEATURE_ALPHA);
+    render_occluded(0.0f, 16, &transparent, &features);
+    assert_true(features & FEATURE_ALPHA);
+    size_t differ = differing_values(&without, &transparent);
+    printf("  a quad of alpha 0 in front of the light: %zu values differ\n", differ);
+    assert_int_equal(differ, 0);
+    render_output_free(&without);
+    render_output_free(&transparent);
+}
+
+static void test_half_alpha_halves_occlusion(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    /* One sample a pixel, the same in the three renders (the seed): a
+     * pixel's open - opaque is B, the light its sample's rays lose to the
+     * quad (depth 1: the shadow ray, and the BSDF ray to the light); with
+     * alpha 0.5 it loses B with probability 1/2 (the ray's hash), so
+     * open - half has mean B / 2 and variance B^2 / 4, independently
+     * from pixel to pixel. Channels summed: they are lost together. */
+    RenderOutput open, opaque, half;
+    uint64_t features;
+    render_occluded(-1.0f, 1, &open, &features);
+    render_occluded(1.0f, 1, &opaque, &features);
+    render_occluded(0.5f, 1, &half, &features);
+    size_t pixels = (size_t)open.width * open.height, blocked_pixels = 0;
+    const float *o = open.pass[PASS_MEAN], *q = opaque.pass[PASS_MEAN], *h = half.pass[PASS_MEAN];
+    double blocked = 0.0, lost = 0.0, variance = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+        double b = 0.0, l = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            b += (double)o[3 * p + c] - q[3 * p + c];
+            l += (double)o[3 * p + c] - h[3 * p + c];
+        }
+        blocked += b;
+        lost += l;
+        variance += b * b / 4.0;
+        blocked_pixels += b > 0.0;
+    }
+    double standard_error = sqrt(variance);
+    printf("  light lost to the quad, summed over %zu pixels (%zu shadowed): opaque %.3f, alpha 0.5 %.3f "
+           "(expected %.3f, standard error %.3f: %.2f standard errors off)\n",
+           pixels, blocked_pixels, blocked, lost, blocked / 2.0, standard_error,
+           fabs(lost - blocked / 2.0) / standard_error);
+    assert_true(blocked_pixels > pixels / 10); /* the quad does occlude */
+    assert_true(fabs(lost - blocked / 2.0) <= 4.0 * standard_error);
+    render_output_free(&open);
+    render_output_free(&opaque);
+    render_output_free(&half);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_instanced_scene_renders_as_flattened),
+        cmocka_unit_test(test_cli_renders_instanced_as_flattened),
+        cmocka_unit_test(test_transparent_quad_changes_nothing),
+        cmocka_unit_test(test_half_alpha_halves_occlusion),
+    };
+    return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
+}
