@@ -345,6 +345,19 @@ KERNEL_FN int thin_dielectric_sample(float eta, Vec3 wo, float u_lobe, BsdfSampl
 
 /* ---- conductor (wo, wi in +z; callers mirror them there) ---- */
 
+/* pbrt-v4: a conductor given by its reflectance r instead of eta and k is
+ * one with eta = 1 and k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence
+ * reflectance is r (r clamped to [0, 0.9999] to keep k finite). Sets
+ * channels of m's conductor_eta and conductor_k from reflectance. */
+KERNEL_FN void conductor_from_reflectance(Material *m, const float reflectance[3])
+{
+    for (int i = 0; i < 3; ++i) {
+        float r = reflectance[i] < 0.0f ? 0.0f : (reflectance[i] > 0.9999f ? 0.9999f : reflectance[i]);
+        m->conductor_eta[i] = 1.0f;
+        m->conductor_k[i] = 2.0f * sqrt_float(r) / sqrt_float(1.0f - r);
+    }
+}
+
 KERNEL_FN Vec3 conductor_fresnel(const Material *m, float cos_i)
 {
     return vec3(fresnel_conductor(cos_i, m->conductor_eta[0], m->conductor_k[0]),

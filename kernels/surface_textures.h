@@ -177,14 +177,9 @@ KERNEL_FN void material_apply_textures(const Scene *scene, int32_t material, con
         m->reflectance[0] = r.x;
         m->reflectance[1] = r.y;
         m->reflectance[2] = r.z;
-        /* a conductor (or a coated conductor's base) by its reflectance r:
-         * eta 1 and the k of normal-incidence reflectance r, as pbrt-v4 */
+        /* a conductor (or a coated conductor's base) by its reflectance */
         if (m->type == MAT_CONDUCTOR || m->type == MAT_COATED_CONDUCTOR)
-            for (int i = 0; i < 3; ++i) {
-                float ri = m->reflectance[i] < 0.9999f ? m->reflectance[i] : 0.9999f;
-                m->conductor_eta[i] = 1.0f;
-                m->conductor_k[i] = 2.0f * sqrt_float(ri) / sqrt_float(1.0f - ri);
-            }
+            conductor_from_reflectance(m, m->reflectance);
     }
     if (t->roughness[0] >= 0)
         m->alpha_x = roughness_to_alpha(texture_evaluate_float(&a, t->roughness[0], &c), t->remap_roughness);

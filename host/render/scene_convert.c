@@ -1,5 +1,6 @@
 #include "render/scene_convert.h"
 
+#include "bsdf.h"
 #include "equal_area.h"
 #include "io/image_read.h"
 #include "scene/scene.h"
@@ -10,20 +11,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* pbrt-v4: a conductor given by reflectance r is one with eta = 1 and
- * k = 2 sqrt(r) / sqrt(1 - r), whose normal-incidence reflectance is r. */
 static void conductor_index(const SceneMaterial *in, Material *m)
 {
-    for (int c = 0; c < 3; ++c) {
-        if (in->use_reflectance) {
-            float r = in->reflectance[c] < 0.0f ? 0.0f : (in->reflectance[c] > 0.9999f ? 0.9999f : in->reflectance[c]);
-            m->conductor_eta[c] = 1.0f;
-            m->conductor_k[c] = 2.0f * sqrtf(r) / sqrtf(1.0f - r);
-        } else {
-            m->conductor_eta[c] = in->conductor_eta[c];
-            m->conductor_k[c] = in->conductor_k[c];
-        }
+    if (in->use_reflectance) {
+        conductor_from_reflectance(m, in->reflectance);
+        return;
     }
+    memcpy(m->conductor_eta, in->conductor_eta, sizeof m->conductor_eta);
+    memcpy(m->conductor_k, in->conductor_k, sizeof m->conductor_k);
 }
 
 static Material convert_material(const SceneMaterial *in)
