@@ -3,13 +3,16 @@
  * estimation), on one device, median of several runs.
  *
  *   bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N]
- *                [--repeats R] [--device I] [--integrator nee|bsdf] */
+ *                [--repeats R] [--device I] [--integrator nee|bsdf]
+ *                [--allow-unsupported]
+ * It also prints the scene's load time and the device memory of a run. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
 #include <stdio.h>
+#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -25,8 +28,9 @@ static int usage(const char *message)
         fprintf(stderr, "bench_render: %s\n", message);
     fprintf(message ? stderr : stdout,
             "usage: bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N] [--repeats R]\n"
-            "                    [--device I] [--integrator nee|bsdf]\n"
-            "defaults: the diffuse Cornell box, 64 spp, 256x256, maxdepth 8, 5 repeats, device 0, nee\n");
+            "                    [--device I] [--integrator nee|bsdf] [--allow-unsupported]\n"
+            "defaults: the diffuse Cornell box, 64 spp, 256x256, maxdepth 8, 5 repeats, device 0, nee;\n"
+            "--allow-unsupported: skip or substitute what gmonrt lacks, as gmonrt's option of that name\n");
     return message ? 2 : 0;
 }
 
@@ -34,11 +38,15 @@ int main(int argc, char **argv)
 {
     const char *scene_path = GMON_SOURCE_DIR "/scenes/cornell-diffuse.pbrt";
     unsigned long spp = 64, width = 256, height = 256, max_depth = 8, repeats = 5, device_index = 0;
-    int bsdf_only = 0;
+    int bsdf_only = 0, allow_unsupported = 0;
     for (int i = 1; i < argc; ++i) {
         const char *flag = argv[i];
         if (strcmp(flag, "--help") == 0)
             return usage(NULL);
+        if (strcmp(flag, "--allow-unsupported") == 0) {
+            allow_unsupported = 1;
+            continue;
+        }
         if (i + 1 >= argc)
             return usage("every option takes a value");
         const char *value = argv[++i];
@@ -78,11 +86,16 @@ int main(int argc, char **argv)
     RenderScene scene;
     SceneSummary summary;
     char error[1024];
-    if (scene_convert_load(scene_path, 0, (unsigned)width, (unsigned)height, 1, &scene, &summary, error,
+    struct timespec load_start, load_end;
+    clock_gettime(CLOCK_MONOTONIC, &load_start);
+    if (scene_convert_load(scene_path, allow_unsupported, (unsigned)width, (unsigned)height, 1, &scene, &summary, error,
                            sizeof error)) {
         fprintf(stderr, "bench_render: %s\n", error);
         return 1;
     }
+    clock_gettime(CLOCK_MONOTONIC, &load_end);
+    double load_seconds =
+        (double)(load_end.tv_sec - load_start.tv_sec) + 1e-9 * (double)(load_end.tv_nsec - load_start.tv_nsec);
     scene.constants.integrator.max_depth = (uint32_t)max_depth;
     scene.constants.integrator.flags = bsdf_only ? 0u : RENDER_NEE;
     if (render_scene_finalize(&scene, error, sizeof error)) {
@@ -98,8 +111,9 @@ int main(int argc, char **argv)
            device.info.compute_units);
     printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, M = %d\n", scene_path, width, height, max_depth, spp,
            bsdf_only ? "BSDF sampling only" : "NEE + MIS", settings.estimator.set_count);
-    printf("primitives: %d, BVH nodes %d, depth %d\n", scene.bvh.primitive_count, scene.bvh.node_count,
-           scene.bvh.depth);
+    printf("primitives: %d, BVH nodes %d, depth %d; loaded and built in %.2f s, %.1f MiB of texels\n",
+           scene.bvh.primitive_count, scene.bvh.node_count, scene.bvh.depth, load_seconds,
+           (double)summary.texture_bytes / (1024.0 * 1024.0));
     double samples_per_second[100], rays_per_second[100], seconds[100];
     for (unsigned long r = 0; r <= repeats; ++r) {
         RenderOutput out;
@@ -109,7 +123,8 @@ int main(int argc, char **argv)
         }
         double samples = (double)out.sample_count * out.width * out.height;
         if (r == 0) {
-            printf("warm-up:    %.2f s (program builds %.2f s)\n", out.seconds, out.build_seconds);
+            printf("warm-up:    %.2f s (program builds %.2f s), device memory %.1f MiB\n", out.seconds,
+                   out.build_seconds, (double)out.devices[0].peak_bytes / (1024.0 * 1024.0));
         } else {
             seconds[r - 1] = out.seconds;
             samples_per_second[r - 1] = samples / out.seconds;
