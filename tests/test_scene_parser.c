@@ -1613,6 +1613,21 @@ static void test_check_mode(void **state)
                      detail ? detail : "(null)");
     }
     scene_destroy(&s);
+    /* The parameters of a directive begun in a missing Include file (as
+     * smoke-plume's density grid) are skipped up to the next directive. */
+    path = write_text("check/main3.pbrt", WORLD "Include \"gone.pbrt\"\n"
+                                                "  \"spectrum sigma_a\" [ 300 20 830 20 ] \"bool b\" true\n" TRIANGLE);
+    if (scene_load(path, &options, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.triangle_count, 1);
+    assert_int_equal(s.diagnostic_count, 1);
+    assert_int_equal(s.diagnostics[0].kind, SCENE_DIAGNOSTIC_MISSING_FILE);
+    scene_destroy(&s);
+    /* Without check, the missing file is the error, as before. */
+    options.check = 0;
+    assert_int_equal(scene_load(path, &options, &s, error, sizeof error), -1);
+    assert_non_null(strstr(error, "gone.pbrt"));
+    options.check = 1;
     /* A file that cannot be read for another reason is still an error. */
     write_text("check/bad.ply", "ply\nformat ascii 1.0\nend_header\n");
     path = write_text("check/main2.pbrt", WORLD "Shape \"plymesh\" \"string filename\" \"bad.ply\"\n");

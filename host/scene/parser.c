@@ -2236,6 +2236,25 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
+/* Skips parameters and values up to the next directive (a bare word that is
+ * not a number or a bool), or to the end of the file. */
+static int skip_to_next_directive(Lexer *lex)
+{
+    for (;;) {
+        Token t;
+        double number;
+        if (lexer_peek(lex, &t))
+            return -1;
+        if (t.kind == TOKEN_END)
+            return 0;
+        int is_value =
+            t.kind != TOKEN_WORD || token_number(&t, &number) == 0 || token_is(&t, "true") || token_is(&t, "false");
+        if (!is_value)
+            return 0; /* the next directive */
+        lexer_next(lex, &t);
+    }
+}
+
 static int on_include(Parser *p, Lexer *lex, const Token *d)
 {
     Token name;
@@ -2251,6 +2270,11 @@ static int on_include(Parser *p, Lexer *lex, const Token *d)
     int result = scene_missing_file(&p->diag, lex->path, d->line, path, name_shown);
     if (result == 0)
         result = parse_file(p, path, lex->path, d->line);
+    else if (result == 1)
+        /* A directive begun in the missing file may go on after the Include
+         * (as smoke-plume's density grid, whose sigma_a and sigma_s follow):
+         * check skips those parameters rather than stopping at them. */
+        result = skip_to_next_directive(lex);
     free(path);
     return result < 0 ? -1 : 0;
 }
@@ -2296,19 +2320,7 @@ static int skip_directive(Parser *p, Lexer *lex, const Token *d)
     directive_name(d, name, sizeof name);
     if (scene_unsupported(&p->diag, lex->path, d->line, "skipped", "%s is not supported", name))
         return -1;
-    for (;;) {
-        Token t;
-        double number;
-        if (lexer_peek(lex, &t))
-            return -1;
-        if (t.kind == TOKEN_END)
-            return 0;
-        int is_value =
-            t.kind != TOKEN_WORD || token_number(&t, &number) == 0 || token_is(&t, "true") || token_is(&t, "false");
-        if (!is_value)
-            return 0; /* the next directive */
-        lexer_next(lex, &t);
-    }
+    return skip_to_next_directive(lex);
 }
 
 static const struct {
