@@ -180,6 +180,21 @@ def main():
                     ("CIE_Y_integral / 100", CIE_Y_INTEGRAL / 100.0),
                     ("1 / integral of the default gaussian filter", 1.0 / (gauss_1d * gauss_1d))]:
         print("   %-45s %.5f -> %s" % (name, f, fmt([20.0 * f] * 3)))
+    print("4. To decide it, render this in pbrt-v4 twice, with and without the PixelFilter line:")
+    print("   (20, 20, 20) with the box filter and 21.23 without means the gaussian's integral.")
+    print(DECISIVE_SCENE)
+
+
+DECISIVE_SCENE = """   LookAt 0 0 -1  0 0 0  0 1 0
+   Camera "perspective" "float fov" [ 30 ]
+   Film "rgb" "string filename" "quad.exr" "integer xresolution" [ 16 ] "integer yresolution" [ 16 ]
+   PixelFilter "box"
+   Sampler "zsobol" "integer pixelsamples" [ 64 ]
+   Integrator "path" "integer maxdepth" [ 1 ]
+   WorldBegin
+   AreaLightSource "diffuse" "rgb L" [ 1 1 1 ] "float scale" [ 20 ] "bool twosided" true
+   Shape "trianglemesh" "integer indices" [ 0 1 2  2 3 0 ]
+       "point3 P" [ -10 -10 1  10 -10 1  10 10 1  -10 10 1 ]"""
 
 
 if __name__ == "__main__":
