@@ -62,6 +62,7 @@ typedef struct {
     long device;
     int from_accumulators;
     int each_with_stderr; /* also time every estimate alone with its standard error */
+    int groups_only;      /* time only the default set, all, all with standard errors */
     int render;           /* time the render the family is compared with */
 } Options;
 
@@ -70,7 +71,7 @@ static void print_usage(FILE *out)
     fprintf(out,
             "usage: bench_estimator [--width W] [--height H] [--sets M] [--samples N] [--repeats R]\n"
             "                       [--device I] [--from-accumulators | --from-sums] [--each-with-stderr]\n"
-            "                       [--no-render] [--help]\n"
+            "                       [--groups-only] [--no-render] [--help]\n"
             "\n"
             "Times the estimator kernel, each estimate alone, the default set (mean, MoN,\n"
             "G-MoN), all estimates and all estimates with standard errors, against a copy\n"
@@ -92,6 +93,8 @@ static void print_usage(FILE *out)
             "                       estimates from (estimate_from_accumulators; the default)\n"
             "  --from-sums          input: float set sums, 1/4 of the bytes (estimate_from_sums)\n"
             "  --each-with-stderr   also time each estimate alone with its standard error\n"
+            "  --groups-only        time only the default set, all estimates and all with\n"
+            "                       standard errors (not each estimate alone)\n"
             "  --no-render          skip the render (about two minutes at 1920x1080 on 2 cores)\n"
             "  --help               show this help\n"
             "\n"
@@ -125,6 +128,7 @@ static int parse_options(int argc, char **argv, Options *o)
     o->device = 0;
     o->from_accumulators = 1;
     o->each_with_stderr = 0;
+    o->groups_only = 0;
     o->render = 1;
     for (int i = 1; i < argc; ++i) {
         const char *flag = argv[i];
@@ -138,6 +142,9 @@ static int parse_options(int argc, char **argv, Options *o)
             continue;
         } else if (strcmp(flag, "--each-with-stderr") == 0) {
             o->each_with_stderr = 1;
+            continue;
+        } else if (strcmp(flag, "--groups-only") == 0) {
+            o->groups_only = 1;
             continue;
         } else if (strcmp(flag, "--no-render") == 0) {
             o->render = 0;
@@ -393,12 +400,12 @@ static EstimatorSettings variant_settings(const Variant *v, int sets)
 }
 
 /* Every estimate alone (and, with each_with_stderr, with its standard
- * error), the default set, all estimates, all estimates with standard
- * errors. Returns the number of variants. */
-static int list_variants(int each_with_stderr, Variant *variants)
+ * error; none with groups_only), the default set, all estimates, all
+ * estimates with standard errors. Returns the number of variants. */
+static int list_variants(int each_with_stderr, int groups_only, Variant *variants)
 {
     int count = 0;
-    for (int pass = 0; pass < PASS_COUNT; ++pass) {
+    for (int pass = 0; pass < PASS_COUNT && !groups_only; ++pass) {
         if (!(PASSES_ESTIMATES & PASS_BIT(pass)))
             continue;
         for (int with_stderr = 0; with_stderr <= each_with_stderr; ++with_stderr) {
@@ -691,7 +698,7 @@ int main(int argc, char **argv)
     Bench b;
     memset(&b, 0, sizeof b);
     static Variant variants[MAX_VARIANTS];
-    const int variant_count = list_variants(o.each_with_stderr, variants);
+    const int variant_count = list_variants(o.each_with_stderr, o.groups_only, variants);
     Timings copy;
     int status = 1;
     const int sets = (int)o.sets;

@@ -362,33 +362,154 @@ EST_INLINE int sets_to_trim(int32_t c, int m)
     return wanted > (m - 1) / 2 ? (m - 1) / 2 : wanted;
 }
 
-EST_INLINE est_float amon_of_sorted(const est_float *v, int m, est_float alpha)
+EST_INLINE void amon_weights(est_float alpha, int m, est_float *w)
 {
-    est_float w[EST_CAPACITY];
     centre_weights(alpha, EST_INTS(m), m, w);
-    return weighted_sorted_average(v, m, w);
 }
 
-EST_INLINE est_float admon_of_sorted(const est_float *v, int m, est_float alpha)
+EST_INLINE void admon_weights(est_float alpha, int m, est_float *w)
 {
     est_int u = EST_INT_FROM_FLOAT(alpha * (float)(m / 2));
-    est_float w[EST_CAPACITY];
     band_weights(EST_SELECT(u < 0, EST_INTS(0), u), m, w);
-    return weighted_sorted_average(v, m, w);
 }
 
-/* The mean of the set means (every weight 1). */
-EST_INLINE est_float mean_of_sorted(const est_float *v, int m)
+/* The weighted means whose weights depend only on the set count and the
+ * parameters, not on the values: their leave-one-out estimates take O(m)
+ * in all (leave_one_out_averages). The Gini-gated estimators pick one of
+ * two of them, or the median. */
+enum {
+    FIXED_AMON,
+    FIXED_ADMON,
+    FIXED_TRIMMED,
+    FIXED_WINSORIZED,
+    FIXED_MEAN,          /* of the set means: gmon-binary below its threshold */
+    FIXED_AMON_ONE,      /* amon(1): gmon-partial below its threshold */
+    FIXED_AMON_PARTIAL,  /* amon(gmon-partial.alpha): at or above it */
+    FIXED_ADMON_ONE,     /* admon(1): dmon-partial below its threshold */
+    FIXED_ADMON_PARTIAL, /* admon(dmon-partial.alpha): at or above it */
+    FIXED_COUNT
+};
+
+#define PASSES_FIXED_WEIGHTS                                                                                           \
+    (PASS_BIT(PASS_AMON) | PASS_BIT(PASS_ADMON) | PASS_BIT(PASS_TRIMMED) | PASS_BIT(PASS_WINSORIZED) |                 \
+     PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL))
+
+/* The passes whose leave-one-out estimates depend on which set is left
+ * out only through its rank in each channel and through Gbar: these and
+ * MoN. */
+#define PASSES_BY_RANK (PASSES_FIXED_WEIGHTS | PASS_BIT(PASS_MON))
+
+/* The variants (bits 1 << FIXED_*) that `passes` need. */
+EST_INLINE uint32_t fixed_variants(uint32_t passes)
 {
-    est_float w[EST_CAPACITY];
-    trim_weights(EST_INTS(0), m, w);
-    return weighted_sorted_average(v, m, w);
+    uint32_t v = 0u;
+    if (passes & PASS_BIT(PASS_AMON))
+        v |= 1u << FIXED_AMON;
+    if (passes & PASS_BIT(PASS_ADMON))
+        v |= 1u << FIXED_ADMON;
+    if (passes & PASS_BIT(PASS_TRIMMED))
+        v |= 1u << FIXED_TRIMMED;
+    if (passes & PASS_BIT(PASS_WINSORIZED))
+        v |= 1u << FIXED_WINSORIZED;
+    if (passes & PASS_BIT(PASS_GMON_BINARY))
+        v |= 1u << FIXED_MEAN;
+    if (passes & PASS_BIT(PASS_GMON_PARTIAL))
+        v |= (1u << FIXED_AMON_ONE) | (1u << FIXED_AMON_PARTIAL);
+    if (passes & PASS_BIT(PASS_DMON_PARTIAL))
+        v |= (1u << FIXED_ADMON_ONE) | (1u << FIXED_ADMON_PARTIAL);
+    return v;
+}
+
+/* The weights of a variant over m sorted sets. */
+EST_INLINE void fixed_weights(int variant, int m, const EstimatorParams *params, est_float *w)
+{
+    if (variant == FIXED_AMON)
+        amon_weights(EST_FLOATS(params->amon_alpha), m, w);
+    else if (variant == FIXED_ADMON)
+        admon_weights(EST_FLOATS(params->admon_alpha), m, w);
+    else if (variant == FIXED_TRIMMED)
+        trim_weights(EST_INTS(sets_to_trim(params->trimmed_c, m)), m, w);
+    else if (variant == FIXED_WINSORIZED)
+        winsor_weights(sets_to_trim(params->winsorized_c, m), m, w);
+    else if (variant == FIXED_MEAN)
+        trim_weights(EST_INTS(0), m, w);
+    else if (variant == FIXED_AMON_ONE)
+        amon_weights(EST_FLOATS(1.0f), m, w);
+    else if (variant == FIXED_AMON_PARTIAL)
+        amon_weights(EST_FLOATS(params->gmon_partial_alpha), m, w);
+    else if (variant == FIXED_ADMON_ONE)
+        admon_weights(EST_FLOATS(1.0f), m, w);
+    else
+        admon_weights(EST_FLOATS(params->dmon_partial_alpha), m, w);
+}
+
+/* Channel c's estimates of the passes in PASSES_FIXED_WEIGHTS from the
+ * values of their variants x[FIXED_*], the median and Gbar. */
+EST_INLINE void fixed_weight_estimates(uint32_t passes, const est_float *x, est_float median, est_float gbar,
+                                       const EstimatorParams *params, est_float (*value)[EST_CHANNELS], int c)
+{
+    if (passes & PASS_BIT(PASS_AMON))
+        value[PASS_AMON][c] = x[FIXED_AMON];
+    if (passes & PASS_BIT(PASS_ADMON))
+        value[PASS_ADMON][c] = x[FIXED_ADMON];
+    if (passes & PASS_BIT(PASS_TRIMMED))
+        value[PASS_TRIMMED][c] = x[FIXED_TRIMMED];
+    if (passes & PASS_BIT(PASS_WINSORIZED))
+        value[PASS_WINSORIZED][c] = x[FIXED_WINSORIZED];
+    if (passes & PASS_BIT(PASS_GMON_BINARY))
+        value[PASS_GMON_BINARY][c] = EST_SELECT(gbar < params->gmon_binary_threshold, x[FIXED_MEAN], median);
+    if (passes & PASS_BIT(PASS_GMON_PARTIAL))
+        value[PASS_GMON_PARTIAL][c] =
+            EST_SELECT(gbar < params->gmon_partial_threshold, x[FIXED_AMON_ONE], x[FIXED_AMON_PARTIAL]);
+    if (passes & PASS_BIT(PASS_DMON_PARTIAL))
+        value[PASS_DMON_PARTIAL][c] =
+            EST_SELECT(gbar < params->dmon_partial_threshold, x[FIXED_ADMON_ONE], x[FIXED_ADMON_PARTIAL]);
+}
+
+/* The jackknife's leave-one-out estimates of a variant in O(m):
+ * out[r] = weighted_sorted_average of the m - 1 ascending values left when
+ * v[r] is removed, with the variant's weights w[0..m-2] for m - 1 sets.
+ * The values below r keep their places and those above move down one, so
+ * the weighted sum is a prefix, w[j] v[j] over j < r, plus a suffix,
+ * w[j] v[j + 1] over j >= r: the suffixes are summed first (into out),
+ * then each prefix is completed. Both compensated, on the scale and base of
+ * all m values (weighted_sorted_average takes those of the m - 1): the
+ * same to a few ulps of the values' range, not bit for bit. */
+EST_INLINE void leave_one_out_averages(const est_float *v, int m, const est_float *w, est_float *out)
+{
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e), up = power_of_two(e);
+    est_float base = scaled(v[(m - 1) / 2], down);
+    est_float total = EST_FLOATS(0.0f), total_compensation = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int j = 0; j < m - 1; ++j)
+        compensated_add(&total, &total_compensation, w[j]);
+    total = total + total_compensation;
+    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
+    out[m - 1] = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int r = m - 2; r >= 0; --r) {
+        compensated_add(&sum, &compensation, w[r] * (scaled(v[r + 1], down) - base));
+        out[r] = sum + compensation;
+    }
+    sum = EST_FLOATS(0.0f);
+    compensation = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int r = 0; r < m; ++r) {
+        est_float s = sum, sc = compensation;
+        compensated_add(&s, &sc, out[r]);
+        est_float lo = r == 0 ? v[1] : v[0], hi = r == m - 1 ? v[m - 2] : v[m - 1];
+        out[r] = clamp_lanes(scaled(base + (s + sc) / total, up), lo, hi);
+        if (r < m - 1)
+            compensated_add(&sum, &compensation, w[r] * (scaled(v[r], down) - base));
+    }
 }
 
 /* ln x for a normal x > 0, with + - * / only, so that every device gives
  * the same bits: x = 2^e f with f in [sqrt(1/2), sqrt(2)), and ln f =
- * 2 atanh(s), s = (f - 1) / (f + 1), |s| < 0.172, by its series to s^15
- * (truncation below 1e-13; the result is within a few float ulps). */
+ * 2 atanh(s), s = (f - 1) / (f + 1), |s| < 0.172, by its series to s^9
+ * (truncation below 3e-9 relative, under a float ulp; the result is within
+ * a few float ulps). */
 EST_INLINE est_float natural_log(est_float x)
 {
     est_uint bits = EST_FLOAT_BITS(x);
@@ -398,10 +519,7 @@ EST_INLINE est_float natural_log(est_float x)
     f = EST_SELECT(high, f * 0.5f, f);
     e = EST_SELECT(high, e + 1, e);
     est_float s = (f - 1.0f) / (f + 1.0f), s2 = s * s;
-    est_float series = EST_FLOATS(1.0f / 15.0f);
-    series = series * s2 + 1.0f / 13.0f;
-    series = series * s2 + 1.0f / 11.0f;
-    series = series * s2 + 1.0f / 9.0f;
+    est_float series = EST_FLOATS(1.0f / 9.0f);
     series = series * s2 + 1.0f / 7.0f;
     series = series * s2 + 1.0f / 5.0f;
     series = series * s2 + 1.0f / 3.0f;
@@ -411,13 +529,15 @@ EST_INLINE est_float natural_log(est_float x)
     return ef * 0.693145752f + (2.0f * s * series + ef * 1.42860677e-06f);
 }
 
-/* 1 / sqrt(x) for x in [1, 4): the bit-level estimate and four Newton
- * steps (multiplications only: the same bits everywhere). */
+/* 1 / sqrt(x) for x in [1, 4): the bit-level estimate (within 3.5e-2)
+ * and three Newton steps, each taking the relative error e to 1.5 e^2
+ * (1.8e-3, 5e-6, then float rounding); multiplications only: the same bits
+ * everywhere. */
 EST_INLINE est_float inverse_root_reduced(est_float x)
 {
     est_float y = EST_FLOAT_FROM_BITS(0x5f3759dfu - (EST_FLOAT_BITS(x) >> 1));
     EST_UNROLL
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 3; ++i)
         y = y * (1.5f - 0.5f * x * y * y);
     return y;
 }
@@ -436,6 +556,15 @@ EST_INLINE est_float root_of(est_float x, int inverse)
     est_int shift = EST_SELECT(tiny, h - 32, h);
     est_float result = inverse ? r * power_of_two(-shift) : f * r * power_of_two(shift);
     return EST_SELECT(x > 0.0f, result, EST_FLOATS(0.0f));
+}
+
+/* root_of(x, 1) for x in [1, 16), in the same steps (the same bits)
+ * without its range reduction: Weiszfeld's distances, on a scale where
+ * the largest coordinate lies in [1, 2). */
+EST_INLINE est_float inverse_root_small(est_float x)
+{
+    est_mask high = x >= 4.0f;
+    return inverse_root_reduced(EST_SELECT(high, x * 0.25f, x)) * EST_SELECT(high, EST_FLOATS(0.5f), EST_FLOATS(1.0f));
 }
 
 /* pakmon's entropy H of a channel's sorted values v[0..m-1]: the growth
@@ -457,7 +586,7 @@ EST_INLINE est_float pakmon_entropy(const est_float *v, int m)
         est_float deviation = scaled(v[j - 1], down) - mean;
         squares += deviation * deviation;
         if (j >= 2) {
-            d[j] = squares / (float)(j + 1);
+            d[j] = squares * (1.0f / (float)(j + 1)); /* a constant in kernels: no division */
             largest = EST_SELECT(d[j] > largest, d[j], largest);
         }
     }
@@ -516,9 +645,89 @@ EST_INLINE est_float gini_authors(const est_float *v, int m, est_float epsilon)
                               scale_by_power(epsilon, -e));
 }
 
-/* The geometric median of the m RGB points (t[0][j], t[1][j], t[2][j]):
+/* The sums of a Weiszfeld step from z over a set of points: their weights
+ * 1 / |x_j - z| (total), the weighted differences (shift), the unit vectors
+ * toward z, on the common scale (pull), and the points at z (at_z). */
+typedef struct {
+    est_float shift[EST_CHANNELS];
+    est_float pull[EST_CHANNELS];
+    est_float total;
+    est_float at_z;
+} WeiszfeldSums;
+
+EST_INLINE WeiszfeldSums weiszfeld_start(void)
+{
+    WeiszfeldSums s;
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        s.shift[c] = EST_FLOATS(0.0f);
+        s.pull[c] = EST_FLOATS(0.0f);
+    }
+    s.total = EST_FLOATS(0.0f);
+    s.at_z = EST_FLOATS(0.0f);
+    return s;
+}
+
+/* Adds point j's terms of the step from z (see weiszfeld). */
+EST_INLINE void weiszfeld_add(WeiszfeldSums *s, const est_float (*x)[EST_CAPACITY], int j, const est_float *ratio,
+                              const est_float *z)
+{
+    est_float d[EST_CHANNELS], common[EST_CHANNELS], largest = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        d[c] = x[c][j] - z[c];
+        common[c] = d[c] * ratio[c];
+        largest = larger_magnitude(largest, common[c]);
+    }
+    /* (a point within 2^-100 of z, on the largest channel's scale, counts
+     * as at z: its weight would overflow) */
+    est_mask here = largest < 7.88860905e-31f; /* 2^-100 */
+    est_int e = scale_exponent(largest);
+    est_float unit = power_of_two(-EST_SELECT(here, EST_INTS(0), e)), square = EST_FLOATS(0.0f);
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        common[c] = common[c] * unit;
+        square += common[c] * common[c];
+    }
+    est_float r = EST_SELECT(here, EST_FLOATS(0.0f), inverse_root_small(square)); /* square in [1, 12) */
+    est_float w = r * unit;                                                       /* 1 / distance */
+    s->total += w;
+    s->at_z += EST_SELECT(here, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        s->shift[c] += w * d[c];
+        s->pull[c] += r * common[c];
+    }
+}
+
+/* a + b, term by term: the sums over two sets of points. */
+EST_INLINE WeiszfeldSums weiszfeld_union(const WeiszfeldSums *a, const WeiszfeldSums *b)
+{
+    WeiszfeldSums s;
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        s.shift[c] = a->shift[c] + b->shift[c];
+        s.pull[c] = a->pull[c] + b->pull[c];
+    }
+    s.total = a->total + b->total;
+    s.at_z = a->at_z + b->at_z;
+    return s;
+}
+
+/* The step itself: moves z by the sums of the step from it. */
+EST_INLINE void weiszfeld_move(const WeiszfeldSums *s, est_float *z)
+{
+    est_float norm = root_of(s->pull[0] * s->pull[0] + s->pull[1] * s->pull[1] + s->pull[2] * s->pull[2], 0);
+    est_float part = EST_SELECT(s->at_z > 0.0f, 1.0f - s->at_z / norm, EST_FLOATS(1.0f));
+    part = EST_SELECT((part > 0.0f) & (s->total > 0.0f), part, EST_FLOATS(0.0f));
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        z[c] = z[c] + part * (s->shift[c] / EST_SELECT(s->total > 0.0f, s->total, EST_FLOATS(1.0f)));
+}
+
+/* The geometric median of the m RGB points (x[0][j], x[1][j], x[2][j]):
  * `iterations` Weiszfeld steps from z (updated in place). Each channel is
- * kept on its own scale (z[c] in units of 2^e_c, down[c] = 2^-e_c), since
+ * kept on its own scale (x[c][j] and z[c] in units of 2^e_c), since
  * a step moves each coordinate to a weighted mean of that channel's
  * values; only the distances, which weigh the points, are on one scale
  * common to the channels (`ratio[c]` = 2^(e_c - e), e the largest e_c),
@@ -528,48 +737,15 @@ EST_INLINE est_float gini_authors(const est_float *v, int m, est_float epsilon)
  * the step toward the others' weighted mean (R the sum of the unit vectors
  * from z to them), and stays where that point is the median (|R| <= eta),
  * as it is of a majority of equal points. */
-EST_INLINE void weiszfeld(const est_float (*t)[EST_CAPACITY], int m, const est_float *down, const est_float *ratio,
-                          int iterations, est_float *z)
+EST_INLINE void weiszfeld(const est_float (*x)[EST_CAPACITY], int m, const est_float *ratio, int iterations,
+                          est_float *z)
 {
     for (int step = 0; step < iterations; ++step) {
-        est_float shift[EST_CHANNELS] = {EST_FLOATS(0.0f), EST_FLOATS(0.0f), EST_FLOATS(0.0f)};
-        est_float pull[EST_CHANNELS] = {EST_FLOATS(0.0f), EST_FLOATS(0.0f), EST_FLOATS(0.0f)};
-        est_float total = EST_FLOATS(0.0f), at_z = EST_FLOATS(0.0f);
+        WeiszfeldSums sums = weiszfeld_start();
         EST_UNROLL
-        for (int j = 0; j < m; ++j) {
-            est_float d[EST_CHANNELS], common[EST_CHANNELS], largest = EST_FLOATS(0.0f);
-            EST_UNROLL
-            for (int c = 0; c < EST_CHANNELS; ++c) {
-                d[c] = scaled(t[c][j], down[c]) - z[c];
-                common[c] = d[c] * ratio[c];
-                largest = larger_magnitude(largest, common[c]);
-            }
-            /* (a point within 2^-100 of z, on the largest channel's scale,
-             * counts as at z: its weight would overflow) */
-            est_mask here = largest < 7.88860905e-31f; /* 2^-100 */
-            est_int e = scale_exponent(largest);
-            est_float unit = power_of_two(-EST_SELECT(here, EST_INTS(0), e)), square = EST_FLOATS(0.0f);
-            EST_UNROLL
-            for (int c = 0; c < EST_CHANNELS; ++c) {
-                common[c] = common[c] * unit;
-                square += common[c] * common[c];
-            }
-            est_float r = EST_SELECT(here, EST_FLOATS(0.0f), root_of(square, 1));
-            est_float w = r * unit; /* 1 / distance */
-            total += w;
-            at_z += EST_SELECT(here, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
-            EST_UNROLL
-            for (int c = 0; c < EST_CHANNELS; ++c) {
-                shift[c] += w * d[c];
-                pull[c] += r * common[c];
-            }
-        }
-        est_float norm = root_of(pull[0] * pull[0] + pull[1] * pull[1] + pull[2] * pull[2], 0);
-        est_float part = EST_SELECT(at_z > 0.0f, 1.0f - at_z / norm, EST_FLOATS(1.0f));
-        part = EST_SELECT((part > 0.0f) & (total > 0.0f), part, EST_FLOATS(0.0f));
-        EST_UNROLL
-        for (int c = 0; c < EST_CHANNELS; ++c)
-            z[c] = z[c] + part * (shift[c] / EST_SELECT(total > 0.0f, total, EST_FLOATS(1.0f)));
+        for (int j = 0; j < m; ++j)
+            weiszfeld_add(&sums, x, j, ratio, z);
+        weiszfeld_move(&sums, z);
     }
 }
 
@@ -594,51 +770,49 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
                                 int iterations, est_float *z, est_float (*value)[EST_CHANNELS])
 {
     const int k = m / 2;
+    /* ggmon's and gmon-authors' weights follow Gbar, one per pixel: the
+     * same for the three channels */
+    est_float ggmon_weights[EST_CAPACITY], authors_weights[EST_CAPACITY];
+    if (passes & PASS_BIT(PASS_GGMON))
+        amon_weights(1.0f - shared->gbar, m, ggmon_weights);
+    if (passes & PASS_BIT(PASS_GMON_AUTHORS)) {
+        /* odd m: ceil(k G') sets off each end; even m: no trim */
+        est_float x = shared->authors_gbar * (float)k;
+        est_int c_floor = EST_INT_FROM_FLOAT(x);
+        est_int trim = c_floor + EST_SELECT(EST_FLOAT_FROM_INT(c_floor) < x, EST_INTS(1), EST_INTS(0));
+        trim = EST_SELECT(trim > k, EST_INTS(k), trim);
+        trim_weights(m % 2 ? trim : EST_INTS(0), m, authors_weights);
+    }
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
         const est_float *s = v[c];
-        if (passes & PASS_BIT(PASS_AMON))
-            value[PASS_AMON][c] = amon_of_sorted(s, m, EST_FLOATS(params->amon_alpha));
-        if (passes & PASS_BIT(PASS_ADMON))
-            value[PASS_ADMON][c] = admon_of_sorted(s, m, EST_FLOATS(params->admon_alpha));
         if (passes & PASS_BIT(PASS_GGMON))
-            value[PASS_GGMON][c] = amon_of_sorted(s, m, 1.0f - shared->gbar);
-        if (passes & PASS_BIT(PASS_GMON_BINARY))
-            value[PASS_GMON_BINARY][c] =
-                EST_SELECT(shared->gbar < params->gmon_binary_threshold, mean_of_sorted(s, m), median_of_sorted(s, m));
-        if (passes & PASS_BIT(PASS_GMON_PARTIAL))
-            value[PASS_GMON_PARTIAL][c] =
-                EST_SELECT(shared->gbar < params->gmon_partial_threshold, amon_of_sorted(s, m, EST_FLOATS(1.0f)),
-                           amon_of_sorted(s, m, EST_FLOATS(params->gmon_partial_alpha)));
-        if (passes & PASS_BIT(PASS_DMON_PARTIAL))
-            value[PASS_DMON_PARTIAL][c] =
-                EST_SELECT(shared->gbar < params->dmon_partial_threshold, admon_of_sorted(s, m, EST_FLOATS(1.0f)),
-                           admon_of_sorted(s, m, EST_FLOATS(params->dmon_partial_alpha)));
-        if (passes & PASS_BIT(PASS_GMON_AUTHORS)) {
-            /* odd m: ceil(k G') sets off each end; even m: no trim */
-            est_float x = shared->authors_gbar * (float)k;
-            est_int c_floor = EST_INT_FROM_FLOAT(x);
-            est_int trim = c_floor + EST_SELECT(EST_FLOAT_FROM_INT(c_floor) < x, EST_INTS(1), EST_INTS(0));
-            trim = EST_SELECT(trim > k, EST_INTS(k), trim);
-            est_float w[EST_CAPACITY];
-            trim_weights(m % 2 ? trim : EST_INTS(0), m, w);
-            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, w);
+            value[PASS_GGMON][c] = weighted_sorted_average(s, m, ggmon_weights);
+        if (passes & PASSES_FIXED_WEIGHTS) {
+            est_float x[FIXED_COUNT];
+            EST_UNROLL
+            for (int f = 0; f < FIXED_COUNT; ++f)
+                if (fixed_variants(passes) & (1u << f)) {
+                    est_float w[EST_CAPACITY];
+                    fixed_weights(f, m, params, w);
+                    x[f] = weighted_sorted_average(s, m, w);
+                }
+            fixed_weight_estimates(passes, x, median_of_sorted(s, m), shared->gbar, params, value, c);
         }
+        if (passes & PASS_BIT(PASS_GMON_AUTHORS))
+            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, authors_weights);
         if (passes & PASS_BIT(PASS_PAKMON))
             value[PASS_PAKMON][c] = pakmon_of_sorted(s, m);
-        if (passes & PASS_BIT(PASS_TRIMMED)) {
-            est_float w[EST_CAPACITY];
-            trim_weights(EST_INTS(sets_to_trim(params->trimmed_c, m)), m, w);
-            value[PASS_TRIMMED][c] = weighted_sorted_average(s, m, w);
-        }
-        if (passes & PASS_BIT(PASS_WINSORIZED)) {
-            est_float w[EST_CAPACITY];
-            winsor_weights(sets_to_trim(params->winsorized_c, m), m, w);
-            value[PASS_WINSORIZED][c] = weighted_sorted_average(s, m, w);
-        }
     }
     if (passes & PASS_BIT(PASS_GMEDIAN)) {
-        weiszfeld(t, m, shared->down, shared->ratio, iterations, z);
+        est_float points[EST_CHANNELS][EST_CAPACITY]; /* on the channels' scales, once for every step */
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            EST_UNROLL
+            for (int j = 0; j < m; ++j)
+                points[c][j] = scaled(t[c][j], shared->down[c]);
+        }
+        weiszfeld((const est_float(*)[EST_CAPACITY])points, m, shared->ratio, iterations, z);
         EST_UNROLL
         for (int c = 0; c < EST_CHANNELS; ++c) /* 1 / down: exact, a power of two */
             value[PASS_GMEDIAN][c] = clamp_lanes(z[c] * (1.0f / shared->down[c]), v[c][0], v[c][m - 1]);
@@ -678,18 +852,38 @@ EST_INLINE void channel_ginis(const est_float (*v)[EST_CAPACITY], int m, est_flo
         gini[c] = gini_of_sorted(v[c], m);
 }
 
-/* MoN and G-MoN (Gini per channel or per pixel) of m sorted sets, for the
+/* G-MoN (Gini per channel or per pixel) of m sorted sets, for the
  * jackknife. */
-EST_INLINE void mon_and_gmon(const est_float (*v)[EST_CAPACITY], int m, int gini_mode, const est_float *gini,
-                             est_float (*value)[EST_CHANNELS])
+EST_INLINE void gmon_of_sorted_sets(const est_float (*v)[EST_CAPACITY], int m, int gini_mode, const est_float *gini,
+                                    est_float (*value)[EST_CHANNELS])
 {
     est_float gbar = (gini[0] + gini[1] + gini[2]) / 3.0f;
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
-        value[PASS_MON][c] = median_of_sorted(v[c], m);
         est_float g = gini_mode == EST_GINI_PER_PIXEL ? gbar : gini[c];
         value[PASS_GMON][c] = trimmed_average(v[c], m, trim_count(g, m), 1);
     }
+}
+
+/* Adds one leave-one-out estimate of each pass in `passes` (value, on the
+ * scales `down`) to the jackknife's sums of differences to the first. */
+EST_INLINE void jackknife_add(uint32_t passes, est_float (*value)[EST_CHANNELS], const est_float *down, int first,
+                              est_float (*sum)[EST_CHANNELS], est_float (*squares)[EST_CHANNELS],
+                              est_float (*origin)[EST_CHANNELS])
+{
+    EST_UNROLL
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if (passes & PASS_BIT(p)) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                est_float x = scaled(value[p][c], down[c]);
+                if (first)
+                    origin[p][c] = x;
+                est_float d = x - origin[p][c];
+                sum[p][c] += d;
+                squares[p][c] += d * d;
+            }
+        }
 }
 
 /* Fewer than two sets: no error can be estimated (NaN). */
@@ -755,10 +949,51 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             origin[p][c] = EST_FLOATS(0.0f);
         }
     }
+    /* The passes by rank (MoN and the fixed-weight ones) depend on which
+     * set is left out only through its rank in each channel, and on Gbar:
+     * their leave-one-out estimates are taken by rank, after the loop over
+     * the sets, which records each set's Gbar at its ranks. The others are
+     * recomputed on each m - 1 sets. */
+    const uint32_t by_rank = jackknifed & PASSES_BY_RANK, recomputed = jackknifed & ~PASSES_BY_RANK;
+    const uint32_t gated = PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL);
+    est_float gbar_by_rank[EST_CHANNELS][EST_CAPACITY];
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        EST_UNROLL
+        for (int j = 0; j < m; ++j)
+            gbar_by_rank[c][j] = EST_FLOATS(0.0f);
+    }
     const int iterations = params->gmedian_iterations / 4 > 1 ? params->gmedian_iterations / 4 : 1;
+    /* gmedian's leave-one-out estimates all start from the full estimate,
+     * so their first steps share every set's terms: summed once over the
+     * sets before each set and once over those after it, each first step
+     * moves by the union of the two. */
+    WeiszfeldSums before[EST_CAPACITY + 1], after[EST_CAPACITY + 1];
+    if (recomputed & PASS_BIT(PASS_GMEDIAN)) {
+        est_float points[EST_CHANNELS][EST_CAPACITY];
+        EST_UNROLL
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            EST_UNROLL
+            for (int j = 0; j < m; ++j)
+                points[c][j] = scaled(t[c][j], full->down[c]);
+        }
+        before[0] = weiszfeld_start();
+        EST_UNROLL
+        for (int j = 0; j < m; ++j) {
+            before[j + 1] = before[j];
+            weiszfeld_add(&before[j + 1], (const est_float(*)[EST_CAPACITY])points, j, full->ratio, gmedian_z);
+        }
+        after[m] = weiszfeld_start();
+        EST_UNROLL
+        for (int j = m - 1; j >= 0; --j) {
+            after[j] = after[j + 1];
+            weiszfeld_add(&after[j], (const est_float(*)[EST_CAPACITY])points, j, full->ratio, gmedian_z);
+        }
+    }
     KERNEL_NO_UNROLL
-    for (int left_out = 0; left_out < m; ++left_out) {
+    for (int left_out = 0; left_out < m && (recomputed || (jackknifed & gated)); ++left_out) {
         est_float rest_v[EST_CHANNELS][EST_CAPACITY], rest_t[EST_CHANNELS][EST_CAPACITY];
+        est_int rank[EST_CHANNELS];
         EST_UNROLL
         for (int c = 0; c < EST_CHANNELS; ++c) {
             est_float x = t[c][0];
@@ -766,23 +1001,31 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             for (int j = 1; j < m; ++j)
                 x = EST_SELECT(j == left_out, t[c][j], x);
             /* its rank: the sets below it, and the equal ones before it */
-            est_int rank = EST_INTS(0);
+            rank[c] = EST_INTS(0);
             EST_UNROLL
             for (int j = 0; j < m; ++j)
-                rank += EST_SELECT(j < left_out ? t[c][j] <= x : t[c][j] < x, EST_INTS(1), EST_INTS(0));
+                rank[c] += EST_SELECT(j < left_out ? t[c][j] <= x : t[c][j] < x, EST_INTS(1), EST_INTS(0));
             EST_UNROLL
             for (int j = 0; j < m - 1; ++j) {
-                rest_v[c][j] = EST_SELECT(j < rank, v[c][j], v[c][j + 1]);
+                rest_v[c][j] = EST_SELECT(j < rank[c], v[c][j], v[c][j + 1]);
                 rest_t[c][j] = j < left_out ? t[c][j] : t[c][j + 1];
             }
         }
         est_float value[PASS_COUNT][EST_CHANNELS];
         est_float gini[EST_CHANNELS], z[EST_CHANNELS];
         channel_ginis((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini);
-        if (jackknifed & (PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON)))
-            mon_and_gmon((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini_mode, gini, value);
+        if (recomputed & PASS_BIT(PASS_GMON))
+            gmon_of_sorted_sets((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini_mode, gini, value);
         FamilyShared shared =
             family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1, jackknifed, epsilon, gini, z);
+        if (jackknifed & gated) {
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                EST_UNROLL
+                for (int j = 0; j < m; ++j)
+                    gbar_by_rank[c][j] = EST_SELECT(rank[c] == j, shared.gbar, gbar_by_rank[c][j]);
+            }
+        }
         /* gmedian on the full estimate's scales: its start need not lie
          * among the other sets, so it may not fit on theirs */
         EST_UNROLL
@@ -791,21 +1034,46 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             shared.ratio[c] = full->ratio[c];
             z[c] = gmedian_z[c];
         }
+        if (recomputed & PASS_BIT(PASS_GMEDIAN)) {
+            WeiszfeldSums first = weiszfeld_union(&before[left_out], &after[left_out + 1]);
+            weiszfeld_move(&first, z);
+        }
         estimate_family((const est_float(*)[EST_CAPACITY])rest_v, (const est_float(*)[EST_CAPACITY])rest_t, m - 1,
-                        jackknifed, params, &shared, iterations, z, value);
+                        recomputed, params, &shared, iterations - 1, z, value);
+        jackknife_add(recomputed, value, down, left_out == 0, sum, squares, origin);
+    }
+    if (by_rank) {
+        /* each variant's leave-one-out estimates, by rank, in O(m) */
+        const uint32_t variants = fixed_variants(by_rank);
+        est_float averages[FIXED_COUNT][EST_CHANNELS][EST_CAPACITY];
         EST_UNROLL
-        for (int p = 0; p < PASS_COUNT; ++p)
-            if (jackknifed & PASS_BIT(p)) {
+        for (int f = 0; f < FIXED_COUNT; ++f)
+            if (variants & (1u << f)) {
+                est_float w[EST_CAPACITY];
+                fixed_weights(f, m - 1, params, w);
                 EST_UNROLL
-                for (int c = 0; c < EST_CHANNELS; ++c) {
-                    est_float x = scaled(value[p][c], down[c]);
-                    if (left_out == 0)
-                        origin[p][c] = x;
-                    est_float d = x - origin[p][c];
-                    sum[p][c] += d;
-                    squares[p][c] += d * d;
-                }
+                for (int c = 0; c < EST_CHANNELS; ++c)
+                    leave_one_out_averages(v[c], m, w, averages[f][c]);
             }
+        EST_UNROLL
+        for (int r = 0; r < m; ++r) {
+            est_float value[PASS_COUNT][EST_CHANNELS];
+            EST_UNROLL
+            for (int c = 0; c < EST_CHANNELS; ++c) {
+                /* the median of the m - 1 left: the middle one or two, as
+                 * median_of_sorted takes them */
+                const int n = m - 1, low = (n - 1) / 2, high = n / 2;
+                est_float middle[2] = {v[c][low + (low >= r)], v[c][high + (high >= r)]};
+                est_float median = average_range(middle, 0, high - low, 1);
+                value[PASS_MON][c] = median;
+                est_float x[FIXED_COUNT];
+                EST_UNROLL
+                for (int f = 0; f < FIXED_COUNT; ++f)
+                    x[f] = variants & (1u << f) ? averages[f][c][r] : EST_FLOATS(0.0f);
+                fixed_weight_estimates(by_rank, x, median, gbar_by_rank[c][r], params, value, c);
+            }
+            jackknife_add(by_rank, value, down, r == 0, sum, squares, origin);
+        }
     }
     EST_UNROLL
     for (int p = 0; p < PASS_COUNT; ++p)

@@ -493,6 +493,123 @@ static void test_gmedian_simple_cases(void **state)
         assert_true(fabsf(p.value[PASS_GMEDIAN][ch] - 2.0f * (float)(ch + 1)) <= 1e-5f);
 }
 
+/* Each estimator computed alone gives the same bits, estimate and standard
+ * error, as computed together with all the others: what one requests
+ * changes nothing in the others. */
+static void test_each_alone_equals_all_together(void **state)
+{
+    (void)state;
+    for (int i = 0; i < SET_COUNTS; ++i) {
+        for (int kind = 0; kind < CASE_COUNT; ++kind) {
+            EstimatorCase c = estimator_case_make((EstimatorCaseKind)kind, set_counts[i], 11);
+            for (int with_stderr = 0; with_stderr <= 1; ++with_stderr) {
+                EstimatorSettings all = family_settings(set_counts[i]);
+                all.with_stderr = with_stderr;
+                EstimatorImages together = estimate_case(&all, c.sums, c.pixel_count, c.sample_count);
+                for (int pass = 0; pass < PASS_COUNT; ++pass) {
+                    if (!(PASSES_ESTIMATES & PASS_BIT(pass)))
+                        continue;
+                    EstimatorSettings one = all;
+                    one.passes = PASS_BIT(pass);
+                    EstimatorImages alone = estimate_case(&one, c.sums, c.pixel_count, c.sample_count);
+                    char what[96];
+                    snprintf(what, sizeof what, "M = %d, case '%s', %s alone%s", c.set_count, c.name, pass_name(pass),
+                             with_stderr ? ", with stderr" : "");
+                    assert_images_identical(&alone, &together, c.pixel_count, what);
+                    test_images_free(&alone);
+                }
+                test_images_free(&together);
+            }
+            estimator_case_free(&c);
+        }
+    }
+}
+
+/* The jackknife's fast path (the fixed-weight estimators' leave-one-out
+ * estimates from prefix and suffix sums, estimators.h) against the brute
+ * force: each estimator recomputed on the m - 1 sets left without each set
+ * in turn (equal counts, so the m - 1 sets are a render of their own), and
+ * stderr^2 = (m - 1) / m sum_j (E_{-j} - Ebar)^2 in long double. The fast
+ * path sums in another order, on the scale of all m sets: within 1e-6 of
+ * the largest set mean's magnitude, as against the reference. (gmedian's
+ * leave-one-out estimates restart from the full one: not compared.) */
+static void test_jackknife_equals_brute_force(void **state)
+{
+    (void)state;
+    const EstimatorCaseKind kinds[] = {CASE_RANDOM,      CASE_ONE_OUTLIER,     CASE_ALL_EQUAL, CASE_NEGATIVE,
+                                       CASE_MIXED_SIGNS, CASE_WIDE_MAGNITUDES, CASE_DENORMALS};
+    const uint64_t per_set = 16;
+    long double worst = 0.0L;
+    for (int i = 0; i < SET_COUNTS; ++i) {
+        const int m = set_counts[i];
+        if (m < 2)
+            continue;
+        for (size_t kind = 0; kind < sizeof kinds / sizeof kinds[0]; ++kind) {
+            EstimatorCase c = estimator_case_make(kinds[kind], m, 5);
+            const size_t pixels = c.pixel_count;
+            EstimatorSettings settings = family_settings(m);
+            settings.passes = PASSES_ESTIMATES & ~PASS_BIT(PASS_GMEDIAN) & ~PASS_BIT(PASS_MEAN);
+            EstimatorImages fast = estimate_case(&settings, c.sums, pixels, per_set * (uint64_t)m);
+            EstimatorSettings rest_settings = settings;
+            rest_settings.set_count = m - 1;
+            rest_settings.with_stderr = 0;
+            long double *loo = calloc((size_t)m * PASS_COUNT * pixels * 3, sizeof(long double));
+            float *rest = malloc((size_t)(m - 1) * 3 * pixels * sizeof(float));
+            assert_true(loo && rest);
+            for (int out = 0; out < m; ++out) {
+                for (int j = 0, k = 0; j < m; ++j) {
+                    if (j == out)
+                        continue;
+                    for (int ch = 0; ch < 3; ++ch)
+                        for (size_t p = 0; p < pixels; ++p)
+                            rest[set_sum_index((uint32_t)k, (uint32_t)ch, p, pixels)] =
+                                c.sums[set_sum_index((uint32_t)j, (uint32_t)ch, p, pixels)];
+                    ++k;
+                }
+                EstimatorImages images = estimate_case(&rest_settings, rest, pixels, per_set * (uint64_t)(m - 1));
+                for (int pass = 0; pass < PASS_COUNT; ++pass)
+                    if (settings.passes & PASS_BIT(pass))
+                        for (size_t i3 = 0; i3 < pixels * 3; ++i3)
+                            loo[((size_t)out * PASS_COUNT + (size_t)pass) * pixels * 3 + i3] =
+                                TEST_IMAGE(images, pass)[i3];
+                test_images_free(&images);
+            }
+            for (int pass = 0; pass < PASS_COUNT; ++pass) {
+                if (!(settings.passes & PASS_BIT(pass)))
+                    continue;
+                for (size_t p = 0; p < pixels; ++p)
+                    for (int ch = 0; ch < 3; ++ch) {
+                        size_t i3 = p * 3 + (size_t)ch;
+                        long double mean = 0.0L, squares = 0.0L, largest = 0.0L;
+                        for (int out = 0; out < m; ++out)
+                            mean += loo[((size_t)out * PASS_COUNT + (size_t)pass) * pixels * 3 + i3] / m;
+                        for (int out = 0; out < m; ++out) {
+                            long double d = loo[((size_t)out * PASS_COUNT + (size_t)pass) * pixels * 3 + i3] - mean;
+                            squares += d * d;
+                        }
+                        for (int j = 0; j < m; ++j) {
+                            long double t = c.sums[set_sum_index((uint32_t)j, (uint32_t)ch, p, pixels)];
+                            largest = fmaxl(largest, fabsl(t / (long double)per_set));
+                        }
+                        long double brute = sqrtl(squares * (m - 1) / m);
+                        long double got = fast.error[pass][i3];
+                        long double relative = fabsl(got - brute) / fmaxl(largest, 0x1p-146L * 1e6L);
+                        worst = fmaxl(worst, relative);
+                        if (relative > 1e-6L)
+                            fail_msg("M = %d, case '%s', pixel %zu, channel %d, %s: stderr %.9Lg, brute force %.9Lg", m,
+                                     c.name, p, ch, pass_name(pass), got, brute);
+                    }
+            }
+            free(loo);
+            free(rest);
+            test_images_free(&fast);
+            estimator_case_free(&c);
+        }
+    }
+    printf("jackknife against the brute-force leave-one-out: worst stderr difference %.3Lg of the largest mean\n",
+           worst);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -503,6 +620,8 @@ int main(void)
         cmocka_unit_test(test_estimates_finite_within_means_and_exact_when_equal),
         cmocka_unit_test(test_scaling_and_permutation),
         cmocka_unit_test(test_gmedian_simple_cases),
+        cmocka_unit_test(test_each_alone_equals_all_together),
+        cmocka_unit_test(test_jackknife_equals_brute_force),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
