@@ -85,6 +85,13 @@ static void test_named_metal_and_glass(void **state)
     assert_rgb(rgb, 0.282615, 0.479352, 1.435338, 3e-3);
     named_rgb("metal-Au-k", SPECTRUM_UNBOUNDED, rgb);
     assert_rgb(rgb, 2.977891, 2.484696, 1.871997, 3e-3);
+    /* Brass: pbrt-v4's table every 10 nm, interpolated between. */
+    Spectrum brass;
+    assert_int_equal(spectrum_named("metal-CuZn-eta", &brass), 0);
+    assert_close(brass.value[550 - SPECTRUM_LAMBDA_MIN], 0.527, 1e-6);
+    assert_close(brass.value[555 - SPECTRUM_LAMBDA_MIN], 0.516, 1e-6);
+    assert_int_equal(spectrum_named("metal-CuZn-k", &brass), 0);
+    assert_close(brass.value[700 - SPECTRUM_LAMBDA_MIN], 4.106, 1e-6);
     Spectrum bk7;
     assert_int_equal(spectrum_named("glass-BK7", &bk7), 0);
     assert_close(spectrum_eta(&bk7), 1.51825190648, 1e-5);
@@ -176,6 +183,7 @@ static void test_conductor_fit(void **state)
         {"Ag", {0.128971, 0.12636, 0.148212}, {4.103398, 3.372303, 2.380934}},
         {"Cu", {0.431136, 0.963979, 1.16249}, {6.047, 2.604748, 2.32169}},
         {"Al", {1.214657, 0.920663, 0.629268}, {7.145312, 6.577769, 5.531188}},
+        {"CuZn", {0.492838, 0.565247, 1.060252}, {4.426819, 2.783802, 1.761413}},
     };
     for (size_t i = 0; i < sizeof expected / sizeof expected[0]; ++i) {
         char eta_name[32], k_name[32];

@@ -201,6 +201,28 @@ static int convert_values(ParamList *list, Param *p, const Token *values, size_t
     return 0;
 }
 
+/* A parameter named again in the same list: pbrt-v4's lookups take the
+ * last one (ParameterDictionary reverses the list) and never see the
+ * earlier, so the earlier is dropped, with a warning. Returns 0 or -1. */
+static int drop_earlier_duplicate(ParamList *list)
+{
+    Param *last = &list->items[list->count - 1];
+    for (size_t i = 0; i + 1 < list->count; ++i) {
+        Param *earlier = &list->items[i];
+        if (strcmp(earlier->name, last->name) != 0)
+            continue;
+        if (scene_warn(list->diag, list->file, last->line,
+                       "%s: parameter \"%s\" given twice (first at line %d): the last one is used, as pbrt-v4 does",
+                       list->owner, last->name, earlier->line))
+            return -1;
+        param_free(earlier);
+        memmove(earlier, earlier + 1, (list->count - 1 - i) * sizeof *earlier);
+        list->count--;
+        return 0; /* there was at most one: each duplicate is dropped when it is read */
+    }
+    return 0;
+}
+
 int params_parse(Lexer *lexer, const char *owner, ParamList *list)
 {
     memset(list, 0, sizeof *list);
@@ -222,16 +244,13 @@ int params_parse(Lexer *lexer, const char *owner, ParamList *list)
         p->line = decl.line;
         if (parse_declaration(list, &decl, p))
             return -1;
-        for (size_t i = 0; i + 1 < list->count; ++i)
-            if (strcmp(list->items[i].name, p->name) == 0)
-                return params_error(list, p, "given twice");
         Token *values = NULL;
         size_t count = 0;
         int result = read_values(lexer, list, p, &values, &count);
         if (result == 0)
             result = convert_values(list, p, values, count);
         free(values);
-        if (result)
+        if (result || drop_earlier_duplicate(list))
             return -1;
     }
 }
@@ -355,6 +374,23 @@ int params_get_rgb(ParamList *list, const char *name, int is_albedo, float value
     return 1;
 }
 
+/* A spectrum name that is neither built in nor a readable file: bad input,
+ * an error. Check mode lists it and goes on with a constant 1 (which passes
+ * every range check), so that the rest of the scene is checked too. */
+static int unknown_spectrum(ParamList *list, const Param *p, const char *path, const char *why, Spectrum *s)
+{
+    if (!list->diag->check)
+        return params_error(list, p, "\"%s\" is not a named spectrum, and cannot read \"%s\": %s", p->strings[0], path,
+                            why);
+    if (scene_unsupported(list->diag, list->file, p->line, "check goes on with a constant 1",
+                          "%s: parameter \"%s %s\": \"%s\" is not a named spectrum, and cannot read \"%s\": %s",
+                          list->owner, p->type_name, p->name, p->strings[0], path, why))
+        return -1;
+    double lambda = 550.0, one = 1.0;
+    spectrum_from_pairs(&lambda, &one, 1, 1, s);
+    return 0;
+}
+
 /* The spectrum a "spectrum" parameter names: built in, else an .spd file. */
 static int named_or_file_spectrum(ParamList *list, const Param *p, Spectrum *s)
 {
@@ -369,8 +405,7 @@ static int named_or_file_spectrum(ParamList *list, const Param *p, Spectrum *s)
     size_t size = 0;
     int result = 0;
     if (scene_read_file(path, SCENE_MAX_TEXT_BYTES, &text, &size, why, sizeof why))
-        result = params_error(list, p, "\"%s\" is not a named spectrum, and cannot read \"%s\": %s", p->strings[0],
-                              path, why);
+        result = unknown_spectrum(list, p, path, why, s);
     else if (spectrum_parse_spd(text, s, why, sizeof why))
         result = params_error(list, p, "\"%s\": %s", path, why);
     free(text);

@@ -769,8 +769,8 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         m->type = SCENE_MATERIAL_MIX;
         if (read_mix(p, params, line, m))
             return -1;
-    } else if (strcmp(type, "interface") == 0) {
-        m->type = SCENE_MATERIAL_INTERFACE;
+    } else if (strcmp(type, "interface") == 0 || type[0] == '\0' || strcmp(type, "none") == 0) {
+        m->type = SCENE_MATERIAL_INTERFACE; /* pbrt-v4 takes "" and "none" as no material, as "interface" */
     } else if (strcmp(type, "hair") == 0 || strcmp(type, "measured") == 0 || strcmp(type, "subsurface") == 0) {
         if (scene_unsupported(&p->diag, params->file, line, "a diffuse of its \"reflectance\" (default 0.5) is used",
                               "Material \"%s\" is not supported", type))
@@ -1271,8 +1271,14 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     if (result == 0 && !orthographic && !token_is(&type, "perspective")) {
         char shown[64];
         token_describe(&type, shown, sizeof shown);
-        result = scene_error(&p->diag, lex->path, d->line,
-                             "Camera %s is not supported (only \"perspective\" and \"orthographic\")", shown);
+        result = scene_unsupported(&p->diag, lex->path, d->line,
+                                   "a \"perspective\" camera (fov 90) is used, and its parameters other than the "
+                                   "shutter times are ignored",
+                                   "Camera %s is not supported (only \"perspective\" and \"orthographic\")", shown);
+        /* realistic's lens, spherical's mapping: nothing a perspective camera has */
+        for (size_t i = 0; result == 0 && i < params.count; ++i)
+            if (strcmp(params.items[i].name, "shutteropen") != 0 && strcmp(params.items[i].name, "shutterclose") != 0)
+                params_ignore(&params, params.items[i].name);
     }
     const char *kind = orthographic ? "orthographic" : "perspective";
     SceneCamera camera; /* a Camera given twice replaces the first */
@@ -1586,6 +1592,47 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
         p->scene->max_depth = max_depth;
         p->scene->regularize = regularize;
     }
+    params_free(&params);
+    return result;
+}
+
+/* pbrt-v4's Accelerator: "bvh" (its default) or "kdtree", and their build
+ * parameters. They change how fast rays are traced, not the image: gmonrt
+ * builds its own BVH and notes that. */
+static const struct {
+    const char *name;
+    const char *tuning[6];
+} accelerators[] = {
+    {"bvh", {"maxnodeprims", "splitmethod", NULL}},
+    {"kdtree", {"intersectcost", "traversalcost", "emptybonus", "maxprims", "maxdepth"}},
+};
+
+static int on_accelerator(Parser *p, Lexer *lex, const Token *d)
+{
+    Token type;
+    ParamList params;
+    int result = read_typed_directive(p, lex, d, "the accelerator type", &type, &params);
+    if (result == 0)
+        result = require_world(p, lex, d, 0);
+    size_t kind = 0;
+    while (result == 0 && kind < sizeof accelerators / sizeof accelerators[0] &&
+           !token_is(&type, accelerators[kind].name))
+        ++kind;
+    char shown[64];
+    token_describe(&type, shown, sizeof shown);
+    if (result == 0 && kind == sizeof accelerators / sizeof accelerators[0])
+        result =
+            scene_error(&p->diag, lex->path, d->line, "Accelerator %s is not pbrt-v4's \"bvh\" or \"kdtree\"", shown);
+    if (result == 0)
+        for (const char *const *tuning = accelerators[kind].tuning; *tuning; ++tuning)
+            params_ignore(&params, *tuning);
+    if (result == 0)
+        result = params_check_unused(&params);
+    if (result == 0)
+        result = scene_note(&p->diag, lex->path, d->line,
+                            "Accelerator %s: gmonrt builds its own BVH (the accelerator changes the speed, not the "
+                            "image)",
+                            shown);
     params_free(&params);
     return result;
 }
@@ -2353,6 +2400,7 @@ static const struct {
     {"Film", on_film},
     {"Sampler", on_sampler},
     {"Integrator", on_integrator},
+    {"Accelerator", on_accelerator},
     {"PixelFilter", on_pixel_filter},
     {"Material", on_material},
     {"MakeNamedMaterial", on_make_named_material},

@@ -108,7 +108,7 @@ def metal_table(metal, what):  # gold from the scenes' .spd files; the others as
 print("conductors: fitted RGB eta, k; per-channel error (%) of the RGB Fresnel against the sRGB of the spectral "
       "one under D65, at 0 and 60 degrees: fitted [averaged eta and k, as before] {against the channel-weighted "
       "average of the spectral one instead}")
-for metal in ("Au", "Ag", "Cu", "Al"):
+for metal in ("Au", "Ag", "Cu", "Al", "CuZn"):
     eta, k = metal_table(metal, "eta"), metal_table(metal, "k")
     n, kk = conductor_fit(eta, k)
     n0, k0 = np.array(unbounded(eta)), np.array(unbounded(k))
