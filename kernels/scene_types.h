@@ -77,9 +77,9 @@ typedef struct {
     uint32_t pad[3];
 } Instance;
 
-/* A shape's alpha (FEATURE_ALPHA): `value`, or when texture >= 0 that
- * texture's value at the hit (the hook for float textures: not evaluated
- * yet, the scene reader refuses "texture alpha"). 8 bytes. */
+/* A shape's alpha (FEATURE_ALPHA): `value`, or when texture >= 0 the
+ * value at the hit of the float texture program starting at
+ * textures[texture] (FEATURE_ALPHA_TEXTURE). 8 bytes. */
 typedef struct {
     float value;
     int32_t texture;

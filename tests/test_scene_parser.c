@@ -1176,7 +1176,7 @@ static void test_area_light_in_object_is_ignored(void **state)
     scene_destroy(&s);
 }
 
-/* "float alpha" on shapes; "texture alpha" unsupported until textures. */
+/* "float alpha" on shapes, and "texture alpha" naming a float texture. */
 static void test_shape_alpha(void **state)
 {
     (void)state;
@@ -1185,13 +1185,17 @@ static void test_shape_alpha(void **state)
     assert_int_equal(load_text("alpha.pbrt", text, &s, 0), 0);
     assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
     assert_float_equal(s.shapes[1].alpha, 0.25f, 0.0f);
+    assert_int_equal(s.shapes[1].alpha_texture, -1);
     scene_destroy(&s);
-    load_fails(WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", 2, "alpha textures are not supported");
-    load_fails(WORLD "Shape \"sphere\" \"float alpha\" [ 1 2 ]\n", 2, "alpha");
-    assert_int_equal(load_text("alpha.pbrt", WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", &s, 1), 0);
+    text = WORLD "Texture \"leaves\" \"float\" \"constant\"\nShape \"sphere\" \"texture alpha\" \"leaves\"\n";
+    assert_int_equal(load_text("alpha.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.shapes[0].alpha_texture, 0);
     assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
-    assert_true(has_warning(&s, "the shape is opaque"));
     scene_destroy(&s);
+    load_fails(WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", 2, "no float texture named \"leaves\"");
+    load_fails(WORLD "Texture \"leaves\" \"spectrum\" \"constant\"\nShape \"sphere\" \"texture alpha\" \"leaves\"\n", 3,
+               "\"leaves\" is a spectrum texture");
+    load_fails(WORLD "Shape \"sphere\" \"float alpha\" [ 1 2 ]\n", 2, "alpha");
 }
 
 static void test_allow_unsupported_substitutes(void **state)

@@ -2,12 +2,14 @@
  * bilinear, every wrap mode, sRGB bytes), MIP pyramids and level
  * selection at a known distance, procedural textures and mappings at known
  * points (kernels/texture.h, included here as the kernels include it); the
- * scene reader's and converter's textures and their errors; and on a
+ * scene reader's and converter's textures and their errors; "texture
+ * alpha" in the host's ray traversal; and on a
  * device: a constant displacement changes nothing, a flat normal map is no
  * normal map bit for bit, a checkerboard shows its two colours. */
 #define _POSIX_C_SOURCE 200809L
 
 #include "camera.h"
+#include "intersect.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "test_device.h"
@@ -495,6 +497,80 @@ static void test_bad_textures(void **state)
     render_scene_destroy(&scene);
 }
 
+/* Whether a ray down -z from (x, y, 2) meets something (any_hit, as a
+ * shadow ray) and the nearest hit's t (as a camera or BSDF ray). */
+static int blocked_at(const RenderScene *scene, float x, float y, float *nearest)
+{
+    Geometry g = {.nodes = scene->bvh.nodes,
+                  .primitives = scene->bvh.primitives,
+                  .instances = scene->instances,
+                  .alphas = scene->alphas,
+                  .textures = scene->textures,
+                  .texture_bytes = scene->texture_bytes,
+                  .texture_floats = scene->texture_floats,
+                  .surface_uvs = scene->surface_uvs};
+    Ray ray = {{x, y, 2.0f}, {0.0f, 0.0f, -1.0f}};
+    Hit hit;
+    int any = bvh_intersect(&g, &ray, 1e-4f, 10.0f, 1, &hit);
+    *nearest = bvh_intersect(&g, &ray, 1e-4f, 10.0f, 0, &hit) ? hit.t : INFINITY;
+    return any;
+}
+
+/* "texture alpha" in the host's traversal: a 2 x 2 checkerboard of alpha
+ * 1 and 0 on the quad [-1, 1]^2 at z = 0 stops rays over its squares of
+ * alpha 1 only, and the second quad behind it (z = -1) is met through the
+ * others. Inside an instance (moved by +0.5 in z, scaled by 2 in x and y),
+ * the texture follows the object's uvs. */
+static void test_alpha_texture_rays(void **state)
+{
+    (void)state;
+    const char *checks = "Texture \"checks\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2\n";
+    const char *quad = "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+                       "  \"integer indices\" [ 0 1 2  0 2 3 ] \"point2 uv\" [ 0 0  1 0  1 1  0 1 ]\n"
+                       "  \"texture alpha\" \"checks\"\n";
+    const char *back = "Shape \"trianglemesh\" \"point3 P\" [ -9 -9 -1  9 -9 -1  9 9 -1  -9 9 -1 ]\n"
+                       "  \"integer indices\" [ 0 1 2  0 2 3 ]\n";
+    char text[4096];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 4  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+             "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n%s%s%s",
+             checks, quad, back);
+    RenderScene scene;
+    assert_int_equal(convert(write_file("alpha.pbrt", text, strlen(text)), &scene), 0);
+    assert_true(render_scene_features(&scene) & FEATURE_ALPHA_TEXTURE);
+    float t;
+    /* (u, v) = (0.25, 0.25) and (0.75, 0.75): alpha 1; the others 0. */
+    assert_true(blocked_at(&scene, -0.5f, -0.5f, &t));
+    assert_float_equal(t, 2.0f, 1e-6f);
+    assert_true(blocked_at(&scene, 0.5f, 0.5f, &t));
+    assert_float_equal(t, 2.0f, 1e-6f);
+    assert_true(blocked_at(&scene, 0.5f, -0.5f, &t)); /* by the back quad only */
+    assert_float_equal(t, 3.0f, 1e-6f);
+    assert_true(blocked_at(&scene, -0.5f, 0.5f, &t));
+    assert_float_equal(t, 3.0f, 1e-6f);
+    render_scene_destroy(&scene);
+
+    /* Without the back quad a ray through alpha 0 meets nothing. */
+    snprintf(text, sizeof text, "Camera \"perspective\"\nWorldBegin\n%s%s", checks, quad);
+    assert_int_equal(convert(write_file("alpha-alone.pbrt", text, strlen(text)), &scene), 0);
+    assert_false(blocked_at(&scene, 0.5f, -0.5f, &t));
+    assert_true(blocked_at(&scene, -0.5f, -0.5f, &t));
+    render_scene_destroy(&scene);
+
+    snprintf(text, sizeof text,
+             "Camera \"perspective\"\nWorldBegin\n%sObjectBegin \"q\"\n%sObjectEnd\n"
+             "AttributeBegin\n  Translate 0 0 0.5\n  Scale 2 2 1\n  ObjectInstance \"q\"\nAttributeEnd\n",
+             checks, quad);
+    assert_int_equal(convert(write_file("alpha-instance.pbrt", text, strlen(text)), &scene), 0);
+    assert_true(render_scene_features(&scene) & FEATURE_INSTANCING);
+    assert_true(blocked_at(&scene, -1.0f, -1.0f, &t)); /* object (-0.5, -0.5): alpha 1 */
+    assert_float_equal(t, 1.5f, 1e-6f);
+    assert_false(blocked_at(&scene, 1.0f, -1.0f, &t));
+    assert_true(blocked_at(&scene, 1.0f, 1.0f, &t));
+    assert_false(blocked_at(&scene, -0.5f, 1.5f, &t));
+    render_scene_destroy(&scene);
+}
+
 /* ---- on a device ---- */
 
 /* The mean pass of the scene at `path`, 16x16 at 4 spp (malloc'd). */
@@ -585,6 +661,7 @@ int main(void)
         cmocka_unit_test(test_srgb_bytes_and_pyramid), cmocka_unit_test(test_mip_level_at_distance),
         cmocka_unit_test(test_procedural_textures),    cmocka_unit_test(test_mappings),
         cmocka_unit_test(test_scene_textures),         cmocka_unit_test(test_bad_textures),
+        cmocka_unit_test(test_alpha_texture_rays),
     };
     const struct CMUnitTest device[] = {
         cmocka_unit_test(test_constant_displacement_changes_nothing),

@@ -222,8 +222,9 @@ typedef struct {
     int has_uvs;  /* its vertices have texture coordinates in Scene.uvs (pbrt's own for the tessellated shapes) */
     size_t first; /* triangles [first, first + count); a sphere: its index, count 1 */
     size_t count;
-    int object;  /* the object (Scene.objects) it belongs to, or -1: the world's */
-    float alpha; /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
+    int object;        /* the object (Scene.objects) it belongs to, or -1: the world's */
+    float alpha;       /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
+    int alpha_texture; /* "texture alpha": a float texture (Scene.textures) in place of alpha, or -1 */
 } SceneShape;
 
 /* ObjectBegin "name" ... ObjectEnd: shapes [first_shape, first_shape +
