@@ -155,6 +155,11 @@ static int emit_texture(TextureConversion *c, int i, TextureNode *nodes, int *co
         [SCENE_TEXTURE_MIX] = TEXTURE_MIX,
         [SCENE_TEXTURE_DIRECTION_MIX] = TEXTURE_DIRECTION_MIX,
         [SCENE_TEXTURE_BILERP] = TEXTURE_BILERP,
+        [SCENE_TEXTURE_DOTS] = TEXTURE_DOTS,
+        [SCENE_TEXTURE_FBM] = TEXTURE_FBM,
+        [SCENE_TEXTURE_WRINKLED] = TEXTURE_WRINKLED,
+        [SCENE_TEXTURE_WINDY] = TEXTURE_WINDY,
+        [SCENE_TEXTURE_MARBLE] = TEXTURE_MARBLE,
     };
     static const uint32_t mappings[] = {
         [SCENE_MAPPING_UV] = TEXTURE_MAP_UV,
@@ -193,6 +198,12 @@ static int emit_texture(TextureConversion *c, int i, TextureNode *nodes, int *co
     if (t->texture_class == SCENE_TEXTURE_BILERP)
         for (int k = 0; k < 4; ++k)
             memcpy(node.value[k], t->bilerp[k], sizeof t->bilerp[k]);
+    if (t->texture_class >= SCENE_TEXTURE_FBM) { /* the noise textures */
+        node.value[3][0] = t->omega;
+        node.value[3][1] = t->variation;
+        node.value[3][2] = (float)t->octaves;
+        node.scale = t->scale;
+    }
     if (t->texture_class == SCENE_TEXTURE_IMAGE) {
         node.wrap = wraps[t->wrap];
         node.filter = filters[t->filter];

@@ -154,6 +154,11 @@ typedef enum {
     SCENE_TEXTURE_MIX,
     SCENE_TEXTURE_DIRECTION_MIX,
     SCENE_TEXTURE_BILERP,
+    SCENE_TEXTURE_DOTS,
+    SCENE_TEXTURE_FBM,
+    SCENE_TEXTURE_WRINKLED,
+    SCENE_TEXTURE_WINDY,
+    SCENE_TEXTURE_MARBLE,
 } SceneTextureClass;
 
 typedef enum {
@@ -191,6 +196,9 @@ typedef struct {
     float texture_from_world[3][4];
     SceneTextureInput input[3];
     float bilerp[4][3]; /* v00 v01 v10 v11 */
+    /* fbm, wrinkled, marble: "octaves", "roughness" (omega); marble: "variation" (and scale) */
+    int octaves;
+    float omega, variation;
     float direction[3]; /* directionmix: unit, world space */
     /* imagemap */
     char *filename; /* resolved */
