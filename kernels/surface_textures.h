@@ -19,9 +19,60 @@ KERNEL_FN TextureArrays scene_texture_arrays(const Scene *scene)
     return a;
 }
 
+#if GMON_HAS_INSTANCING
+/* The rows of M v for the 3x3 part M of an instance's object_from_world. */
+KERNEL_FN Vec3 instance_apply(__global const Instance *instance, Vec3 v)
+{
+    float in[3] = {v.x, v.y, v.z}, out[3];
+    for (int r = 0; r < 3; ++r) {
+        __global const float *m = instance->object_from_world[r];
+        out[r] = m[0] * in[0] + m[1] * in[1] + m[2] * in[2];
+    }
+    return vec3(out[0], out[1], out[2]);
+}
+
+/* The surface of a hit in an instance: (u, v) in object space, where the
+ * primitive lies (a sphere's angles about its object-space centre, so the
+ * texture turns with the instance, as pbrt-v4's does); tangents taken to
+ * the world by the inverse of M (object_from_world's 3x3 part), the normal's
+ * change as a normal (M^T, over the normal's length there), and the uv
+ * density divided by the instance's scale across the surface: a surface
+ * element of object area A and unit normal n has world area
+ * A |M^T n| / |det M|. */
+KERNEL_FN SurfaceUv instanced_surface_uv(const Scene *scene, const Hit *hit, __global const Primitive *prim, Vec3 p)
+{
+    __global const Instance *instance = scene->instances + hit->instance;
+    float world[3] = {p.x, p.y, p.z}, object[3];
+    instance_point(instance, world, object);
+    Vec3 q = vec3(object[0], object[1], object[2]);
+    SurfaceUv s = surface_uv_at(scene->surface_uvs, hit->primitive, hit->u, hit->v, prim, q);
+    Vec3 n = v_normalize(is_sphere(prim) ? v_sub(q, vec3_from_global(prim->a))
+                                         : v_cross(vec3_from_global(prim->b), vec3_from_global(prim->c)));
+    float normal_scale = v_length(instance_normal_v(instance, n));
+    Vec3 r0 = vec3_from_global(instance->object_from_world[0]), r1 = vec3_from_global(instance->object_from_world[1]),
+         r2 = vec3_from_global(instance->object_from_world[2]);
+    /* M^-1 = adj(M) / det M: its columns are the rows' cross products. */
+    Vec3 c0 = v_cross(r1, r2), c1 = v_cross(r2, r0), c2 = v_cross(r0, r1);
+    float det = v_dot(r0, c0), inv = 1.0f / det;
+    Vec3 d[2] = {s.dpdu, s.dpdv};
+    for (int k = 0; k < 2; ++k)
+        d[k] = v_scale(v_add(v_add(v_scale(c0, d[k].x), v_scale(c1, d[k].y)), v_scale(c2, d[k].z)), inv);
+    s.dpdu = d[0];
+    s.dpdv = d[1];
+    s.dndu = v_scale(instance_normal_v(instance, s.dndu), 1.0f / normal_scale);
+    s.dndv = v_scale(instance_normal_v(instance, s.dndv), 1.0f / normal_scale);
+    s.density *= sqrt_float(abs_float(det) / normal_scale);
+    return s;
+}
+#endif
+
 /* The surface's (u, v) at world point p of a hit. */
 KERNEL_FN SurfaceUv surface_uv(const Scene *scene, const Hit *hit, __global const Primitive *prim, Vec3 p)
 {
+#if GMON_HAS_INSTANCING
+    if (hit->instance >= 0)
+        return instanced_surface_uv(scene, hit, prim, p);
+#endif
     return surface_uv_at(scene->surface_uvs, hit->primitive, hit->u, hit->v, prim, p);
 }
 

@@ -300,6 +300,75 @@ static void test_image_alpha_is_the_checkerboard(void **state)
     render_output_free(&checker);
 }
 
+/* Textured shapes in an instance (scaled by 4, moved) render as the same
+ * shapes flattened: the sphere's (u, v) about its centre in object space,
+ * the quad's MIP level from its size in the world (the instance's scale
+ * divides its uv density), its tangents in world space. A trilinear image
+ * of single-texel checks (whose coarser levels are grey) on the quad, a
+ * uv checkerboard on the sphere. */
+static void test_instanced_textures_render_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char pfm[512];
+    snprintf(pfm, sizeof pfm, "%s/test_render_instancing_checks.pfm", GMON_BINARY_DIR);
+    FILE *f = fopen(pfm, "wb");
+    assert_non_null(f);
+    fprintf(f, "Pf\n16 16\n-1\n"); /* a texel about a pixel wide on the quad */
+    for (int i = 0; i < 16 * 16; ++i) {
+        float v = (float)((i / 16 + i % 16) & 1);
+        assert_int_equal(fwrite(&v, sizeof v, 1, f), 1);
+    }
+    fclose(f);
+    char textures[1024];
+    snprintf(textures, sizeof textures,
+             "Texture \"image\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\" \"string filter\" \"trilinear\"\n"
+             "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 8 \"float vscale\" 4 "
+             "\"rgb tex1\" [ 0.8 0.1 0.1 ] \"rgb tex2\" [ 0.1 0.1 0.8 ]\n",
+             pfm);
+    /* Object space: the quad x, y in [-0.125, 0.125] at z = 0, a ball of
+     * radius 1/32 at (1/16, 1/16, 1/16); the world: 4 times, moved to the
+     * back wall (z = -1 + 1/64), facing the camera. */
+    const char *object =
+        "Material \"diffuse\" \"texture reflectance\" \"image\"\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -0.125 -0.125 0  0.125 -0.125 0  -0.125 0.125 0  "
+        "0.125 0.125 0 ]\n  \"integer indices\" [ 0 1 2  2 1 3 ] \"point2 uv\" [ 0 0  1 0  0 1  1 1 ]\n"
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+        "Translate 0.0625 0.0625 0.0625\nShape \"sphere\" \"float radius\" 0.03125\n";
+    const char *flat =
+        "Material \"diffuse\" \"texture reflectance\" \"image\"\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -0.5 0.5 -0.984375  0.5 0.5 -0.984375  -0.5 1.5 -0.984375  "
+        "0.5 1.5 -0.984375 ]\n  \"integer indices\" [ 0 1 2  2 1 3 ] \"point2 uv\" [ 0 0  1 0  0 1  1 1 ]\n"
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+        "Translate 0.25 1.25 -0.734375\nShape \"sphere\" \"float radius\" 0.125\n";
+    char instanced_text[4096], flat_text[4096];
+    snprintf(instanced_text, sizeof instanced_text,
+             "%sObjectBegin \"textured\"\n%sObjectEnd\nAttributeBegin\n  Translate 0 1 -0.984375\n  Scale 4 4 4\n"
+             "  ObjectInstance \"textured\"\nAttributeEnd\n",
+             textures, object);
+    snprintf(flat_text, sizeof flat_text, "%sAttributeBegin\n%sAttributeEnd\n", textures, flat);
+    RenderOutput instanced, flattened;
+    uint64_t features;
+    render_cornell("textured_instance", instanced_text, 8, &instanced, &features);
+    assert_true(features & FEATURE_INSTANCING);
+    assert_true(features & FEATURE_IMAGE_TEXTURES);
+    render_cornell("textured_flat", flat_text, 8, &flattened, &features);
+    assert_false(features & FEATURE_INSTANCING);
+    size_t n = 3 * (size_t)instanced.width * instanced.height, differ = 0;
+    const float *x = instanced.pass[PASS_MEAN], *y = flattened.pass[PASS_MEAN];
+    double largest = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double d = fabs((double)x[i] - y[i]) / fmax(fabs((double)y[i]), 1e-3);
+        differ += d > 1e-5;
+        largest = fmax(largest, d);
+    }
+    printf("  textured instance vs flattened: %zu of %zu values differ by more than 1e-5 relative (largest %.3g)\n",
+           differ, n, largest);
+    assert_true(differ <= n / 1000);
+    render_output_free(&instanced);
+    render_output_free(&flattened);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +378,7 @@ int main(void)
         cmocka_unit_test(test_half_alpha_halves_occlusion),
         cmocka_unit_test(test_checkerboard_alpha_is_the_cut_geometry),
         cmocka_unit_test(test_image_alpha_is_the_checkerboard),
+        cmocka_unit_test(test_instanced_textures_render_as_flattened),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }
