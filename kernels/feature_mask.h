@@ -40,8 +40,9 @@
 #define FEATURE_MIX 0x200000000ul
 #define FEATURE_COATED_CONDUCTOR 0x400000000ul
 #define FEATURE_THIN_DIELECTRIC 0x800000000ul
-#define FEATURE_LAYERED 0x1000000000ul /* the layered random walk: coated diffuse or coated conductor */
-#define FEATURES_ALL 0x1ffffffff0ul    /* bits 4..36 */
+#define FEATURE_LAYERED 0x1000000000ul       /* the layered random walk: coated diffuse or coated conductor */
+#define FEATURE_ALPHA_TEXTURE 0x2000000000ul /* "texture alpha": cut-outs whose alpha is a float texture */
+#define FEATURES_ALL 0x3ffffffff0ul          /* bits 4..37 */
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -84,5 +85,6 @@
 #define GMON_HAS_TEXTURES (GMON_HAS_IMAGE_TEXTURES || GMON_HAS_PROCEDURAL_TEXTURES)
 #define GMON_HAS_INSTANCING GMON_HAS(FEATURE_INSTANCING)
 #define GMON_HAS_ALPHA GMON_HAS(FEATURE_ALPHA)
+#define GMON_HAS_ALPHA_TEXTURE GMON_HAS(FEATURE_ALPHA_TEXTURE)
 
 #endif

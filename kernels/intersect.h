@@ -6,6 +6,8 @@
 #include "compat.h"
 #include "rng.h"
 #include "scene_types.h"
+#include "surface_uv.h"
+#include "texture.h"
 
 /* Entries; the builder checks that its tree needs no more. */
 #define BVH_STACK_SIZE 128
@@ -29,6 +31,11 @@ typedef struct {
     const GLOBAL Primitive *primitives;
     const GLOBAL Instance *instances; /* FEATURE_INSTANCING */
     const GLOBAL AlphaSlot *alphas;   /* FEATURE_ALPHA */
+    /* FEATURE_ALPHA_TEXTURE: the textures and surface uvs alpha textures read */
+    const GLOBAL TextureNode *textures;
+    const GLOBAL uint8_t *texture_bytes;
+    const GLOBAL float *texture_floats;
+    const GLOBAL float *surface_uvs;
 } Geometry;
 
 KERNEL_FN float dot3(const float *a, const float *b)
@@ -272,13 +279,41 @@ KERNEL_FN void instance_normal(const GLOBAL Instance *instance, const float *obj
         world[c] = m[0][c] * object[0] + m[1][c] * object[1] + m[2][c] * object[2];
 }
 
-/* A cut-out's alpha at a hit. The hook for "texture alpha": a slot with a
- * texture will evaluate it at the hit's (u, v) here, once the kernels
- * have textures; until then the scene reader refuses such a slot. */
-KERNEL_FN float alpha_at(const Geometry *geometry, const GLOBAL Primitive *p, const Hit *hit)
+/* A cut-out's alpha at a hit of `ray` (in the space of the tree
+ * traversed: object space inside an instance) on primitive `primitive`:
+ * its slot's constant, or its float texture at the hit's (u, v) and point
+ * (FEATURE_ALPHA_TEXTURE). As in pbrt-v4, where the alpha texture sees the
+ * shape's intersection before any ray differentials: no footprint (the
+ * finest MIP level), the point and the geometric normal in the shape's own
+ * space (so 3D textures of instanced shapes move with them). */
+KERNEL_FN float alpha_at(const Geometry *geometry, const GLOBAL Primitive *p, int32_t primitive, const Ray *ray,
+                         const Hit *hit)
 {
-    (void)hit;
-    return geometry->alphas[p->kind >> PRIM_ALPHA_SHIFT].value;
+    const GLOBAL AlphaSlot *slot = geometry->alphas + (p->kind >> PRIM_ALPHA_SHIFT);
+#if GMON_HAS_ALPHA_TEXTURE
+    if (slot->texture >= 0) {
+        Vec3 o = vec3(ray->origin[0], ray->origin[1], ray->origin[2]);
+        Vec3 d = vec3(ray->direction[0], ray->direction[1], ray->direction[2]);
+        Vec3 at = v_add(o, v_scale(d, hit->t));
+        SurfaceUv uv = surface_uv_at(geometry->surface_uvs, primitive, hit->u, hit->v, p, at);
+        TextureContext c;
+        c.p = at;
+        c.n = v_normalize(is_sphere(p) ? v_sub(at, vec3_from_global(p->a))
+                                       : v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
+        c.u = uv.u;
+        c.v = uv.v;
+        c.footprint = 0.0f;
+        c.uv_density = uv.density;
+        TextureArrays a;
+        a.nodes = geometry->textures;
+        a.bytes = geometry->texture_bytes;
+        a.floats = geometry->texture_floats;
+        return texture_evaluate_float(&a, slot->texture, &c);
+    }
+#else
+    (void)primitive, (void)ray, (void)hit;
+#endif
+    return slot->value;
 }
 
 /* Uniform in [0, 1) from the world ray and the surface it met. */
@@ -296,10 +331,10 @@ KERNEL_FN float alpha_hash(const Ray *ray, int32_t primitive, int32_t instance)
  * pbrt-v4 does. The hash also takes the surface, so that the decisions of
  * one ray at several cut-outs are independent, as pbrt-v4's are (it
  * re-spawns the ray past a skipped hit, which changes the hashed origin). */
-KERNEL_FN int alpha_keeps_hit(const Geometry *geometry, const GLOBAL Primitive *p, const Ray *world_ray,
+KERNEL_FN int alpha_keeps_hit(const Geometry *geometry, const GLOBAL Primitive *p, const Ray *world_ray, const Ray *ray,
                               int32_t primitive, int32_t instance, const Hit *hit)
 {
-    float a = alpha_at(geometry, p, hit);
+    float a = alpha_at(geometry, p, primitive, ray, hit);
     if (a >= 1.0f)
         return 1;
     return a > 0.0f && alpha_hash(world_ray, primitive, instance) <= a;
@@ -414,7 +449,8 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
 #if GMON_HAS_ALPHA
                     Hit candidate;
                     if (!intersect_primitive(ray, p, t_min, hit->t, &candidate) ||
-                        ((p->kind & PRIM_ALPHA) && !alpha_keeps_hit(geometry, p, world_ray, i, instance, &candidate)))
+                        ((p->kind & PRIM_ALPHA) &&
+                         !alpha_keeps_hit(geometry, p, world_ray, ray, i, instance, &candidate)))
                         continue;
                     hit->t = candidate.t;
                     hit->u = candidate.u;

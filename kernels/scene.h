@@ -21,7 +21,8 @@ typedef struct {
 
 KERNEL_FN Geometry scene_geometry(const Scene *scene)
 {
-    Geometry g = {scene->nodes, scene->primitives, scene->instances, scene->alphas};
+    Geometry g = {scene->nodes,    scene->primitives,    scene->instances,      scene->alphas,
+                  scene->textures, scene->texture_bytes, scene->texture_floats, scene->surface_uvs};
     return g;
 }
 

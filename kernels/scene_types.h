@@ -77,9 +77,9 @@ typedef struct {
     uint32_t pad[3];
 } Instance;
 
-/* A shape's alpha (FEATURE_ALPHA): `value`, or when texture >= 0 that
- * texture's value at the hit (the hook for float textures: not evaluated
- * yet, the scene reader refuses "texture alpha"). 8 bytes. */
+/* A shape's alpha (FEATURE_ALPHA): `value`, or when texture >= 0 the
+ * value at the hit of the float texture program starting at
+ * textures[texture] (FEATURE_ALPHA_TEXTURE). 8 bytes. */
 typedef struct {
     float value;
     int32_t texture;
@@ -152,6 +152,16 @@ typedef struct {
 #define TEXTURE_MIX 4u          /* (1 - amount) operand 0 + amount operand 1; amount is operand 2 */
 #define TEXTURE_DIRECTION_MIX 5u
 #define TEXTURE_BILERP 6u
+/* pbrt-v4's procedural textures (FEATURE_PROCEDURAL_TEXTURES; Perlin noise,
+ * kernels/texture.h). dots: operand 0 inside a dot, 1 outside, a 2D
+ * mapping. The others a 3D mapping (the point in texture space) and
+ * value[3] = (omega, variation, octaves): fbm, wrinkled (turbulence),
+ * windy, marble (also `scale`, an RGB texture). */
+#define TEXTURE_DOTS 7u
+#define TEXTURE_FBM 8u
+#define TEXTURE_WRINKLED 9u
+#define TEXTURE_WINDY 10u
+#define TEXTURE_MARBLE 11u
 
 /* How a hit becomes texture coordinates (s, t) (pbrt-v4's mappings). */
 #define TEXTURE_MAP_UV 0u        /* (uscale u + udelta, vscale v + vdelta) */
@@ -189,14 +199,14 @@ typedef struct {
     float map_scale[2];             /* uv: uscale, vscale */
     float map_delta[2];             /* uv and planar: udelta, vdelta */
     float texture_from_world[3][4]; /* rows of an affine map (TEXTURE_MAP_SPHERICAL, ... ) */
-    float value[4][4];              /* constants: operands 0..2 ([3] unused); bilerp: v00, v01, v10, v11 */
+    float value[4][4];              /* constants: operands 0..2; bilerp: v00, v01, v10, v11; noise: [3] (above) */
     int32_t operand[3];
     float pad0;
     float direction[4]; /* direction mix: unit, world space */
     uint32_t width, height, levels, channels;
     uint32_t texel_offset, texel_format, decode_offset, wrap;
     uint32_t filter, invert;
-    float scale;
+    float scale; /* an image's, or marble's */
     uint32_t pad;
 } TextureNode;
 

@@ -1,22 +1,14 @@
-/* Textures at a ray's hit: the surface's (u, v) and tangents as pbrt-v4
- * gives them (triangles: their vertex uvs, by default (0,0), (1,0), (1,1);
- * spheres: phi / 2 pi and 1 - theta / pi about the centre in world
- * space), the texture context, a material's textured parameters, and bump
- * and normal mapping of the shading normal (pbrt-v4's BumpMap and
+/* Textures at a ray's hit: the surface's (u, v) and tangents
+ * (surface_uv.h), the texture context, a material's textured parameters,
+ * and bump and normal mapping of the shading normal (pbrt-v4's BumpMap and
  * NormalMap). Compiled only into builds with textures. */
 #ifndef KERNELS_SURFACE_TEXTURES_H
 #define KERNELS_SURFACE_TEXTURES_H
 
 #include "bsdf.h"
 #include "scene.h"
+#include "surface_uv.h"
 #include "texture.h"
-
-typedef struct {
-    float u, v;
-    float density;   /* uv units per world length */
-    Vec3 dpdu, dpdv; /* world-space tangents along u and v */
-    Vec3 dndu, dndv; /* the normal's change along them (spheres; 0 on triangles) */
-} SurfaceUv;
 
 KERNEL_FN TextureArrays scene_texture_arrays(const Scene *scene)
 {
@@ -27,45 +19,61 @@ KERNEL_FN TextureArrays scene_texture_arrays(const Scene *scene)
     return a;
 }
 
+#if GMON_HAS_INSTANCING
+/* The rows of M v for the 3x3 part M of an instance's object_from_world. */
+KERNEL_FN Vec3 instance_apply(__global const Instance *instance, Vec3 v)
+{
+    float in[3] = {v.x, v.y, v.z}, out[3];
+    for (int r = 0; r < 3; ++r) {
+        __global const float *m = instance->object_from_world[r];
+        out[r] = m[0] * in[0] + m[1] * in[1] + m[2] * in[2];
+    }
+    return vec3(out[0], out[1], out[2]);
+}
+
+/* The surface of a hit in an instance: (u, v) in object space, where the
+ * primitive lies (a sphere's angles about its object-space centre, so the
+ * texture turns with the instance, as pbrt-v4's does); tangents taken to
+ * the world by the inverse of M (object_from_world's 3x3 part), the normal's
+ * change as a normal (M^T, over the normal's length there), and the uv
+ * density divided by the instance's scale across the surface: a surface
+ * element of object area A and unit normal n has world area
+ * A |M^T n| / |det M|. */
+KERNEL_FN SurfaceUv instanced_surface_uv(const Scene *scene, const Hit *hit, __global const Primitive *prim, Vec3 p)
+{
+    __global const Instance *instance = scene->instances + hit->instance;
+    float world[3] = {p.x, p.y, p.z}, object[3];
+    instance_point(instance, world, object);
+    Vec3 q = vec3(object[0], object[1], object[2]);
+    SurfaceUv s = surface_uv_at(scene->surface_uvs, hit->primitive, hit->u, hit->v, prim, q);
+    Vec3 n = v_normalize(is_sphere(prim) ? v_sub(q, vec3_from_global(prim->a))
+                                         : v_cross(vec3_from_global(prim->b), vec3_from_global(prim->c)));
+    float normal_scale = v_length(instance_normal_v(instance, n));
+    Vec3 r0 = vec3_from_global(instance->object_from_world[0]), r1 = vec3_from_global(instance->object_from_world[1]),
+         r2 = vec3_from_global(instance->object_from_world[2]);
+    /* M^-1 = adj(M) / det M: its columns are the rows' cross products. */
+    Vec3 c0 = v_cross(r1, r2), c1 = v_cross(r2, r0), c2 = v_cross(r0, r1);
+    float det = v_dot(r0, c0), inv = 1.0f / det;
+    Vec3 d[2] = {s.dpdu, s.dpdv};
+    for (int k = 0; k < 2; ++k)
+        d[k] = v_scale(v_add(v_add(v_scale(c0, d[k].x), v_scale(c1, d[k].y)), v_scale(c2, d[k].z)), inv);
+    s.dpdu = d[0];
+    s.dpdv = d[1];
+    s.dndu = v_scale(instance_normal_v(instance, s.dndu), 1.0f / normal_scale);
+    s.dndv = v_scale(instance_normal_v(instance, s.dndv), 1.0f / normal_scale);
+    s.density *= sqrt_float(abs_float(det) / normal_scale);
+    return s;
+}
+#endif
+
+/* The surface's (u, v) at world point p of a hit. */
 KERNEL_FN SurfaceUv surface_uv(const Scene *scene, const Hit *hit, __global const Primitive *prim, Vec3 p)
 {
-    SurfaceUv s;
-    Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
-    s.dndu = s.dndv = zero;
-    if (is_sphere(prim)) {
-        float r = prim->b[0];
-        Vec3 d = v_sub(p, vec3_from_global(prim->a));
-        float phi = atan2_float(d.y, d.x);
-        phi = phi < 0.0f ? phi + 2.0f * PI_F : phi;
-        float cos_theta = fmin(1.0f, fmax(-1.0f, d.z / r));
-        float theta = acos(cos_theta), sin_theta = sqrt_float(fmax(0.0f, 1.0f - cos_theta * cos_theta));
-        s.u = phi / (2.0f * PI_F);
-        s.v = 1.0f - theta / PI_F;
-        s.density = 1.0f / (PI_F * r);
-        s.dpdu = vec3(-2.0f * PI_F * d.y, 2.0f * PI_F * d.x, 0.0f);
-        s.dpdv = v_scale(vec3(d.z * cos(phi), d.z * sin(phi), -r * sin_theta), -PI_F);
-        s.dndu = v_scale(s.dpdu, 1.0f / r);
-        s.dndv = v_scale(s.dpdv, 1.0f / r);
-        return s;
-    }
-    __global const float *uv = scene->surface_uvs + SURFACE_UV_FLOATS * (size_t)hit->primitive;
-    float b0 = 1.0f - hit->u - hit->v;
-    s.u = b0 * uv[0] + hit->u * uv[2] + hit->v * uv[4];
-    s.v = b0 * uv[1] + hit->u * uv[3] + hit->v * uv[5];
-    s.density = uv[6];
-    /* pbrt-v4's triangle tangents from the uv differences to vertex 2. */
-    float du02 = uv[0] - uv[4], dv02 = uv[1] - uv[5], du12 = uv[2] - uv[4], dv12 = uv[3] - uv[5];
-    Vec3 e1 = vec3_from_global(prim->b), e2 = vec3_from_global(prim->c);
-    Vec3 dp02 = v_scale(e2, -1.0f), dp12 = v_sub(e1, e2);
-    float det = du02 * dv12 - dv02 * du12;
-    if (abs_float(det) < 1e-9f) {
-        v_basis(v_normalize(v_cross(e1, e2)), &s.dpdu, &s.dpdv);
-    } else {
-        float inv = 1.0f / det;
-        s.dpdu = v_scale(v_sub(v_scale(dp02, dv12), v_scale(dp12, dv02)), inv);
-        s.dpdv = v_scale(v_sub(v_scale(dp12, du02), v_scale(dp02, du12)), inv);
-    }
-    return s;
+#if GMON_HAS_INSTANCING
+    if (hit->instance >= 0)
+        return instanced_surface_uv(scene, hit, prim, p);
+#endif
+    return surface_uv_at(scene->surface_uvs, hit->primitive, hit->u, hit->v, prim, p);
 }
 
 /* The texture context at a hit: footprint is the ray's footprint width
@@ -80,17 +88,6 @@ KERNEL_FN TextureContext surface_texture_context(const SurfaceUv *uv, Vec3 p, Ve
     c.footprint = footprint;
     c.uv_density = uv->density;
     return c;
-}
-
-/* A float texture at a hit (for alpha cut-outs): `texture` a program's
- * first node (MaterialTextures' or a shape's), n the shading normal. */
-KERNEL_FN float scene_texture_float(const Scene *scene, int32_t texture, const Hit *hit, __global const Primitive *prim,
-                                    Vec3 p, Vec3 n, float footprint)
-{
-    SurfaceUv uv = surface_uv(scene, hit, prim, p);
-    TextureContext c = surface_texture_context(&uv, p, n, footprint);
-    TextureArrays a = scene_texture_arrays(scene);
-    return texture_evaluate_float(&a, texture, &c);
 }
 
 KERNEL_FN float roughness_to_alpha(float roughness, uint32_t remap)

@@ -13,6 +13,7 @@
 
 #include "compat.h"
 #include "equal_area.h"
+#include "feature_mask.h"
 #include "scene_types.h"
 #include "vec3.h"
 
@@ -234,6 +235,225 @@ KERNEL_FN void texture_map(const GLOBAL TextureNode *node, const TextureContext 
     *width = 2.0f * c->footprint * density;
 }
 
+/* ---- Perlin noise and the procedural textures (pbrt-v4's Noise, FBm,
+ * Turbulence; textures.cpp's dots, fbm, wrinkled, windy, marble) ---- */
+
+#ifdef __OPENCL_C_VERSION__
+#define NOISE_TABLE __constant
+#define sin_precise(x) sin(x)
+#else
+#define NOISE_TABLE static const
+#define sin_precise(x) sinf(x)
+#endif
+
+/* The permutation of 0..255 of Ken Perlin's reference implementation of
+ * "Improving Noise" (SIGGRAPH 2002, mrl.cs.nyu.edu/~perlin/noise/), the
+ * table pbrt-v4 uses; typed as data (indices are taken mod 256, so the
+ * doubled copy of the reference is not needed). */
+NOISE_TABLE uint8_t noise_permutation[256] = {
+    151, 160, 137, 91,  90,  15,  131, 13,  201, 95,  96,  53,  194, 233, 7,   225, 140, 36,  103, 30,  69,  142,
+    8,   99,  37,  240, 21,  10,  23,  190, 6,   148, 247, 120, 234, 75,  0,   26,  197, 62,  94,  252, 219, 203,
+    117, 35,  11,  32,  57,  177, 33,  88,  237, 149, 56,  87,  174, 20,  125, 136, 171, 168, 68,  175, 74,  165,
+    71,  134, 139, 48,  27,  166, 77,  146, 158, 231, 83,  111, 229, 122, 60,  211, 133, 230, 220, 105, 92,  41,
+    55,  46,  245, 40,  244, 102, 143, 54,  65,  25,  63,  161, 1,   216, 80,  73,  209, 76,  132, 187, 208, 89,
+    18,  169, 200, 196, 135, 130, 116, 188, 159, 86,  164, 100, 109, 198, 173, 186, 3,   64,  52,  217, 226, 250,
+    124, 123, 5,   202, 38,  147, 118, 126, 255, 82,  85,  212, 207, 206, 59,  227, 47,  16,  58,  17,  182, 189,
+    28,  42,  223, 183, 170, 213, 119, 248, 152, 2,   44,  154, 163, 70,  221, 153, 101, 155, 167, 43,  172, 9,
+    129, 22,  39,  253, 19,  98,  108, 110, 79,  113, 224, 232, 178, 185, 112, 104, 218, 246, 97,  228, 251, 34,
+    242, 193, 238, 210, 144, 12,  191, 179, 162, 241, 81,  51,  145, 235, 249, 14,  239, 107, 49,  192, 214, 31,
+    181, 199, 106, 157, 184, 84,  204, 176, 115, 121, 50,  45,  127, 4,   150, 254, 138, 236, 205, 93,  222, 114,
+    67,  29,  24,  72,  243, 141, 128, 195, 78,  66,  215, 61,  156, 180};
+
+/* The gradient at lattice point (x, y, z) (each mod 256) dotted with the
+ * offset (dx, dy, dz) from it: one of the 12 edge directions of a cube
+ * (4 of them twice), chosen by the permuted hash, as pbrt-v4 chooses. */
+KERNEL_FN float noise_gradient(int32_t x, int32_t y, int32_t z, float dx, float dy, float dz)
+{
+    int32_t h = noise_permutation[(noise_permutation[(noise_permutation[x & 255] + y) & 255] + z) & 255] & 15;
+    float u = h < 8 || h == 12 || h == 13 ? dx : dy;
+    float v = h < 4 || h == 12 || h == 13 ? dy : dz;
+    return ((h & 1) ? -u : u) + ((h & 2) ? -v : v);
+}
+
+/* Perlin's quintic fade 6 t^5 - 15 t^4 + 10 t^3. */
+KERNEL_FN float noise_fade(float t)
+{
+    float t3 = t * t * t, t4 = t3 * t;
+    return 6.0f * t4 * t - 15.0f * t4 + 10.0f * t3;
+}
+
+KERNEL_FN float noise_lerp(float t, float a, float b)
+{
+    return (1.0f - t) * a + t * b;
+}
+
+/* A coordinate's lattice cell mod 256 and the offset in it. Exact for every
+ * float (floor, a division by 256 and products of integers), so no integer
+ * conversion overflows: pbrt-v4 first takes x mod 2^30, which gives the
+ * same cell mod 256 and offset. */
+KERNEL_FN int32_t noise_cell(float x, float *offset)
+{
+    float cell = floor_float(x);
+    *offset = x - cell;
+    return (int32_t)(cell - 256.0f * floor_float(cell * (1.0f / 256.0f)));
+}
+
+/* Perlin's improved noise at (x, y, z): 0 at every lattice point, within
+ * about [-1, 1]. */
+KERNEL_FN float noise3(float x, float y, float z)
+{
+    float dx, dy, dz;
+    int32_t ix = noise_cell(x, &dx), iy = noise_cell(y, &dy), iz = noise_cell(z, &dz);
+    float w000 = noise_gradient(ix, iy, iz, dx, dy, dz);
+    float w100 = noise_gradient(ix + 1, iy, iz, dx - 1.0f, dy, dz);
+    float w010 = noise_gradient(ix, iy + 1, iz, dx, dy - 1.0f, dz);
+    float w110 = noise_gradient(ix + 1, iy + 1, iz, dx - 1.0f, dy - 1.0f, dz);
+    float w001 = noise_gradient(ix, iy, iz + 1, dx, dy, dz - 1.0f);
+    float w101 = noise_gradient(ix + 1, iy, iz + 1, dx - 1.0f, dy, dz - 1.0f);
+    float w011 = noise_gradient(ix, iy + 1, iz + 1, dx, dy - 1.0f, dz - 1.0f);
+    float w111 = noise_gradient(ix + 1, iy + 1, iz + 1, dx - 1.0f, dy - 1.0f, dz - 1.0f);
+    float wx = noise_fade(dx), wy = noise_fade(dy), wz = noise_fade(dz);
+    float y0 = noise_lerp(wy, noise_lerp(wx, w000, w100), noise_lerp(wx, w010, w110));
+    float y1 = noise_lerp(wy, noise_lerp(wx, w001, w101), noise_lerp(wx, w011, w111));
+    return noise_lerp(wz, y0, y1);
+}
+
+KERNEL_FN float noise_at(Vec3 p)
+{
+    return noise3(p.x, p.y, p.z);
+}
+
+KERNEL_FN float texture_smooth_step(float x, float a, float b)
+{
+    float t = (x - a) / (b - a);
+    t = t < 0.0f ? 0.0f : (t > 1.0f ? 1.0f : t);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+/* How many octaves of noise a footprint of squared length len2 (texture
+ * units) resolves: pbrt-v4's clamp(-1 - log2(len2) / 2, 0, octaves), so
+ * that no octave finer than the footprint aliases. log2 is texture_log2's
+ * (exact at powers of two, linear between), as for the MIP level: every
+ * build counts the same octaves. No footprint: all of them. */
+KERNEL_FN float noise_octaves(float len2, float octaves)
+{
+    if (!(len2 > 0.0f))
+        return octaves;
+    float n = -1.0f - 0.5f * texture_log2(len2 < 1e30f ? (len2 > 1e-30f ? len2 : 1e-30f) : 1e30f);
+    return n < 0.0f ? 0.0f : (n > octaves ? octaves : n);
+}
+
+/* pbrt-v4's FBm: sum over octaves i of omega^i noise(1.99^i p), the last,
+ * fractional, octave faded in by smoothstep(0.3, 0.7) of its fraction. */
+KERNEL_FN float noise_fbm(Vec3 p, float len2, float omega, float octaves)
+{
+    float n = noise_octaves(len2, octaves);
+    int32_t whole = (int32_t)n;
+    float sum = 0.0f, lambda = 1.0f, o = 1.0f;
+    for (int32_t i = 0; i < whole; ++i) {
+        sum += o * noise_at(v_scale(p, lambda));
+        lambda *= 1.99f;
+        o *= omega;
+    }
+    return sum + o * texture_smooth_step(n - (float)whole, 0.3f, 0.7f) * noise_at(v_scale(p, lambda));
+}
+
+/* pbrt-v4's Turbulence: FBm of |noise|, the octaves past the footprint
+ * counted at their average 0.2 (from the fractional one on, as pbrt-v4). */
+KERNEL_FN float noise_turbulence(Vec3 p, float len2, float omega, float octaves)
+{
+    float n = noise_octaves(len2, octaves);
+    int32_t whole = (int32_t)n;
+    float sum = 0.0f, lambda = 1.0f, o = 1.0f;
+    for (int32_t i = 0; i < whole; ++i) {
+        sum += o * abs_float(noise_at(v_scale(p, lambda)));
+        lambda *= 1.99f;
+        o *= omega;
+    }
+    sum += o *
+           noise_lerp(texture_smooth_step(n - (float)whole, 0.3f, 0.7f), 0.2f, abs_float(noise_at(v_scale(p, lambda))));
+    for (int32_t i = whole; i < (int32_t)octaves; ++i) {
+        sum += o * 0.2f;
+        o *= omega;
+    }
+    return sum;
+}
+
+/* pbrt-v4's InsidePolkaDot: a dot of radius 0.35 in each unit cell
+ * centred on integer (s, t) where the cell's noise is positive, moved by
+ * up to 0.15 by two more noise values. */
+KERNEL_FN int noise_inside_dot(float s, float t)
+{
+    float cell_s = floor_float(s + 0.5f), cell_t = floor_float(t + 0.5f);
+    if (!(noise3(cell_s + 0.5f, cell_t + 0.5f, 0.5f) > 0.0f))
+        return 0;
+    const float radius = 0.35f, shift = 0.5f - radius;
+    float centre_s = cell_s + shift * noise3(cell_s + 1.5f, cell_t + 2.8f, 0.5f);
+    float centre_t = cell_t + shift * noise3(cell_s + 4.5f, cell_t + 9.8f, 0.5f);
+    float ds = s - centre_s, dt = t - centre_t;
+    return ds * ds + dt * dt < radius * radius;
+}
+
+/* pbrt-v4's marble colour at t in [0, 1]: 1.5 times a spline of cubic
+ * Bezier segments over its 9 knots (segment floor(6 t), de Casteljau). */
+KERNEL_FN Vec3 noise_marble_colour(float t)
+{
+    const float knots[9][3] = {{0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f}, {0.58f, 0.58f, 0.6f},
+                               {0.5f, 0.5f, 0.5f},   {0.6f, 0.59f, 0.58f}, {0.58f, 0.58f, 0.6f},
+                               {0.58f, 0.58f, 0.6f}, {0.2f, 0.2f, 0.33f},  {0.58f, 0.58f, 0.6f}};
+    float scaled = t * 6.0f;
+    int32_t first = (int32_t)floor_float(scaled);
+    first = first < 0 ? 0 : (first > 5 ? 5 : first);
+    float u = scaled - (float)first, rgb[3];
+    for (int c = 0; c < 3; ++c) {
+        float a = noise_lerp(u, knots[first][c], knots[first + 1][c]);
+        float b = noise_lerp(u, knots[first + 1][c], knots[first + 2][c]);
+        float d = noise_lerp(u, knots[first + 2][c], knots[first + 3][c]);
+        rgb[c] = 1.5f * noise_lerp(u, noise_lerp(u, a, b), noise_lerp(u, b, d));
+    }
+    return vec3(rgb[0], rgb[1], rgb[2]);
+}
+
+/* How much texture space stretches world lengths, at most (the longest of
+ * its axes' images): a footprint's length in texture space is at most the
+ * world one times this. */
+KERNEL_FN float texture_space_stretch(const GLOBAL TextureNode *node)
+{
+    const GLOBAL float(*m)[4] = node->texture_from_world;
+    float largest = 0.0f;
+    for (int c = 0; c < 3; ++c) {
+        float length2 = m[0][c] * m[0][c] + m[1][c] * m[1][c] + m[2][c] * m[2][c];
+        largest = length2 > largest ? length2 : largest;
+    }
+    return sqrt_float(largest);
+}
+
+/* A 3D noise texture (fbm, wrinkled, windy, marble) at the context's point:
+ * the float in all three channels, or marble's RGB. The footprint is the
+ * world footprint's length in texture space (pbrt-v4's dpdx and dpdy,
+ * here one isotropic width). */
+KERNEL_FN Vec3 texture_noise_evaluate(const GLOBAL TextureNode *node, const TextureContext *c)
+{
+    Vec3 p = texture_space_point(node, c->p);
+    float len = c->footprint * texture_space_stretch(node), len2 = len * len;
+    float omega = node->value[3][0], variation = node->value[3][1], octaves = node->value[3][2];
+    float v;
+    if (node->type == TEXTURE_FBM) {
+        v = noise_fbm(p, len2, omega, octaves);
+    } else if (node->type == TEXTURE_WRINKLED) {
+        v = noise_turbulence(p, len2, omega, octaves);
+    } else if (node->type == TEXTURE_WINDY) {
+        float wind = noise_fbm(v_scale(p, 0.1f), 0.01f * len2, 0.5f, 3.0f);
+        v = abs_float(wind) * noise_fbm(p, len2, 0.5f, 6.0f);
+    } else { /* TEXTURE_MARBLE */
+        float scale = node->scale;
+        p = v_scale(p, scale);
+        float marble = p.y + variation * noise_fbm(p, scale * scale * len2, omega, octaves);
+        return noise_marble_colour(0.5f + 0.5f * sin_precise(marble));
+    }
+    return vec3(v, v, v);
+}
+
 /* Whether floor(x) is odd, for any x (no integer conversion to overflow). */
 KERNEL_FN int texture_is_odd(float x)
 {
@@ -267,8 +487,12 @@ KERNEL_FN Vec3 texture_node_evaluate(const TextureArrays *a, const GLOBAL Textur
         int odd = texture_is_odd(q.x) ^ texture_is_odd(q.y) ^ texture_is_odd(q.z);
         return texture_operand(node, slots, odd);
     }
+    if (GMON_HAS_PROCEDURAL_TEXTURES && node->type >= TEXTURE_FBM)
+        return texture_noise_evaluate(node, c);
     float s, t, width;
     texture_map(node, c, &s, &t, &width);
+    if (GMON_HAS_PROCEDURAL_TEXTURES && node->type == TEXTURE_DOTS)
+        return texture_operand(node, slots, noise_inside_dot(s, t) ? 0 : 1);
     if (node->type == TEXTURE_CHECKERBOARD) {
         return texture_operand(node, slots, texture_is_odd(s) ^ texture_is_odd(t));
     }

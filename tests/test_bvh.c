@@ -91,14 +91,15 @@ static void check_against_brute_force(int count, int sphere_every, int ray_count
                 nearest.primitive = i;
             }
         }
-        int found = bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, INFINITY, 0, &hit);
+        int found = bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 1e-4f, INFINITY,
+                                  0, &hit);
         assert_int_equal(found, nearest.primitive >= 0);
         if (found) {
             ++hits;
             assert_true(hit.t == nearest.t);
             Hit any;
-            assert_true(
-                bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, INFINITY, 1, &any));
+            assert_true(bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 1e-4f,
+                                      INFINITY, 1, &any));
             assert_true(any.t >= hit.t);
             /* A shadow ray stopping short of the nearest hit is blocked
              * exactly when brute force finds something before its end. */
@@ -109,7 +110,8 @@ static void check_against_brute_force(int count, int sphere_every, int ray_count
                 blocked = intersect_primitive(&ray, &bvh.primitives[i], 1e-4f, end, &h);
             }
             assert_int_equal(
-                bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 1e-4f, end, 1, &any), blocked);
+                bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 1e-4f, end, 1, &any),
+                blocked);
         }
     }
     printf("  %d primitives: %d nodes, depth %d, largest leaf %d, %d/%d rays hit\n", count, bvh.node_count, bvh.depth,
@@ -138,7 +140,8 @@ static void test_empty_scene(void **state)
     assert_int_equal(bvh_build(NULL, 0, &bvh, error, sizeof error), 0);
     Ray ray = {{0, 0, 0}, {0, 0, 1}};
     Hit hit;
-    assert_false(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
+    assert_false(
+        bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 0.0f, INFINITY, 0, &hit));
     bvh_destroy(&bvh);
 }
 
@@ -155,7 +158,8 @@ static void test_identical_primitives_stay_shallow(void **state)
     assert_true(bvh.largest_leaf > BVH_WIDTH); /* too many for a packet: tested one by one */
     Ray ray = {{0.2f, 0.2f, -1}, {0, 0, 1}};
     Hit hit;
-    assert_true(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
+    assert_true(
+        bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 0.0f, INFINITY, 0, &hit));
     assert_true(fabsf(hit.t - 1.0f) < 1e-6f);
     bvh_destroy(&bvh);
 }
@@ -179,7 +183,8 @@ static void test_coordinates_near_the_float_limit(void **state)
     for (int i = 0; i < COUNT; ++i) {
         Ray ray = {{p[i].a[0] + 0.25f * width, 0.25f, 0}, {0, 0, 1}};
         Hit hit;
-        assert_true(bvh_intersect(&(Geometry){bvh.nodes, bvh.primitives, NULL, NULL}, &ray, 0.0f, INFINITY, 0, &hit));
+        assert_true(bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 0.0f, INFINITY,
+                                  0, &hit));
         assert_int_equal(bvh.primitives[hit.primitive].material, i);
         assert_true(hit.t == 5.0f);
     }
@@ -251,7 +256,10 @@ static void instanced_and_flat(const Primitive *object, int n, const double (*tr
 
 static int trace(const RenderScene *scene, const Ray *ray, int any_hit, float t_max, Hit *hit)
 {
-    Geometry g = {scene->bvh.nodes, scene->bvh.primitives, scene->instances, scene->alphas};
+    Geometry g = {.nodes = scene->bvh.nodes,
+                  .primitives = scene->bvh.primitives,
+                  .instances = scene->instances,
+                  .alphas = scene->alphas};
     return bvh_intersect(&g, ray, 0.0f, t_max, any_hit, hit);
 }
 

@@ -2,7 +2,8 @@
  * for bit as the same scene flattened (for transforms float arithmetic does
  * exactly: tests/data/scenes/instances.pbrt says why); a fully transparent
  * quad changes nothing; a quad of alpha 0.5 blocks half the light its
- * opaque twin blocks, within standard errors. */
+ * opaque twin blocks, within standard errors; "texture alpha" of 0 and 1
+ * (a checkerboard, an image) casts the shadow of the geometry it keeps. */
 #include "io/exr_image.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
@@ -105,9 +106,9 @@ static void test_cli_renders_instanced_as_flattened(void **state)
     exr_image_free(&images[1]);
 }
 
-/* The Cornell box with a quad of the given alpha (or none: alpha < 0)
- * between its light and the floor, written beside the build. */
-static void write_occluder_scene(const char *path, float alpha)
+/* The Cornell box with `occluder` (shapes and textures) between its light
+ * and the floor, written beside the build. */
+static void write_cornell_scene(const char *path, const char *occluder)
 {
     FILE *f = fopen(path, "w");
     assert_non_null(f);
@@ -121,14 +122,30 @@ static void write_occluder_scene(const char *path, float alpha)
             "  AreaLightSource \"diffuse\" \"rgb L\" [ 17 12 4 ]\n"
             "  Shape \"trianglemesh\" \"point3 P\" [ -0.3 1.9 -0.3  0.3 1.9 -0.3  -0.3 1.9 0.3  0.3 1.9 0.3 ]\n"
             "    \"integer indices\" [ 0 1 2  2 1 3 ]\n"
-            "AttributeEnd\n",
-            GMON_SOURCE_DIR, GMON_SOURCE_DIR);
-    if (alpha >= 0.0f)
-        fprintf(f,
-                "Shape \"trianglemesh\" \"point3 P\" [ -0.6 1.2 -0.6  0.6 1.2 -0.6  -0.6 1.2 0.6  0.6 1.2 0.6 ]\n"
-                "  \"integer indices\" [ 0 1 2  2 1 3 ] \"float alpha\" [ %.9g ]\n",
-                (double)alpha);
+            "AttributeEnd\n%s",
+            GMON_SOURCE_DIR, GMON_SOURCE_DIR, occluder);
     fclose(f);
+}
+
+/* The quad x, z in [-0.6, 0.6] at y = 1.2 (u along x, v along z), with
+ * `params` after its geometry. */
+static const char *occluder_quad(const char *params)
+{
+    static char text[1024];
+    snprintf(text, sizeof text,
+             "Shape \"trianglemesh\" \"point3 P\" [ -0.6 1.2 -0.6  0.6 1.2 -0.6  -0.6 1.2 0.6  0.6 1.2 0.6 ]\n"
+             "  \"integer indices\" [ 0 1 2  2 1 3 ] \"point2 uv\" [ 0 0  1 0  0 1  1 1 ] %s\n",
+             params);
+    return text;
+}
+
+/* The Cornell box with a quad of the given alpha (or none: alpha < 0)
+ * between its light and the floor. */
+static void write_occluder_scene(const char *path, float alpha)
+{
+    char params[64] = "";
+    snprintf(params, sizeof params, "\"float alpha\" [ %.9g ]", (double)alpha);
+    write_cornell_scene(path, alpha >= 0.0f ? occluder_quad(params) : "");
 }
 
 static void render_occluded(float alpha, uint64_t samples, RenderOutput *out, uint64_t *features)
@@ -197,6 +214,161 @@ static void test_half_alpha_halves_occlusion(void **state)
     render_output_free(&half);
 }
 
+/* What a checkerboard of alpha 1 and 0 (2 x 2 squares) on the quad leaves:
+ * its squares of alpha 1, (u, v) < 0.5 and > 0.5, as geometry. */
+static const char *cut_squares =
+    "Shape \"trianglemesh\" \"point3 P\" [ -0.6 1.2 -0.6  0 1.2 -0.6  -0.6 1.2 0  0 1.2 0 ]\n"
+    "  \"integer indices\" [ 0 1 2  2 1 3 ]\n"
+    "Shape \"trianglemesh\" \"point3 P\" [ 0 1.2 0  0.6 1.2 0  0 1.2 0.6  0.6 1.2 0.6 ]\n"
+    "  \"integer indices\" [ 0 1 2  2 1 3 ]\n";
+
+static const char *checker_alpha =
+    "Texture \"checks\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2\n";
+
+static void render_cornell(const char *name, const char *occluder, uint64_t samples, RenderOutput *out,
+                           uint64_t *features)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/test_render_instancing_%s.pbrt", GMON_BINARY_DIR, name);
+    write_cornell_scene(path, occluder);
+    render_file(path, 64, samples, out, features);
+}
+
+/* Alpha 0 and 1 decide without the hash: the quad with a checkerboard alpha
+ * casts the shadow of the squares it keeps, for camera, shadow and BSDF
+ * rays alike (depth 1: the light is reached by both of the latter). Rays
+ * meet the two in different triangles, so values may differ by rounding:
+ * compared within 1e-5 relative, all but rays grazing the squares' edges. */
+static void test_checkerboard_alpha_is_the_cut_geometry(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderOutput textured, cut, open;
+    uint64_t features;
+    char occluder[2048];
+    snprintf(occluder, sizeof occluder, "%s%s", checker_alpha, occluder_quad("\"texture alpha\" \"checks\""));
+    render_cornell("checker_alpha", occluder, 8, &textured, &features);
+    assert_true(features & FEATURE_ALPHA_TEXTURE);
+    assert_true(features & FEATURE_ALPHA);
+    render_cornell("cut_squares", cut_squares, 8, &cut, &features);
+    assert_false(features & (FEATURE_ALPHA | FEATURE_ALPHA_TEXTURE));
+    render_cornell("open", "", 8, &open, &features);
+    size_t n = 3 * (size_t)cut.width * cut.height, differ = 0, shadowed = 0;
+    const float *x = textured.pass[PASS_MEAN], *y = cut.pass[PASS_MEAN], *o = open.pass[PASS_MEAN];
+    for (size_t i = 0; i < n; ++i) {
+        differ += fabs((double)x[i] - y[i]) > 1e-5 * fmax(fabs((double)y[i]), 1e-3);
+        shadowed += y[i] < o[i];
+    }
+    printf("  checkerboard alpha vs the cut squares: %zu of %zu values differ (%zu shadowed by the squares)\n", differ,
+           n, shadowed);
+    assert_true(shadowed > n / 10);
+    assert_true(differ <= n / 1000);
+    render_output_free(&textured);
+    render_output_free(&cut);
+    render_output_free(&open);
+}
+
+/* The same alpha from an image (2 x 2 texels, point lookups): the same
+ * hits, so the same image bit for bit as the checkerboard's. */
+static void test_image_alpha_is_the_checkerboard(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char pfm[256];
+    snprintf(pfm, sizeof pfm, "%s/test_render_instancing_alpha.pfm", GMON_BINARY_DIR);
+    FILE *f = fopen(pfm, "wb");
+    assert_non_null(f);
+    /* Rows from the bottom: (u < 0.5, v < 0.5) is the bottom left texel. */
+    const float texels[4] = {1, 0, 0, 1};
+    fprintf(f, "Pf\n2 2\n-1\n");
+    assert_int_equal(fwrite(texels, sizeof texels[0], 4, f), 4);
+    fclose(f);
+    char occluder[2048];
+    snprintf(occluder, sizeof occluder,
+             "Texture \"mask\" \"float\" \"imagemap\" \"string filename\" \"%s\" \"string filter\" \"point\"\n%s", pfm,
+             occluder_quad("\"texture alpha\" \"mask\""));
+    RenderOutput image, checker;
+    uint64_t features;
+    render_cornell("image_alpha", occluder, 8, &image, &features);
+    assert_true(features & FEATURE_IMAGE_TEXTURES);
+    snprintf(occluder, sizeof occluder, "%s%s", checker_alpha, occluder_quad("\"texture alpha\" \"checks\""));
+    render_cornell("checker_alpha", occluder, 8, &checker, &features);
+    size_t differ = differing_values(&image, &checker);
+    printf("  image alpha vs checkerboard alpha: %zu values differ\n", differ);
+    assert_int_equal(differ, 0);
+    render_output_free(&image);
+    render_output_free(&checker);
+}
+
+/* Textured shapes in an instance (scaled by 4, moved) render as the same
+ * shapes flattened: the sphere's (u, v) about its centre in object space,
+ * the quad's MIP level from its size in the world (the instance's scale
+ * divides its uv density), its tangents in world space. A trilinear image
+ * of single-texel checks (whose coarser levels are grey) on the quad, a
+ * uv checkerboard on the sphere. */
+static void test_instanced_textures_render_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char pfm[512];
+    snprintf(pfm, sizeof pfm, "%s/test_render_instancing_checks.pfm", GMON_BINARY_DIR);
+    FILE *f = fopen(pfm, "wb");
+    assert_non_null(f);
+    fprintf(f, "Pf\n16 16\n-1\n"); /* a texel about a pixel wide on the quad */
+    for (int i = 0; i < 16 * 16; ++i) {
+        float v = (float)((i / 16 + i % 16) & 1);
+        assert_int_equal(fwrite(&v, sizeof v, 1, f), 1);
+    }
+    fclose(f);
+    char textures[1024];
+    snprintf(textures, sizeof textures,
+             "Texture \"image\" \"spectrum\" \"imagemap\" \"string filename\" \"%s\" \"string filter\" \"trilinear\"\n"
+             "Texture \"checks\" \"spectrum\" \"checkerboard\" \"float uscale\" 8 \"float vscale\" 4 "
+             "\"rgb tex1\" [ 0.8 0.1 0.1 ] \"rgb tex2\" [ 0.1 0.1 0.8 ]\n",
+             pfm);
+    /* Object space: the quad x, y in [-0.125, 0.125] at z = 0, a ball of
+     * radius 1/32 at (1/16, 1/16, 1/16); the world: 4 times, moved to the
+     * back wall (z = -1 + 1/64), facing the camera. */
+    const char *object =
+        "Material \"diffuse\" \"texture reflectance\" \"image\"\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -0.125 -0.125 0  0.125 -0.125 0  -0.125 0.125 0  "
+        "0.125 0.125 0 ]\n  \"integer indices\" [ 0 1 2  2 1 3 ] \"point2 uv\" [ 0 0  1 0  0 1  1 1 ]\n"
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+        "Translate 0.0625 0.0625 0.0625\nShape \"sphere\" \"float radius\" 0.03125\n";
+    const char *flat =
+        "Material \"diffuse\" \"texture reflectance\" \"image\"\n"
+        "Shape \"trianglemesh\" \"point3 P\" [ -0.5 0.5 -0.984375  0.5 0.5 -0.984375  -0.5 1.5 -0.984375  "
+        "0.5 1.5 -0.984375 ]\n  \"integer indices\" [ 0 1 2  2 1 3 ] \"point2 uv\" [ 0 0  1 0  0 1  1 1 ]\n"
+        "Material \"diffuse\" \"texture reflectance\" \"checks\"\n"
+        "Translate 0.25 1.25 -0.734375\nShape \"sphere\" \"float radius\" 0.125\n";
+    char instanced_text[4096], flat_text[4096];
+    snprintf(instanced_text, sizeof instanced_text,
+             "%sObjectBegin \"textured\"\n%sObjectEnd\nAttributeBegin\n  Translate 0 1 -0.984375\n  Scale 4 4 4\n"
+             "  ObjectInstance \"textured\"\nAttributeEnd\n",
+             textures, object);
+    snprintf(flat_text, sizeof flat_text, "%sAttributeBegin\n%sAttributeEnd\n", textures, flat);
+    RenderOutput instanced, flattened;
+    uint64_t features;
+    render_cornell("textured_instance", instanced_text, 8, &instanced, &features);
+    assert_true(features & FEATURE_INSTANCING);
+    assert_true(features & FEATURE_IMAGE_TEXTURES);
+    render_cornell("textured_flat", flat_text, 8, &flattened, &features);
+    assert_false(features & FEATURE_INSTANCING);
+    size_t n = 3 * (size_t)instanced.width * instanced.height, differ = 0;
+    const float *x = instanced.pass[PASS_MEAN], *y = flattened.pass[PASS_MEAN];
+    double largest = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        double d = fabs((double)x[i] - y[i]) / fmax(fabs((double)y[i]), 1e-3);
+        differ += d > 1e-5;
+        largest = fmax(largest, d);
+    }
+    printf("  textured instance vs flattened: %zu of %zu values differ by more than 1e-5 relative (largest %.3g)\n",
+           differ, n, largest);
+    assert_true(differ <= n / 1000);
+    render_output_free(&instanced);
+    render_output_free(&flattened);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -204,6 +376,9 @@ int main(void)
         cmocka_unit_test(test_cli_renders_instanced_as_flattened),
         cmocka_unit_test(test_transparent_quad_changes_nothing),
         cmocka_unit_test(test_half_alpha_halves_occlusion),
+        cmocka_unit_test(test_checkerboard_alpha_is_the_cut_geometry),
+        cmocka_unit_test(test_image_alpha_is_the_checkerboard),
+        cmocka_unit_test(test_instanced_textures_render_as_flattened),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -1109,7 +1109,7 @@ static void test_truncated_and_malformed_files(void **state)
     load_fails(WORLD "]\n", 2, "expected a directive");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ [ 1 ] ]\n", 2, "inside a list");
     load_fails("Film \"rgb\" \"string filename\" \"bad \\q escape\"\n" WORLD, 1, "escape");
-    load_fails(WORLD "Texture \"t\" \"spectrum\" \"marble\"\n", 2, "texture class \"marble\" is not supported");
+    load_fails(WORLD "Texture \"t\" \"spectrum\" \"ptex\"\n", 2, "texture class \"ptex\" is not supported");
     load_fails(WORLD "ObjectBegin \"o\"\n", 2, "without a matching end");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" [ 1 ] ]\n", 2, "expected a directive, got ']'");
 }
@@ -1175,7 +1175,7 @@ static void test_area_light_in_object_is_ignored(void **state)
     scene_destroy(&s);
 }
 
-/* "float alpha" on shapes; "texture alpha" unsupported until textures. */
+/* "float alpha" on shapes, and "texture alpha" naming a float texture. */
 static void test_shape_alpha(void **state)
 {
     (void)state;
@@ -1184,13 +1184,17 @@ static void test_shape_alpha(void **state)
     assert_int_equal(load_text("alpha.pbrt", text, &s, 0), 0);
     assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
     assert_float_equal(s.shapes[1].alpha, 0.25f, 0.0f);
+    assert_int_equal(s.shapes[1].alpha_texture, -1);
     scene_destroy(&s);
-    load_fails(WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", 2, "alpha textures are not supported");
-    load_fails(WORLD "Shape \"sphere\" \"float alpha\" [ 1 2 ]\n", 2, "alpha");
-    assert_int_equal(load_text("alpha.pbrt", WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", &s, 1), 0);
+    text = WORLD "Texture \"leaves\" \"float\" \"constant\"\nShape \"sphere\" \"texture alpha\" \"leaves\"\n";
+    assert_int_equal(load_text("alpha.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.shapes[0].alpha_texture, 0);
     assert_float_equal(s.shapes[0].alpha, 1.0f, 0.0f);
-    assert_true(has_warning(&s, "the shape is opaque"));
     scene_destroy(&s);
+    load_fails(WORLD "Shape \"sphere\" \"texture alpha\" \"leaves\"\n", 2, "no float texture named \"leaves\"");
+    load_fails(WORLD "Texture \"leaves\" \"spectrum\" \"constant\"\nShape \"sphere\" \"texture alpha\" \"leaves\"\n", 3,
+               "\"leaves\" is a spectrum texture");
+    load_fails(WORLD "Shape \"sphere\" \"float alpha\" [ 1 2 ]\n", 2, "alpha");
 }
 
 static void test_allow_unsupported_substitutes(void **state)
@@ -1198,7 +1202,7 @@ static void test_allow_unsupported_substitutes(void **state)
     (void)state;
     Scene s;
     const char *text =
-        WORLD "Texture \"checks\" \"spectrum\" \"wrinkled\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
+        WORLD "Texture \"checks\" \"spectrum\" \"ptex\" \"float uscale\" [ 4 ] \"rgb tex1\" [ 1 0 0 ]\n"
               "Material \"hair\" \"float eumelanin\" 1\n" TRIANGLE                 /* grey diffuse */
               "Material \"diffuse\" \"texture reflectance\" \"checks\"\n" TRIANGLE /* a constant texture */
               "Shape \"curve\" \"float width\" 1\n"                                /* skipped */
@@ -1217,8 +1221,9 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
     assert_int_equal(material_of_shape(&s, 1)->textures[SCENE_SLOT_REFLECTANCE], 0);
     assert_int_equal(s.textures[0].texture_class, SCENE_TEXTURE_CONSTANT);
-    assert_true(has_warning(&s, "texture class \"wrinkled\" is not supported (constant, scale, mix, directionmix, "
-                                "checkerboard, bilerp, imagemap); a constant 0.5 is used instead"));
+    assert_true(has_warning(&s, "texture class \"ptex\" is not supported (constant, scale, mix, directionmix, "
+                                "checkerboard, bilerp, imagemap, dots, fbm, wrinkled, windy, marble); a constant 0.5 "
+                                "is used instead"));
     assert_true(has_warning(&s, "Material \"hair\" is not supported"));
     assert_true(has_warning(&s, "Shape \"curve\" is not supported"));
     assert_true(has_warning(&s, "LightSource \"sun\""));

@@ -2,12 +2,15 @@
  * bilinear, every wrap mode, sRGB bytes), MIP pyramids and level
  * selection at a known distance, procedural textures and mappings at known
  * points (kernels/texture.h, included here as the kernels include it); the
- * scene reader's and converter's textures and their errors; and on a
+ * scene reader's and converter's textures and their errors; "texture
+ * alpha" in the host's ray traversal; and on a
  * device: a constant displacement changes nothing, a flat normal map is no
  * normal map bit for bit, a checkerboard shows its two colours. */
 #define _POSIX_C_SOURCE 200809L
 
 #include "camera.h"
+#include "intersect.h"
+#include "procedural_reference.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "test_device.h"
@@ -285,6 +288,174 @@ static void test_procedural_textures(void **state)
     assert_float_equal(texture_evaluate_float(&a, 0, &c), 0.6f * 1 + 0.4f * 5, 1e-6f);
 }
 
+/* ---- Perlin noise and the procedural textures, against
+ * tests/support/procedural_reference.c ---- */
+
+/* A reproducible uniform float in [lo, hi). */
+static float uniform_in(uint64_t *state, float lo, float hi)
+{
+    *state = *state * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * (float)(*state >> 40) * (1.0f / 16777216.0f);
+}
+
+static void test_noise_properties(void **state)
+{
+    (void)state;
+    /* Perlin's published table: a permutation of 0..255 that begins 151,
+     * 160, 137, 91, 90, 15 and ends 156, 180. */
+    int seen[256] = {0};
+    for (int i = 0; i < 256; ++i)
+        ++seen[noise_permutation[i]];
+    for (int i = 0; i < 256; ++i)
+        assert_int_equal(seen[i], 1);
+    const uint8_t head[6] = {151, 160, 137, 91, 90, 15};
+    assert_memory_equal(noise_permutation, head, 6);
+    assert_int_equal(noise_permutation[254], 156);
+    assert_int_equal(noise_permutation[255], 180);
+
+    uint64_t rng = 1;
+    for (int i = 0; i < 1000; ++i) { /* 0 at every lattice point, negative ones too */
+        float x = floorf(uniform_in(&rng, -1000, 1000)), y = floorf(uniform_in(&rng, -1000, 1000)),
+              z = floorf(uniform_in(&rng, -1000, 1000));
+        assert_true(noise3(x, y, z) == 0.0f);
+    }
+    double largest_error = 0, largest = 0, sum = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        float x = uniform_in(&rng, -50, 50), y = uniform_in(&rng, -50, 50), z = uniform_in(&rng, -50, 50);
+        float v = noise3(x, y, z);
+        long double r = ref_noise(noise_permutation, x, y, z);
+        largest_error = fmax(largest_error, fabs((double)(v - r)));
+        largest = fmax(largest, fabs(v));
+        sum += v;
+    }
+    /* Beyond int range the cell is still found exactly (here x = 3e9 + ...: dx 0). */
+    for (int i = 0; i < 100; ++i) {
+        float x = 3e9f + 256.0f * (float)i, y = uniform_in(&rng, -5, 5), z = uniform_in(&rng, -5, 5);
+        largest_error = fmax(largest_error, fabs((double)(noise3(x, y, z) - ref_noise(noise_permutation, x, y, z))));
+    }
+    printf("  noise at %d points: largest |error| %.3g against long double, largest |noise| %.4f, mean %.4f\n", n,
+           largest_error, largest, sum / n);
+    assert_true(largest_error < 5e-6); /* float rounding: the fade polynomial's terms reach 15 */
+    assert_true(largest <= 1.05);      /* about [-1, 1] */
+    assert_true(fabs(sum / n) < 0.01);
+}
+
+/* A noise texture node with texture space 2 p + (0.25, -0.5, 1). */
+static TextureNode noise_node(uint32_t type, float omega, float octaves)
+{
+    TextureNode node = procedural(type);
+    node.program_length = 1;
+    node.mapping = TEXTURE_MAP_3D;
+    for (int i = 0; i < 3; ++i)
+        node.texture_from_world[i][i] = 2.0f;
+    node.texture_from_world[0][3] = 0.25f;
+    node.texture_from_world[1][3] = -0.5f;
+    node.texture_from_world[2][3] = 1.0f;
+    node.value[3][0] = omega;
+    node.value[3][1] = 0.2f;
+    node.value[3][2] = octaves;
+    node.scale = 1.5f;
+    return node;
+}
+
+static void texture_space(const TextureContext *c, long double q[3])
+{
+    q[0] = 2.0L * c->p.x + 0.25L;
+    q[1] = 2.0L * c->p.y - 0.5L;
+    q[2] = 2.0L * c->p.z + 1.0L;
+}
+
+static void test_procedural_noise_textures(void **state)
+{
+    (void)state;
+    TextureNode fbm = noise_node(TEXTURE_FBM, 0.5f, 8), wrinkled = noise_node(TEXTURE_WRINKLED, 0.6f, 6),
+                windy = noise_node(TEXTURE_WINDY, 0, 0), marble = noise_node(TEXTURE_MARBLE, 0.5f, 8);
+    /* Footprints from none (all octaves) through fractional octave counts to
+     * wider than every octave (none). */
+    const float footprints[] = {0.0f, 1e-3f, 0.011f, 0.037f, 0.1f, 0.3f, 2.0f};
+    uint64_t rng = 7;
+    double errors[4] = {0, 0, 0, 0};
+    TextureContext c;
+    memset(&c, 0, sizeof c);
+    for (int i = 0; i < 400; ++i) {
+        c.p = vec3(uniform_in(&rng, -2, 2), uniform_in(&rng, -2, 2), uniform_in(&rng, -2, 2));
+        c.footprint = footprints[i % 7];
+        long double q[3], len2 = 4.0L * c.footprint * c.footprint, rgb[3];
+        texture_space(&c, q);
+        TextureArrays a = arrays_of(&fbm, NULL, NULL);
+        errors[0] =
+            fmax(errors[0],
+                 fabs((double)(texture_evaluate_float(&a, 0, &c) - ref_fbm(noise_permutation, q, len2, 0.5L, 8))));
+        a = arrays_of(&wrinkled, NULL, NULL);
+        errors[1] = fmax(errors[1], fabs((double)(texture_evaluate_float(&a, 0, &c) -
+                                                  ref_turbulence(noise_permutation, q, len2, 0.6f, 6))));
+        a = arrays_of(&windy, NULL, NULL);
+        errors[2] =
+            fmax(errors[2], fabs((double)(texture_evaluate_float(&a, 0, &c) - ref_windy(noise_permutation, q, len2))));
+        a = arrays_of(&marble, NULL, NULL);
+        Vec3 m = texture_evaluate(&a, 0, &c);
+        ref_marble(noise_permutation, q, len2, 0.5L, 8, 1.5L, 0.2f, rgb);
+        errors[3] = fmax(errors[3], fmax(fabs((double)(m.x - rgb[0])),
+                                         fmax(fabs((double)(m.y - rgb[1])), fabs((double)(m.z - rgb[2])))));
+    }
+    printf("  largest |error| against long double: fbm %.3g, wrinkled %.3g, windy %.3g, marble %.3g\n", errors[0],
+           errors[1], errors[2], errors[3]);
+    for (int k = 0; k < 4; ++k)
+        assert_true(errors[k] < 1e-5);
+
+    /* Past every octave: fbm 0, turbulence the octaves' average 0.2 sum_i omega^i. */
+    c.p = vec3(0.3f, 0.7f, -0.2f);
+    c.footprint = 100.0f;
+    TextureArrays a = arrays_of(&fbm, NULL, NULL);
+    assert_float_equal(texture_evaluate_float(&a, 0, &c), 0.0f, 0.0f);
+    a = arrays_of(&wrinkled, NULL, NULL);
+    double average = 0.2;
+    for (int i = 0; i < 6; ++i)
+        average += 0.2 * pow(0.6, i);
+    assert_float_equal(texture_evaluate_float(&a, 0, &c), average, 1e-6);
+    /* Octave count: 2^-8 wide in texture space is -1 - log2(2^-16) / 2 = 7 octaves. */
+    assert_float_equal(noise_octaves(0x1p-16f, 8.0f), 7.0f, 0.0f);
+    assert_float_equal(noise_octaves(0.0f, 8.0f), 8.0f, 0.0f);
+    assert_float_equal(noise_octaves(1.0f, 8.0f), 0.0f, 0.0f);
+    /* The marble spline passes through 1.5 times its end knots: t = 0 and 1. */
+    Vec3 low = noise_marble_colour(0.0f), high = noise_marble_colour(1.0f);
+    assert_float_equal(low.z, 1.5f * 0.6f, 1e-6f);
+    assert_float_equal(high.x, 1.5f * 0.58f, 1e-6f);
+}
+
+static void test_dots(void **state)
+{
+    (void)state;
+    TextureNode dots = procedural(TEXTURE_DOTS);
+    dots.program_length = 1;
+    dots.map_scale[0] = dots.map_scale[1] = 3.0f;
+    set_value(&dots, 0, 0.9f, 0.1f, 0.1f); /* inside */
+    set_value(&dots, 1, 0.0f, 0.0f, 0.5f); /* outside */
+    TextureArrays a = arrays_of(&dots, NULL, NULL);
+    TextureContext c;
+    memset(&c, 0, sizeof c);
+    uint64_t rng = 11;
+    int inside = 0, outside = 0, undecided = 0;
+    for (int i = 0; i < 4000; ++i) {
+        c.u = uniform_in(&rng, -3, 3);
+        c.v = uniform_in(&rng, -3, 3);
+        long double margin;
+        int expected = ref_inside_dot(noise_permutation, 3.0L * c.u, 3.0L * c.v, &margin);
+        if (expected && margin < 1e-5L) {
+            ++undecided;
+            continue;
+        }
+        Vec3 v = texture_evaluate(&a, 0, &c);
+        assert_float_equal(v.x, expected ? 0.9f : 0.0f, 0.0f);
+        inside += expected;
+        outside += !expected;
+    }
+    printf("  dots: %d points inside, %d outside as the reference says (%d within 1e-5 of an edge skipped)\n", inside,
+           outside, undecided);
+    assert_true(inside > 400 && outside > 400);
+}
+
 static void test_mappings(void **state)
 {
     (void)state;
@@ -444,6 +615,46 @@ static void test_scene_textures(void **state)
     assert_float_equal(arrays.surface_uvs[6], 0.5f, 1e-6f);
     render_scene_destroy(&scene);
 
+    /* The procedural ones: their parameters and defaults (pbrt-v4's), a 3D
+     * mapping by the inverse of the CTM at the directive. */
+    path = quad_scene("noise.pbrt",
+                      "Texture \"f\" \"float\" \"fbm\" \"integer octaves\" 5 \"float roughness\" 0.7\n"
+                      "Texture \"w\" \"float\" \"wrinkled\"\n"
+                      "Texture \"wind\" \"float\" \"windy\"\n"
+                      "Texture \"d\" \"spectrum\" \"dots\" \"rgb inside\" [ 1 0 0 ] \"float uscale\" 4\n"
+                      "Scale 2 2 2\n"
+                      "Texture \"m\" \"spectrum\" \"marble\" \"float scale\" 3 \"float variation\" 0.5\n"
+                      "Texture \"sum\" \"spectrum\" \"mix\" \"texture tex1\" \"d\" \"texture tex2\" \"m\" "
+                      "\"texture amount\" \"f\"\n"
+                      "Texture \"bumps\" \"float\" \"mix\" \"texture tex1\" \"w\" \"texture tex2\" \"wind\"\n",
+                      "Material \"diffuse\" \"texture reflectance\" \"sum\" \"texture displacement\" \"bumps\"\n");
+    assert_int_equal(convert(path, &scene), 0);
+    /* sum: d, m, f, mix; bumps: w, wind, mix. */
+    assert_int_equal(scene.texture_count, 7);
+    const TextureNode *d = &scene.textures[0], *m = &scene.textures[1], *f = &scene.textures[2];
+    assert_int_equal(d->type, TEXTURE_DOTS);
+    assert_float_equal(d->value[0][0], 1.0f, 0.0f); /* inside */
+    assert_float_equal(d->value[1][0], 0.0f, 0.0f); /* outside: 0 */
+    assert_float_equal(d->map_scale[0], 4.0f, 0.0f);
+    assert_int_equal(m->type, TEXTURE_MARBLE);
+    assert_int_equal(m->mapping, TEXTURE_MAP_3D);
+    assert_float_equal(m->scale, 3.0f, 0.0f);
+    assert_float_equal(m->value[3][0], 0.5f, 0.0f); /* roughness */
+    assert_float_equal(m->value[3][1], 0.5f, 0.0f); /* variation */
+    assert_float_equal(m->value[3][2], 8.0f, 0.0f); /* octaves */
+    assert_float_equal(m->texture_from_world[1][1], 0.5f, 0.0f);
+    assert_int_equal(f->type, TEXTURE_FBM);
+    assert_float_equal(f->value[3][0], 0.7f, 0.0f);
+    assert_float_equal(f->value[3][2], 5.0f, 0.0f);
+    assert_float_equal(f->texture_from_world[0][0], 1.0f, 0.0f);
+    assert_int_equal(scene.textures[4].type, TEXTURE_WRINKLED);
+    assert_float_equal(scene.textures[4].value[3][2], 8.0f, 0.0f);
+    assert_int_equal(scene.textures[5].type, TEXTURE_WINDY);
+    features = render_scene_features(&scene);
+    assert_true(features & FEATURE_PROCEDURAL_TEXTURES);
+    assert_false(features & FEATURE_IMAGE_TEXTURES);
+    render_scene_destroy(&scene);
+
     /* Without textures nothing of them is made. */
     path = quad_scene("plain.pbrt", "", "Material \"diffuse\"\n");
     assert_int_equal(convert(path, &scene), 0);
@@ -474,6 +685,11 @@ static void test_bad_textures(void **state)
         "unknown \"encoding\" \"gamma\"");
     convert_fails("Texture \"t\" \"spectrum\" \"checkerboard\" \"string mapping\" \"torus\"\n", "",
                   "unknown \"mapping\" \"torus\"");
+    convert_fails("Texture \"t\" \"spectrum\" \"fbm\"\n", "", "\"fbm\" is a float texture in pbrt-v4");
+    convert_fails("Texture \"t\" \"float\" \"marble\"\n", "", "\"marble\" is a spectrum texture in pbrt-v4");
+    convert_fails("Texture \"t\" \"float\" \"wrinkled\" \"integer octaves\" -1\n", "", "expected 0 to 64");
+    convert_fails("Texture \"t\" \"float\" \"fbm\" \"float roughness\" [ 1 2 ]\n", "", "roughness");
+    convert_fails("Texture \"t\" \"float\" \"ptex\"\n", "", "texture class \"ptex\" is not supported");
     const char *use = "Material \"diffuse\" \"texture reflectance\" \"t\"\n";
     convert_fails("Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"gone.png\"\n", use, "gone.png");
     write_file("corrupt.png", "\x89PNG\r\n\x1a\nnot really", 18);
@@ -492,6 +708,80 @@ static void test_bad_textures(void **state)
     TextureNode node = image_node(0, 0, 0, 0);
     assert_int_equal(render_scene_add_texture_texels(&scene, &huge, 0, &node, error, sizeof error), -1);
     assert_non_null(strstr(error, "2^31"));
+    render_scene_destroy(&scene);
+}
+
+/* Whether a ray down -z from (x, y, 2) meets something (any_hit, as a
+ * shadow ray) and the nearest hit's t (as a camera or BSDF ray). */
+static int blocked_at(const RenderScene *scene, float x, float y, float *nearest)
+{
+    Geometry g = {.nodes = scene->bvh.nodes,
+                  .primitives = scene->bvh.primitives,
+                  .instances = scene->instances,
+                  .alphas = scene->alphas,
+                  .textures = scene->textures,
+                  .texture_bytes = scene->texture_bytes,
+                  .texture_floats = scene->texture_floats,
+                  .surface_uvs = scene->surface_uvs};
+    Ray ray = {{x, y, 2.0f}, {0.0f, 0.0f, -1.0f}};
+    Hit hit;
+    int any = bvh_intersect(&g, &ray, 1e-4f, 10.0f, 1, &hit);
+    *nearest = bvh_intersect(&g, &ray, 1e-4f, 10.0f, 0, &hit) ? hit.t : INFINITY;
+    return any;
+}
+
+/* "texture alpha" in the host's traversal: a 2 x 2 checkerboard of alpha
+ * 1 and 0 on the quad [-1, 1]^2 at z = 0 stops rays over its squares of
+ * alpha 1 only, and the second quad behind it (z = -1) is met through the
+ * others. Inside an instance (moved by +0.5 in z, scaled by 2 in x and y),
+ * the texture follows the object's uvs. */
+static void test_alpha_texture_rays(void **state)
+{
+    (void)state;
+    const char *checks = "Texture \"checks\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2\n";
+    const char *quad = "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+                       "  \"integer indices\" [ 0 1 2  0 2 3 ] \"point2 uv\" [ 0 0  1 0  1 1  0 1 ]\n"
+                       "  \"texture alpha\" \"checks\"\n";
+    const char *back = "Shape \"trianglemesh\" \"point3 P\" [ -9 -9 -1  9 -9 -1  9 9 -1  -9 9 -1 ]\n"
+                       "  \"integer indices\" [ 0 1 2  0 2 3 ]\n";
+    char text[4096];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 4  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
+             "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\n%s%s%s",
+             checks, quad, back);
+    RenderScene scene;
+    assert_int_equal(convert(write_file("alpha.pbrt", text, strlen(text)), &scene), 0);
+    assert_true(render_scene_features(&scene) & FEATURE_ALPHA_TEXTURE);
+    float t;
+    /* (u, v) = (0.25, 0.25) and (0.75, 0.75): alpha 1; the others 0. */
+    assert_true(blocked_at(&scene, -0.5f, -0.5f, &t));
+    assert_float_equal(t, 2.0f, 1e-6f);
+    assert_true(blocked_at(&scene, 0.5f, 0.5f, &t));
+    assert_float_equal(t, 2.0f, 1e-6f);
+    assert_true(blocked_at(&scene, 0.5f, -0.5f, &t)); /* by the back quad only */
+    assert_float_equal(t, 3.0f, 1e-6f);
+    assert_true(blocked_at(&scene, -0.5f, 0.5f, &t));
+    assert_float_equal(t, 3.0f, 1e-6f);
+    render_scene_destroy(&scene);
+
+    /* Without the back quad a ray through alpha 0 meets nothing. */
+    snprintf(text, sizeof text, "Camera \"perspective\"\nWorldBegin\n%s%s", checks, quad);
+    assert_int_equal(convert(write_file("alpha-alone.pbrt", text, strlen(text)), &scene), 0);
+    assert_false(blocked_at(&scene, 0.5f, -0.5f, &t));
+    assert_true(blocked_at(&scene, -0.5f, -0.5f, &t));
+    render_scene_destroy(&scene);
+
+    snprintf(text, sizeof text,
+             "Camera \"perspective\"\nWorldBegin\n%sObjectBegin \"q\"\n%sObjectEnd\n"
+             "AttributeBegin\n  Translate 0 0 0.5\n  Scale 2 2 1\n  ObjectInstance \"q\"\nAttributeEnd\n",
+             checks, quad);
+    assert_int_equal(convert(write_file("alpha-instance.pbrt", text, strlen(text)), &scene), 0);
+    assert_true(render_scene_features(&scene) & FEATURE_INSTANCING);
+    assert_true(blocked_at(&scene, -1.0f, -1.0f, &t)); /* object (-0.5, -0.5): alpha 1 */
+    assert_float_equal(t, 1.5f, 1e-6f);
+    assert_false(blocked_at(&scene, 1.0f, -1.0f, &t));
+    assert_true(blocked_at(&scene, 1.0f, 1.0f, &t));
+    assert_false(blocked_at(&scene, -0.5f, 1.5f, &t));
     render_scene_destroy(&scene);
 }
 
@@ -578,18 +868,140 @@ static void test_checkerboard_on_device(void **state)
     free(image);
 }
 
+/* A marble quad with a wrinkled bump map renders: finite, and the pixels
+ * that see the quad differ (the texture varies over it). */
+static void test_procedural_material_renders(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    float *image =
+        render_mean(quad_scene("marble.pbrt",
+                               "Texture \"m\" \"spectrum\" \"marble\" \"float scale\" 4\n"
+                               "Texture \"w\" \"float\" \"wrinkled\" \"integer octaves\" 4\n"
+                               "Texture \"d\" \"float\" \"scale\" \"texture tex\" \"w\" \"float scale\" 0.02\n",
+                               "Material \"diffuse\" \"texture reflectance\" \"m\" \"texture displacement\" \"d\"\n"));
+    float lo = INFINITY, hi = -INFINITY;
+    for (size_t i = 0; i < 16 * 16 * 3; ++i)
+        assert_true(isfinite(image[i]));
+    for (int y = 5; y < 11; ++y) /* pixels that see the quad */
+        for (int x = 5; x < 11; ++x) {
+            lo = fminf(lo, image[3 * (16 * y + x)]);
+            hi = fmaxf(hi, image[3 * (16 * y + x)]);
+        }
+    printf("  marble quad: red from %.4f to %.4f over its central pixels\n", lo, hi);
+    assert_true(hi > lo * 1.2f && lo > 0.0f);
+    free(image);
+}
+
+/* The device evaluates the procedural textures as the host does: bit for
+ * bit where only +, -, *, / and floor enter (dots, fbm, wrinkled, windy),
+ * within float rounding for marble (sin). One program per texture, at 2000
+ * points and footprints, through kernels/texture_probe.cl. */
+static void test_procedural_textures_on_device(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { kinds = 5, points = 2000 };
+    TextureNode nodes[kinds] = {noise_node(TEXTURE_FBM, 0.5f, 8), noise_node(TEXTURE_WRINKLED, 0.6f, 6),
+                                noise_node(TEXTURE_WINDY, 0, 0), noise_node(TEXTURE_MARBLE, 0.5f, 8),
+                                procedural(TEXTURE_DOTS)};
+    nodes[4].program_length = 1;
+    nodes[4].map_scale[0] = nodes[4].map_scale[1] = 3.0f;
+    set_value(&nodes[4], 0, 0.9f, 0.1f, 0.1f);
+    set_value(&nodes[4], 1, 0.0f, 0.0f, 0.5f);
+    static float contexts[12 * points], device_out[3 * points];
+    uint64_t rng = 5;
+    const float footprints[] = {0.0f, 1e-3f, 0.011f, 0.037f, 0.1f, 0.3f, 2.0f};
+    for (int i = 0; i < points; ++i) {
+        float *c = contexts + 12 * i;
+        memset(c, 0, 12 * sizeof *c);
+        for (int k = 0; k < 3; ++k)
+            c[k] = uniform_in(&rng, -4, 4);
+        c[6] = uniform_in(&rng, -3, 3);
+        c[7] = uniform_in(&rng, -3, 3);
+        c[8] = footprints[i % 7];
+    }
+    cl_program program = cl_program_build(&test_device, "texture_probe", "", NULL);
+    assert_non_null(program);
+    cl_int err;
+    cl_kernel kernel = clCreateKernel(program, "texture_probe", &err);
+    assert_int_equal(err, CL_SUCCESS);
+    cl_context ctx = test_device.context;
+    cl_mem node_buffer = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof nodes, nodes, &err);
+    assert_int_equal(err, CL_SUCCESS);
+    cl_mem context_buffer =
+        clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, sizeof contexts, contexts, &err);
+    assert_int_equal(err, CL_SUCCESS);
+    cl_mem out_buffer = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sizeof device_out, NULL, &err);
+    assert_int_equal(err, CL_SUCCESS);
+    cl_uint count = points;
+    size_t global = points;
+    int exact_kinds = 0;
+    for (int k = 0; k < kinds; ++k) {
+        cl_int first = k;
+        assert_int_equal(clSetKernelArg(kernel, 0, sizeof node_buffer, &node_buffer), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 1, sizeof(cl_mem), NULL), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 2, sizeof(cl_mem), NULL), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 3, sizeof first, &first), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 4, sizeof context_buffer, &context_buffer), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 5, sizeof out_buffer, &out_buffer), CL_SUCCESS);
+        assert_int_equal(clSetKernelArg(kernel, 6, sizeof count, &count), CL_SUCCESS);
+        assert_int_equal(clEnqueueNDRangeKernel(test_device.queue, kernel, 1, NULL, &global, NULL, 0, NULL, NULL),
+                         CL_SUCCESS);
+        assert_int_equal(clEnqueueReadBuffer(test_device.queue, out_buffer, CL_TRUE, 0, sizeof device_out, device_out,
+                                             0, NULL, NULL),
+                         CL_SUCCESS);
+        TextureArrays a = arrays_of(nodes, NULL, NULL);
+        size_t differ = 0;
+        double largest = 0.0;
+        for (int i = 0; i < points; ++i) {
+            const float *c = contexts + 12 * i;
+            TextureContext tc = {vec3(c[0], c[1], c[2]), vec3(c[3], c[4], c[5]), c[6], c[7], c[8], c[9]};
+            Vec3 host = texture_evaluate(&a, k, &tc);
+            const float h[3] = {host.x, host.y, host.z};
+            for (int j = 0; j < 3; ++j) {
+                differ += memcmp(&h[j], &device_out[3 * i + j], sizeof h[j]) != 0;
+                largest = fmax(largest, fabs((double)h[j] - device_out[3 * i + j]));
+            }
+        }
+        printf("  texture type %u on %s: %zu of %d values differ from the host's, by at most %.3g\n", nodes[k].type,
+               test_device.info.name, differ, 3 * points, largest);
+        if (nodes[k].type == TEXTURE_MARBLE)
+            assert_true(largest < 1e-6);
+        else
+            assert_int_equal(differ, 0);
+        exact_kinds += differ == 0;
+    }
+    assert_true(exact_kinds >= kinds - 1);
+    clReleaseMemObject(node_buffer);
+    clReleaseMemObject(context_buffer);
+    clReleaseMemObject(out_buffer);
+    clReleaseKernel(kernel);
+    clReleaseProgram(program);
+}
+
 int main(void)
 {
     const struct CMUnitTest host[] = {
-        cmocka_unit_test(test_nearest_and_wrap),       cmocka_unit_test(test_bilinear),
-        cmocka_unit_test(test_srgb_bytes_and_pyramid), cmocka_unit_test(test_mip_level_at_distance),
-        cmocka_unit_test(test_procedural_textures),    cmocka_unit_test(test_mappings),
-        cmocka_unit_test(test_scene_textures),         cmocka_unit_test(test_bad_textures),
+        cmocka_unit_test(test_nearest_and_wrap),
+        cmocka_unit_test(test_bilinear),
+        cmocka_unit_test(test_srgb_bytes_and_pyramid),
+        cmocka_unit_test(test_mip_level_at_distance),
+        cmocka_unit_test(test_procedural_textures),
+        cmocka_unit_test(test_noise_properties),
+        cmocka_unit_test(test_procedural_noise_textures),
+        cmocka_unit_test(test_dots),
+        cmocka_unit_test(test_mappings),
+        cmocka_unit_test(test_scene_textures),
+        cmocka_unit_test(test_bad_textures),
+        cmocka_unit_test(test_alpha_texture_rays),
     };
     const struct CMUnitTest device[] = {
         cmocka_unit_test(test_constant_displacement_changes_nothing),
         cmocka_unit_test(test_flat_normal_map_is_no_normal_map),
         cmocka_unit_test(test_checkerboard_on_device),
+        cmocka_unit_test(test_procedural_textures_on_device),
+        cmocka_unit_test(test_procedural_material_renders),
     };
     int failed = cmocka_run_group_tests_name("host", host, setup, teardown);
     if (setup(NULL))

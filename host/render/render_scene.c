@@ -230,10 +230,12 @@ int render_scene_add_instance(RenderScene *scene, int object, const double world
     return 0;
 }
 
-int render_scene_set_alpha(RenderScene *scene, float alpha)
+int render_scene_set_alpha(RenderScene *scene, float alpha, int texture)
 {
+    if (texture >= 0)
+        alpha = 1.0f; /* unused: one slot per texture */
     int slot = scene->alpha_count - 1;
-    while (slot >= 0 && (scene->alphas[slot].value != alpha || scene->alphas[slot].texture >= 0))
+    while (slot >= 0 && (scene->alphas[slot].value != alpha || scene->alphas[slot].texture != texture))
         --slot;
     if (slot < 0) {
         if (scene->alpha_count >= (int)PRIM_MAX_ALPHA_SLOTS ||
@@ -241,7 +243,7 @@ int render_scene_set_alpha(RenderScene *scene, float alpha)
             return -1;
         slot = scene->alpha_count++;
         scene->alphas[slot].value = alpha;
-        scene->alphas[slot].texture = -1;
+        scene->alphas[slot].texture = texture;
     }
     Primitive *p = &scene->primitives[scene->primitive_count - 1];
     p->kind = (p->kind & ((1u << PRIM_ALPHA_SHIFT) - 1u)) | PRIM_ALPHA | (uint32_t)slot << PRIM_ALPHA_SHIFT;
@@ -849,6 +851,9 @@ uint64_t render_scene_features(const RenderScene *scene)
         if (scene->primitives[i].kind & PRIM_ALPHA)
             features |= FEATURE_ALPHA;
     }
+    for (int i = 0; i < scene->alpha_count; ++i)
+        if (scene->alphas[i].texture >= 0)
+            features |= FEATURE_ALPHA_TEXTURE;
     if (scene->instance_count > 0)
         features |= FEATURE_INSTANCING;
     static const uint64_t by_type[] = {

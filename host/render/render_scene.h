@@ -112,9 +112,11 @@ int render_scene_add_instance(RenderScene *scene, int object, const double world
                               size_t error_size);
 
 /* Makes the primitive just added a cut-out of alpha `alpha` in [0, 1)
- * (pbrt-v4's "float alpha"; 1 is opaque and needs no call). Returns 0, or
- * -1 when out of memory or past PRIM_MAX_ALPHA_SLOTS distinct alphas. */
-int render_scene_set_alpha(RenderScene *scene, float alpha);
+ * (pbrt-v4's "float alpha"; 1 is opaque and needs no call), or with
+ * texture >= 0 of the float texture program starting at that node
+ * ("texture alpha"; alpha is then ignored). Returns 0, or -1 when out of
+ * memory or past PRIM_MAX_ALPHA_SLOTS distinct alphas. */
+int render_scene_set_alpha(RenderScene *scene, float alpha, int texture);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform
  * infinite: Light's fields as scene_types.h describes them; pick fields are

@@ -150,6 +150,11 @@ static int emit_texture(TextureConversion *c, int i, TextureNode *nodes, int *co
         [SCENE_TEXTURE_MIX] = TEXTURE_MIX,
         [SCENE_TEXTURE_DIRECTION_MIX] = TEXTURE_DIRECTION_MIX,
         [SCENE_TEXTURE_BILERP] = TEXTURE_BILERP,
+        [SCENE_TEXTURE_DOTS] = TEXTURE_DOTS,
+        [SCENE_TEXTURE_FBM] = TEXTURE_FBM,
+        [SCENE_TEXTURE_WRINKLED] = TEXTURE_WRINKLED,
+        [SCENE_TEXTURE_WINDY] = TEXTURE_WINDY,
+        [SCENE_TEXTURE_MARBLE] = TEXTURE_MARBLE,
     };
     static const uint32_t mappings[] = {
         [SCENE_MAPPING_UV] = TEXTURE_MAP_UV,
@@ -188,6 +193,12 @@ static int emit_texture(TextureConversion *c, int i, TextureNode *nodes, int *co
     if (t->texture_class == SCENE_TEXTURE_BILERP)
         for (int k = 0; k < 4; ++k)
             memcpy(node.value[k], t->bilerp[k], sizeof t->bilerp[k]);
+    if (t->texture_class >= SCENE_TEXTURE_FBM) { /* the noise textures */
+        node.value[3][0] = t->omega;
+        node.value[3][1] = t->variation;
+        node.value[3][2] = (float)t->octaves;
+        node.scale = t->scale;
+    }
     if (t->texture_class == SCENE_TEXTURE_IMAGE) {
         node.wrap = wraps[t->wrap];
         node.filter = filters[t->filter];
@@ -221,9 +232,12 @@ static int texture_program(TextureConversion *c, int i)
     return c->program[i];
 }
 
-/* The materials' texture programs. Returns 0 or -1. */
-static int convert_textures(const Scene *scene, RenderScene *out, char *error, size_t error_size)
+/* The materials' texture programs, and alpha_programs[i] for each shape
+ * i: its "texture alpha" program's first node, or -1. Returns 0 or -1. */
+static int convert_textures(const Scene *scene, RenderScene *out, int *alpha_programs, char *error, size_t error_size)
 {
+    for (size_t i = 0; i < scene->shape_count; ++i)
+        alpha_programs[i] = -1;
     if (scene->texture_count == 0)
         return 0;
     TextureConversion c = {scene,
@@ -260,6 +274,8 @@ static int convert_textures(const Scene *scene, RenderScene *out, char *error, s
             failed = 1;
         }
     }
+    for (size_t i = 0; i < scene->shape_count && !failed; ++i)
+        failed = (alpha_programs[i] = texture_program(&c, scene->shapes[i].alpha_texture)) == -2;
     free(c.images);
     free(c.loaded);
     free(c.program);
@@ -494,8 +510,9 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
 }
 
 /* Adds shape `index`'s triangles or sphere (with its area light's
- * emission, its alpha). Returns 0, or 1 when out of memory. */
-static int add_shape(const Scene *scene, size_t index, float (*emission)[3], RenderScene *out)
+ * emission, its alpha: alpha_program its alpha texture's program or -1).
+ * Returns 0, or 1 when out of memory. */
+static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int alpha_program, RenderScene *out)
 {
     const SceneShape *shape = &scene->shapes[index];
     if (is_interface(scene, shape))
@@ -531,7 +548,8 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], Ren
                 failed = render_scene_set_uvs(out, uv) != 0;
             }
         }
-        failed = failed || (shape->alpha < 1.0f && render_scene_set_alpha(out, shape->alpha) != 0);
+        failed = failed || ((shape->alpha < 1.0f || alpha_program >= 0) &&
+                            render_scene_set_alpha(out, shape->alpha, alpha_program) != 0);
     }
     return failed;
 }
@@ -539,14 +557,14 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], Ren
 /* The objects (their shapes have no area lights: the scene reader drops
  * them) and their instances. Returns 0, 1 when out of memory, or -1 with a
  * message. */
-static int add_objects(const Scene *scene, RenderScene *out, char *error, size_t error_size)
+static int add_objects(const Scene *scene, const int *alpha_programs, RenderScene *out, char *error, size_t error_size)
 {
     for (size_t k = 0; k < scene->object_count; ++k) {
         const SceneObject *object = &scene->objects[k];
         if (render_scene_begin_object(out) < 0)
             return 1;
         for (size_t i = object->first_shape; i < object->first_shape + object->shape_count; ++i)
-            if (add_shape(scene, i, NULL, out))
+            if (add_shape(scene, i, NULL, alpha_programs[i], out))
                 return 1;
         render_scene_end_object(out);
     }
@@ -629,7 +647,11 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         Material m = convert_material(&scene.materials[i]);
         failed = render_scene_add_material(out, &m) < 0;
     }
-    if (!failed && convert_textures(&scene, out, error, error_size)) {
+    int *alpha_programs = malloc((scene.shape_count ? scene.shape_count : 1) * sizeof *alpha_programs);
+    if (!failed && (!alpha_programs || convert_textures(&scene, out, alpha_programs, error, error_size))) {
+        if (!alpha_programs)
+            snprintf(error, error_size, "%s: out of memory converting the scene", path);
+        free(alpha_programs);
         render_scene_destroy(out);
         return -1;
     }
@@ -640,9 +662,10 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     for (int spheres = 0; spheres < 2; ++spheres)
         for (size_t i = 0; i < scene.shape_count && !failed; ++i)
             if (scene.shapes[i].object < 0 && (scene.shapes[i].kind == SCENE_SHAPE_SPHERE) == spheres)
-                failed = add_shape(&scene, i, emission, out);
-    failed = failed || add_objects(&scene, out, error, error_size);
+                failed = add_shape(&scene, i, emission, alpha_programs[i], out);
+    failed = failed || add_objects(&scene, alpha_programs, out, error, error_size);
     free(emission);
+    free(alpha_programs);
     if (failed < 0) {
         render_scene_destroy(out);
         return -1;

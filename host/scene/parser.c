@@ -371,6 +371,7 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
     shape->count = count;
     shape->object = p->object;
     shape->alpha = 1.0f;
+    shape->alpha_texture = -1;
     if (p->state.has_area_light && p->object < 0) {
         if (scene_reserve((void **)&s->area_lights, &p->area_light_capacity, s->area_light_count + 1,
                           sizeof *s->area_lights))
@@ -2209,22 +2210,16 @@ static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *p
     return result;
 }
 
-/* A shape's "float alpha" (pbrt-v4's cut-out; default 1, opaque). A
- * "texture alpha" is the hook for alpha textures: unsupported until the
- * kernels evaluate textures (the shape stays opaque). */
-static int shape_alpha(Parser *p, ParamList *params, float *alpha)
+/* A shape's "float alpha" (pbrt-v4's cut-out; default 1, opaque) or
+ * "texture alpha" (a float texture, *texture its index; else -1). */
+static int shape_alpha(Parser *p, ParamList *params, float *alpha, int *texture)
 {
     for (size_t i = 0; i < params->count; ++i) {
         Param *param = &params->items[i];
         if (strcmp(param->name, "alpha") != 0)
             continue;
-        if (param->type == PARAM_TEXTURE) {
-            param->used = 1;
-            return scene_unsupported(&p->diag, params->file, param->line, "the shape is opaque",
-                                     "%s: \"texture alpha\" \"%s\": alpha textures are not supported yet, only "
-                                     "\"float alpha\"",
-                                     params->owner, param->count > 0 ? param->strings[0] : "");
-        }
+        if (param->type == PARAM_TEXTURE)
+            return scene_texture_param(&p->diag, p->scene, params, "alpha", 0, texture) < 0 ? -1 : 0;
         if (params_get_float(params, "alpha", alpha) < 0)
             return -1;
         if (!isfinite(*alpha))
@@ -2250,8 +2245,9 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
         result = warn_if_moving(p, lex, d);
     size_t shapes_before = p->scene->shape_count;
     float alpha = 1.0f;
+    int alpha_texture = -1;
     if (result == 0)
-        result = shape_alpha(p, &params, &alpha);
+        result = shape_alpha(p, &params, &alpha, &alpha_texture);
     if (result == 0 && p->object >= 0 && p->state.has_area_light)
         result = scene_warn(&p->diag, lex->path, d->line,
                             "%s: an area light inside ObjectBegin is ignored (the shape does not emit), as pbrt-v4 "
@@ -2277,8 +2273,10 @@ static int on_shape(Parser *p, Lexer *lex, const Token *d)
                                        "bilinearmesh, loopsubdiv)",
                                        params.owner);
     }
-    for (size_t i = shapes_before; result == 0 && i < p->scene->shape_count; ++i)
+    for (size_t i = shapes_before; result == 0 && i < p->scene->shape_count; ++i) {
         p->scene->shapes[i].alpha = alpha;
+        p->scene->shapes[i].alpha_texture = alpha_texture;
+    }
     params_free(&params);
     return result;
 }

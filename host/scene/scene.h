@@ -154,6 +154,11 @@ typedef enum {
     SCENE_TEXTURE_MIX,
     SCENE_TEXTURE_DIRECTION_MIX,
     SCENE_TEXTURE_BILERP,
+    SCENE_TEXTURE_DOTS,
+    SCENE_TEXTURE_FBM,
+    SCENE_TEXTURE_WRINKLED,
+    SCENE_TEXTURE_WINDY,
+    SCENE_TEXTURE_MARBLE,
 } SceneTextureClass;
 
 typedef enum {
@@ -191,6 +196,9 @@ typedef struct {
     float texture_from_world[3][4];
     SceneTextureInput input[3];
     float bilerp[4][3]; /* v00 v01 v10 v11 */
+    /* fbm, wrinkled, marble: "octaves", "roughness" (omega); marble: "variation" (and scale) */
+    int octaves;
+    float omega, variation;
     float direction[3]; /* directionmix: unit, world space */
     /* imagemap */
     char *filename; /* resolved */
@@ -222,8 +230,9 @@ typedef struct {
     int has_uvs;  /* its vertices have texture coordinates in Scene.uvs (pbrt's own for the tessellated shapes) */
     size_t first; /* triangles [first, first + count); a sphere: its index, count 1 */
     size_t count;
-    int object;  /* the object (Scene.objects) it belongs to, or -1: the world's */
-    float alpha; /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
+    int object;        /* the object (Scene.objects) it belongs to, or -1: the world's */
+    float alpha;       /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
+    int alpha_texture; /* "texture alpha": a float texture (Scene.textures) in place of alpha, or -1 */
 } SceneShape;
 
 /* ObjectBegin "name" ... ObjectEnd: shapes [first_shape, first_shape +

@@ -276,12 +276,57 @@ static int read_class(Diagnostics *diag, const Scene *scene, const char *texture
         t->texture_class = SCENE_TEXTURE_IMAGE;
         return read_image(diag, params, line, t, skipped) || read_mapping(diag, params, line, texture_from_world, t);
     }
-    /* dots, fbm, wrinkled, windy, marble, ptex, ...: a constant stands in. */
+    if (strcmp(texture_class, "dots") == 0) {
+        t->texture_class = SCENE_TEXTURE_DOTS;
+        return read_input(diag, scene, params, "inside", spectrum, 1.0f, &t->input[0]) ||
+               read_input(diag, scene, params, "outside", spectrum, 0.0f, &t->input[1]) ||
+               read_mapping(diag, params, line, texture_from_world, t);
+    }
+    static const struct {
+        const char *name;
+        SceneTextureClass texture_class;
+        int is_spectrum; /* pbrt-v4 has these of one type only */
+    } noise[] = {{"fbm", SCENE_TEXTURE_FBM, 0},
+                 {"wrinkled", SCENE_TEXTURE_WRINKLED, 0},
+                 {"windy", SCENE_TEXTURE_WINDY, 0},
+                 {"marble", SCENE_TEXTURE_MARBLE, 1}};
+    for (size_t i = 0; i < sizeof noise / sizeof noise[0]; ++i) {
+        if (strcmp(texture_class, noise[i].name) != 0)
+            continue;
+        if (spectrum != noise[i].is_spectrum)
+            return scene_error(diag, params->file, line, "%s: \"%s\" is a %s texture in pbrt-v4, not a %s one",
+                               params->owner, texture_class, noise[i].is_spectrum ? "spectrum" : "float",
+                               spectrum ? "spectrum" : "float");
+        t->texture_class = noise[i].texture_class;
+        t->mapping = SCENE_MAPPING_3D;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c)
+                t->texture_from_world[r][c] = texture_from_world[c][r];
+        t->octaves = 8;
+        t->omega = 0.5f;
+        t->scale = 1.0f;
+        t->variation = 0.2f;
+        if (t->texture_class == SCENE_TEXTURE_WINDY)
+            return 0;
+        if (params_get_int(params, "octaves", &t->octaves) < 0 ||
+            params_get_float(params, "roughness", &t->omega) < 0 ||
+            (t->texture_class == SCENE_TEXTURE_MARBLE && (params_get_float(params, "scale", &t->scale) < 0 ||
+                                                          params_get_float(params, "variation", &t->variation) < 0)))
+            return -1;
+        if (t->octaves < 0 || t->octaves > 64)
+            return scene_error(diag, params->file, line, "%s: \"octaves\" %d: expected 0 to 64", params->owner,
+                               t->octaves);
+        if (!isfinite(t->omega) || !isfinite(t->scale) || !isfinite(t->variation))
+            return scene_error(diag, params->file, line,
+                               "%s: \"roughness\", \"scale\" and \"variation\" must be finite", params->owner);
+        return 0;
+    }
+    /* ptex, ...: a constant stands in. */
     t->texture_class = SCENE_TEXTURE_CONSTANT;
     t->input[0].value[0] = t->input[0].value[1] = t->input[0].value[2] = 0.5f;
     if (scene_unsupported(diag, params->file, line, "a constant 0.5 is used instead",
                           "%s: texture class \"%s\" is not supported (constant, scale, mix, directionmix, "
-                          "checkerboard, bilerp, imagemap)",
+                          "checkerboard, bilerp, imagemap, dots, fbm, wrinkled, windy, marble)",
                           params->owner, texture_class))
         return -1;
     for (size_t i = 0; i < params->count; ++i)
