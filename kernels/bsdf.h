@@ -907,18 +907,23 @@ KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, fl
  * and the BSDF sample of a hit use the same BSDF, and the mixture is
  * unbiased. amount 0 or 1 takes its material without the hash. ---- */
 
+/* One mix's component for `amount` (its own or its texture's at the hit). */
+KERNEL_FN const GLOBAL Material *mix_choose(const GLOBAL Material *materials, const GLOBAL Material *m, float amount,
+                                            Vec3 p, Vec3 wo)
+{
+    int pick = amount >= 1.0f;
+    if (amount > 0.0f && amount < 1.0f) {
+        WalkRng hash = walk_rng(p, wo);
+        pick = rng_uniform(hash.key, (uint32_t)(m - materials)) < amount;
+    }
+    return materials + m->mix_materials[pick];
+}
+
 KERNEL_FN const GLOBAL Material *mix_resolve(const GLOBAL Material *materials, const GLOBAL Material *m, Vec3 p,
                                              Vec3 wo)
 {
-    for (int level = 0; level < MIX_MAX_NESTING && m->type == MAT_MIX; ++level) {
-        float amount = m->mix_amount;
-        int pick = amount >= 1.0f;
-        if (amount > 0.0f && amount < 1.0f) {
-            WalkRng hash = walk_rng(p, wo);
-            pick = rng_uniform(hash.key, (uint32_t)(m - materials)) < amount;
-        }
-        m = materials + m->mix_materials[pick];
-    }
+    for (int level = 0; level < MIX_MAX_NESTING && m->type == MAT_MIX; ++level)
+        m = mix_choose(materials, m, m->mix_amount, p, wo);
     return m;
 }
 

@@ -108,21 +108,29 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         if (depth >= integrator->max_depth)
             break;
 
+        /* The BSDF's frame is the shading normal's; rays leave by the
+         * geometric one. */
+        Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
         __global const Material *material_stored = scene->materials + prim->material;
-        if (GMON_HAS_MIX)
+#if GMON_HAS_TEXTURES
+        cone_width += cone_spread * hit.t;
+        float footprint = cone_width / fmax(fabs(v_dot(n, direction)), 0.01f);
+        int textured = (integrator->flags & RENDER_TEXTURES) != 0;
+        /* A mix's textured amount is the texture's at this hit. */
+        if (GMON_HAS_MIX && textured)
+            material_stored = mix_resolve_at_hit(scene, material_stored, &hit, prim, p, wo_world, ns, footprint);
+#else
+        const int textured = 0;
+#endif
+        if (GMON_HAS_MIX && !textured)
             material_stored = mix_resolve(scene->materials, material_stored, p, wo_world);
         /* A private copy: textures give some of its parameters. */
         Material material_at_hit = *material_stored;
         const Material *material = &material_at_hit;
-        /* The BSDF's frame is the shading normal's; rays leave by the
-         * geometric one. */
-        Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
 #if GMON_HAS_TEXTURES
-        cone_width += cone_spread * hit.t;
-        float cos_hit = fabs(v_dot(n, direction));
-        if (integrator->flags & RENDER_TEXTURES)
-            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p,
-                                    cone_width / fmax(cos_hit, 0.01f), &material_at_hit, &ns);
+        if (textured)
+            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p, footprint,
+                                    &material_at_hit, &ns);
 #endif
         v_basis(ns, &s, &t);
         Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));

@@ -212,15 +212,20 @@ typedef struct {
 
 /* A material's parameters given by textures (materials[i]'s at
  * material_textures[i]): a texture program's first node, or -1 for the
- * Material's constant. Present only when the scene has textures. 48 bytes. */
+ * Material's constant. Present only when the scene has textures. 80 bytes. */
 typedef struct {
-    int32_t reflectance;  /* diffuse and coated albedo; a conductor's "reflectance" */
+    int32_t reflectance;  /* diffuse, coated and diffuse transmission albedo; a conductor's "reflectance" */
     int32_t roughness[2]; /* u, v (pbrt's roughness: remapped to alpha when remap_roughness) */
     int32_t eta;          /* dielectric, coating */
     int32_t conductor_eta, conductor_k;
-    int32_t displacement; /* bump mapping */
-    int32_t normal_map;   /* an RGB image of tangent-space normals */
+    int32_t displacement;         /* bump mapping */
+    int32_t normal_map;           /* an RGB image of tangent-space normals */
+    int32_t transmittance;        /* diffuse transmission */
+    int32_t mix_amount;           /* mix: evaluated at the hit before the choice (mix_resolve_at_hit) */
+    int32_t thickness, g, albedo; /* the coated ones' layer and medium */
+    int32_t base_roughness[2];    /* coated conductor: the conductor's u, v */
     uint32_t remap_roughness;
+    float scale; /* diffuse transmission: its "scale" on its textured reflectance and transmittance */
     uint32_t pad[3];
 } MaterialTextures;
 
@@ -406,7 +411,7 @@ _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layou
 _Static_assert(sizeof(BvhNode) == 288, "BvhNode must match the kernel's layout");
 _Static_assert(sizeof(Material) == 128, "Material must match the kernel's layout");
 _Static_assert(sizeof(TextureNode) == 224, "TextureNode must match the kernel's layout");
-_Static_assert(sizeof(MaterialTextures) == 48, "MaterialTextures must match the kernel's layout");
+_Static_assert(sizeof(MaterialTextures) == 80, "MaterialTextures must match the kernel's layout");
 _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout");
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");

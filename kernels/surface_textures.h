@@ -155,8 +155,9 @@ KERNEL_FN void material_apply_textures(const Scene *scene, int32_t material, con
 {
     __global const MaterialTextures *t = scene->material_textures + material;
     if ((t->reflectance & t->roughness[0] & t->roughness[1] & t->eta & t->conductor_eta & t->conductor_k &
-         t->displacement & t->normal_map) < 0)
-        return; /* every slot -1: an untextured material */
+         t->displacement & t->normal_map & t->transmittance & t->thickness & t->g & t->albedo & t->base_roughness[0] &
+         t->base_roughness[1]) < 0)
+        return; /* every slot -1 (mix_amount is mix_resolve_at_hit's): an untextured material */
     SurfaceUv uv = surface_uv(scene, hit, prim, p);
     TextureContext c = surface_texture_context(&uv, p, *ns, footprint);
     TextureArrays a = scene_texture_arrays(scene);
@@ -169,7 +170,8 @@ KERNEL_FN void material_apply_textures(const Scene *scene, int32_t material, con
         c.n = *ns;
     }
     if (t->reflectance >= 0) {
-        Vec3 r = texture_evaluate(&a, t->reflectance, &c);
+        /* scale: diffuse transmission's "scale" (1 for the others) */
+        Vec3 r = v_scale(texture_evaluate(&a, t->reflectance, &c), t->scale);
         r = vec3(clamp01(r.x), clamp01(r.y), clamp01(r.z));
         m->reflectance[0] = r.x;
         m->reflectance[1] = r.y;
@@ -198,6 +200,48 @@ KERNEL_FN void material_apply_textures(const Scene *scene, int32_t material, con
         m->conductor_k[1] = k.y;
         m->conductor_k[2] = k.z;
     }
+    if (t->transmittance >= 0) {
+        Vec3 r = v_scale(texture_evaluate(&a, t->transmittance, &c), t->scale);
+        m->transmittance[0] = clamp01(r.x);
+        m->transmittance[1] = clamp01(r.y);
+        m->transmittance[2] = clamp01(r.z);
+    }
+    if (t->base_roughness[0] >= 0)
+        m->base_alpha_x = roughness_to_alpha(texture_evaluate_float(&a, t->base_roughness[0], &c), t->remap_roughness);
+    if (t->base_roughness[1] >= 0)
+        m->base_alpha_y = roughness_to_alpha(texture_evaluate_float(&a, t->base_roughness[1], &c), t->remap_roughness);
+    /* The layer as pbrt-v4: thickness at least the smallest normal float,
+     * albedo clamped to [0, 1]; g kept within [-1, 1] (0 for NaN), where
+     * the Henyey-Greenstein phase function is defined. */
+    if (t->thickness >= 0)
+        m->thickness = fmax(texture_evaluate_float(&a, t->thickness, &c), FLT_MIN);
+    if (t->g >= 0) {
+        float g = texture_evaluate_float(&a, t->g, &c);
+        m->g = g >= -1.0f ? (g <= 1.0f ? g : 1.0f) : (g < -1.0f ? -1.0f : 0.0f);
+    }
+    if (t->albedo >= 0) {
+        Vec3 albedo = texture_evaluate(&a, t->albedo, &c);
+        m->albedo[0] = clamp01(albedo.x);
+        m->albedo[1] = clamp01(albedo.y);
+        m->albedo[2] = clamp01(albedo.z);
+    }
+}
+
+/* mix_resolve with each mix's textured "amount" evaluated at the hit (as
+ * pbrt-v4's MixMaterial::ChooseMaterial: before the choice, so that the
+ * chance is the texture's there). n: the shading normal, footprint as for
+ * surface_texture_context. */
+KERNEL_FN __global const Material *mix_resolve_at_hit(const Scene *scene, __global const Material *m, const Hit *hit,
+                                                      __global const Primitive *prim, Vec3 p, Vec3 wo, Vec3 n,
+                                                      float footprint)
+{
+    for (int level = 0; level < MIX_MAX_NESTING && m->type == MAT_MIX; ++level) {
+        int32_t amount_texture = scene->material_textures[m - scene->materials].mix_amount;
+        float amount =
+            amount_texture < 0 ? m->mix_amount : scene_texture_float(scene, amount_texture, hit, prim, p, n, footprint);
+        m = mix_choose(scene->materials, m, amount, p, wo);
+    }
+    return m;
 }
 
 #endif

@@ -913,7 +913,8 @@ uint64_t render_scene_features(const RenderScene *scene)
         const MaterialTextures *t = &scene->material_textures[i];
         features |= t->displacement >= 0 ? FEATURE_BUMP_MAP : 0;
         features |= t->normal_map >= 0 ? FEATURE_NORMAL_MAP : 0;
-        if (scene->materials[i].type != MAT_DIFFUSE && (t->roughness[0] >= 0 || t->roughness[1] >= 0))
+        if ((scene->materials[i].type != MAT_DIFFUSE && (t->roughness[0] >= 0 || t->roughness[1] >= 0)) ||
+            t->base_roughness[0] >= 0 || t->base_roughness[1] >= 0)
             features |= FEATURE_ROUGH;
     }
     return features;

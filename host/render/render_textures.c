@@ -36,7 +36,8 @@ int render_scene_add_texture_program(RenderScene *scene, const TextureNode *node
     return first;
 }
 
-static const MaterialTextures no_textures = {-1, {-1, -1}, -1, -1, -1, -1, -1, 0, {0, 0, 0}};
+static const MaterialTextures no_textures = {-1, {-1, -1}, -1, -1, -1,       -1, -1,   -1,
+                                             -1, -1,       -1, -1, {-1, -1}, 0,  1.0f, {0, 0, 0}};
 
 /* Extends the table to cover `count` materials, new ones untextured. */
 static int cover_materials(RenderScene *scene, int count)

@@ -267,7 +267,14 @@ static int convert_textures(const Scene *scene, RenderScene *out, int *alpha_pro
                               first[SCENE_SLOT_CONDUCTOR_K],
                               first[SCENE_SLOT_DISPLACEMENT],
                               first[SCENE_SLOT_NORMAL_MAP],
+                              first[SCENE_SLOT_TRANSMITTANCE],
+                              first[SCENE_SLOT_MIX_AMOUNT],
+                              first[SCENE_SLOT_THICKNESS],
+                              first[SCENE_SLOT_G],
+                              first[SCENE_SLOT_ALBEDO],
+                              {first[SCENE_SLOT_BASE_ROUGHNESS_U], first[SCENE_SLOT_BASE_ROUGHNESS_V]},
                               (uint32_t)m->remap_roughness,
+                              m->scale,
                               {0, 0, 0}};
         if (!failed && any && render_scene_set_material_textures(out, (int)i, &t)) {
             snprintf(error, error_size, "out of memory for the textures");

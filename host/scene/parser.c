@@ -334,6 +334,7 @@ static void default_material(SceneMaterial *m)
     m->eta = 1.5f;
     m->remap_roughness = 1;
     m->mix_amount = 0.5f;
+    m->scale = 1.0f;
     m->thickness = 0.01f;
     m->max_depth = 10;
     m->sample_count = 1;
@@ -574,24 +575,23 @@ static int read_bump(Parser *p, ParamList *params, SceneMaterial *m, int line)
 
 /* "<prefix>roughness" or "<prefix>uroughness"/"<prefix>vroughness"
  * (pbrt-v4's names, prefix "" or "interface." / "conductor."; pbrt-v4
- * prefers u and v). With `textured`, each may be a float texture
- * (m->textures' roughness slots); else constants only. */
+ * prefers u and v), each a constant or a float texture (m->textures' slots
+ * `slot_u` and the one after it, for v). */
 static int read_roughness(Parser *p, ParamList *params, SceneMaterial *m, const char *prefix, float roughness[2],
-                          int textured, int line)
+                          SceneMaterialSlot slot_u_index, int line)
 {
+    SceneMaterialSlot slot_v_index = (SceneMaterialSlot)(slot_u_index + 1);
     char names[3][64];
     snprintf(names[0], sizeof names[0], "%sroughness", prefix);
     snprintf(names[1], sizeof names[1], "%suroughness", prefix);
     snprintf(names[2], sizeof names[2], "%svroughness", prefix);
-    int *slot_u = &m->textures[SCENE_SLOT_ROUGHNESS_U], *slot_v = &m->textures[SCENE_SLOT_ROUGHNESS_V];
-    if (textured) {
-        if (read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_U, names[0], 0) < 0)
-            return -1;
-        *slot_v = *slot_u;
-        if (read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_U, names[1], 0) < 0 ||
-            read_slot(p, params, m, SCENE_SLOT_ROUGHNESS_V, names[2], 0) < 0)
-            return -1;
-    }
+    int *slot_u = &m->textures[slot_u_index], *slot_v = &m->textures[slot_v_index];
+    if (read_slot(p, params, m, slot_u_index, names[0], 0) < 0)
+        return -1;
+    *slot_v = *slot_u;
+    if (read_slot(p, params, m, slot_u_index, names[1], 0) < 0 ||
+        read_slot(p, params, m, slot_v_index, names[2], 0) < 0)
+        return -1;
     float r = 0.0f;
     if (params_get_float(params, names[0], &r) < 0)
         return -1;
@@ -600,9 +600,9 @@ static int read_roughness(Parser *p, ParamList *params, SceneMaterial *m, const 
     int constant_v = params_get_float(params, names[2], &roughness[1]);
     if (constant_u < 0 || constant_v < 0)
         return -1;
-    if (textured && constant_u > 0)
+    if (constant_u > 0)
         *slot_u = -1;
-    if (textured && constant_v > 0)
+    if (constant_v > 0)
         *slot_v = -1;
     if (roughness[0] < 0.0f || roughness[1] < 0.0f)
         return scene_error(&p->diag, params->file, line, "%s: roughness must not be negative", params->owner);
@@ -647,11 +647,14 @@ static int read_conductor(Parser *p, ParamList *params, const char *prefix, Scen
 }
 
 /* The layered BSDF's parameters of the coated materials (pbrt-v4's
- * defaults: thickness 0.01, no medium, g 0, maxdepth 10, nsamples 1). */
+ * defaults: thickness 0.01, no medium, g 0, maxdepth 10, nsamples 1);
+ * thickness, g and albedo may be textures. */
 static int read_layers(ParamList *params, SceneMaterial *m, int line, Parser *p)
 {
-    if (params_get_float(params, "thickness", &m->thickness) < 0 || params_get_float(params, "g", &m->g) < 0 ||
-        params_get_spectrum(params, "albedo", SPECTRUM_ALBEDO, m->albedo) < 0 ||
+    if (read_slot(p, params, m, SCENE_SLOT_THICKNESS, "thickness", 0) < 0 ||
+        read_slot(p, params, m, SCENE_SLOT_G, "g", 0) < 0 ||
+        read_spectrum_slot(p, params, m, SCENE_SLOT_ALBEDO, "albedo", SPECTRUM_ALBEDO, m->albedo, NULL) ||
+        params_get_float(params, "thickness", &m->thickness) < 0 || params_get_float(params, "g", &m->g) < 0 ||
         params_get_int(params, "maxdepth", &m->max_depth) < 0 ||
         params_get_int(params, "nsamples", &m->sample_count) < 0 ||
         params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
@@ -701,7 +704,8 @@ static int read_mix(Parser *p, ParamList *params, int line, SceneMaterial *m)
             return scene_error(&p->diag, params->file, line, "%s: mixes nested deeper than %d", params->owner,
                                SCENE_MIX_MAX_NESTING);
     }
-    if (params_get_float(params, "amount", &m->mix_amount) < 0)
+    if (read_slot(p, params, m, SCENE_SLOT_MIX_AMOUNT, "amount", 0) < 0 ||
+        params_get_float(params, "amount", &m->mix_amount) < 0)
         return -1;
     return 0;
 }
@@ -723,45 +727,54 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         if (read_slot(p, params, m, SCENE_SLOT_ETA, "eta", 0) < 0 || read_eta(params, "eta", &m->eta, line, p))
             return -1;
         if (m->type == SCENE_MATERIAL_DIELECTRIC &&
-            (read_roughness(p, params, m, "", m->roughness, 1, line) ||
+            (read_roughness(p, params, m, "", m->roughness, SCENE_SLOT_ROUGHNESS_U, line) ||
              params_get_bool(params, "remaproughness", &m->remap_roughness) < 0))
             return -1;
     } else if (strcmp(type, "conductor") == 0) {
         m->type = SCENE_MATERIAL_CONDUCTOR;
         memset(m->reflectance, 0, sizeof m->reflectance);
-        if (read_conductor(p, params, "", m, line) || read_roughness(p, params, m, "", m->roughness, 1, line) ||
+        if (read_conductor(p, params, "", m, line) ||
+            read_roughness(p, params, m, "", m->roughness, SCENE_SLOT_ROUGHNESS_U, line) ||
             params_get_bool(params, "remaproughness", &m->remap_roughness) < 0)
             return -1;
     } else if (strcmp(type, "coateddiffuse") == 0) {
         m->type = SCENE_MATERIAL_COATED_DIFFUSE;
         if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
                                NULL) ||
-            read_eta(params, "eta", &m->eta, line, p) || read_roughness(p, params, m, "", m->roughness, 1, line) ||
+            read_eta(params, "eta", &m->eta, line, p) ||
+            read_roughness(p, params, m, "", m->roughness, SCENE_SLOT_ROUGHNESS_U, line) ||
             read_layers(params, m, line, p))
             return -1;
     } else if (strcmp(type, "coatedconductor") == 0) {
         m->type = SCENE_MATERIAL_COATED_CONDUCTOR;
         memset(m->reflectance, 0, sizeof m->reflectance);
         if (read_eta(params, "interface.eta", &m->eta, line, p) ||
-            read_roughness(p, params, m, "interface.", m->roughness, 1, line) ||
+            read_roughness(p, params, m, "interface.", m->roughness, SCENE_SLOT_ROUGHNESS_U, line) ||
             read_conductor(p, params, "conductor.", m, line) ||
-            read_roughness(p, params, m, "conductor.", m->base_roughness, 0, line) || read_layers(params, m, line, p))
+            read_roughness(p, params, m, "conductor.", m->base_roughness, SCENE_SLOT_BASE_ROUGHNESS_U, line) ||
+            read_layers(params, m, line, p))
             return -1;
     } else if (strcmp(type, "diffusetransmission") == 0) {
         m->type = SCENE_MATERIAL_DIFFUSE_TRANSMISSION;
         float scale = 1.0f;
         m->reflectance[0] = m->reflectance[1] = m->reflectance[2] = 0.25f;
         m->transmittance[0] = m->transmittance[1] = m->transmittance[2] = 0.25f;
-        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0 ||
-            params_get_spectrum(params, "transmittance", SPECTRUM_ALBEDO, m->transmittance) < 0 ||
+        if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
+                               NULL) ||
+            read_spectrum_slot(p, params, m, SCENE_SLOT_TRANSMITTANCE, "transmittance", SPECTRUM_ALBEDO,
+                               m->transmittance, NULL) ||
             params_get_float(params, "scale", &scale) < 0)
             return -1;
+        /* Constants only: the kernel clamps each textured one, scaled, to
+         * [0, 1] (as pbrt-v4 does every one). */
+        int reflects = m->textures[SCENE_SLOT_REFLECTANCE] < 0, transmits = m->textures[SCENE_SLOT_TRANSMITTANCE] < 0;
         float most = 0.0f;
         for (int c = 0; c < 3; ++c)
-            most = fmaxf(most, m->reflectance[c] + m->transmittance[c]);
+            most = fmaxf(most, (reflects ? m->reflectance[c] : 0.0f) + (transmits ? m->transmittance[c] : 0.0f));
         if (!(scale >= 0.0f) || scale * most > 1.0f)
             return scene_error(&p->diag, params->file, line,
                                "%s: \"scale\" must not be negative nor scatter more than it receives", params->owner);
+        m->scale = scale;
         for (int c = 0; c < 3; ++c) {
             m->reflectance[c] *= scale;
             m->transmittance[c] *= scale;

@@ -110,14 +110,21 @@ typedef enum {
 
 /* A material's parameters that may be textures (SceneMaterial.textures). */
 typedef enum {
-    SCENE_SLOT_REFLECTANCE,   /* spectrum: diffuse, coated albedo; conductor "reflectance" */
-    SCENE_SLOT_ROUGHNESS_U,   /* float: uroughness (or roughness) */
-    SCENE_SLOT_ROUGHNESS_V,   /* float: vroughness (or roughness) */
-    SCENE_SLOT_ETA,           /* float: dielectric eta */
-    SCENE_SLOT_CONDUCTOR_ETA, /* spectrum */
-    SCENE_SLOT_CONDUCTOR_K,   /* spectrum */
-    SCENE_SLOT_DISPLACEMENT,  /* float: bump mapping */
-    SCENE_SLOT_NORMAL_MAP,    /* spectrum: the image "string normalmap" names */
+    SCENE_SLOT_REFLECTANCE,      /* spectrum: diffuse, coated albedo; conductor "reflectance" */
+    SCENE_SLOT_ROUGHNESS_U,      /* float: uroughness (or roughness) */
+    SCENE_SLOT_ROUGHNESS_V,      /* float: vroughness (or roughness) */
+    SCENE_SLOT_ETA,              /* float: dielectric eta */
+    SCENE_SLOT_CONDUCTOR_ETA,    /* spectrum */
+    SCENE_SLOT_CONDUCTOR_K,      /* spectrum */
+    SCENE_SLOT_DISPLACEMENT,     /* float: bump mapping */
+    SCENE_SLOT_NORMAL_MAP,       /* spectrum: the image "string normalmap" names */
+    SCENE_SLOT_TRANSMITTANCE,    /* spectrum: diffusetransmission */
+    SCENE_SLOT_MIX_AMOUNT,       /* float: mix */
+    SCENE_SLOT_THICKNESS,        /* float: the coated ones' layer */
+    SCENE_SLOT_ALBEDO,           /* spectrum: the coated ones' medium */
+    SCENE_SLOT_G,                /* float: the coated ones' medium */
+    SCENE_SLOT_BASE_ROUGHNESS_U, /* float: coatedconductor conductor.uroughness (or conductor.roughness) */
+    SCENE_SLOT_BASE_ROUGHNESS_V, /* float: coatedconductor conductor.vroughness (or conductor.roughness) */
     SCENE_SLOT_COUNT
 } SceneMaterialSlot;
 
@@ -139,6 +146,7 @@ typedef struct {
     float roughness[2];      /* u, v as written (uroughness/vroughness, else roughness); the coating's */
     int remap_roughness;     /* pbrt's remaproughness: see scene_material_alpha */
     float transmittance[3];  /* diffusetransmission (scaled by its "scale", as reflectance) */
+    float scale;             /* diffusetransmission: its "scale", which also multiplies its textures */
     int mix_materials[2];    /* mix: indices into Scene.materials, mixes nested at most SCENE_MIX_MAX_NESTING deep */
     float mix_amount;        /* mix: the chance of mix_materials[1] */
     float base_roughness[2]; /* coatedconductor: the conductor's, as roughness */
