@@ -58,7 +58,12 @@ static void print_summary(const Options *o, const RenderOutput *out)
     if (out->sample_bytes_per_pixel) {
         char line[512];
         film_sample_memory_summary(&out->estimator, line, sizeof line);
-        printf("  per-sample estimators: %s a pixel (in the bytes per pixel above)\n", line);
+        char names[256] = "";
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (out->estimator.passes & PASSES_SAMPLE & PASS_BIT(p))
+                snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", names[0] ? ", " : "",
+                         pass_name(p));
+        printf("  per-sample estimators %s: %s a pixel (in the bytes per pixel above)\n", names, line);
     }
     for (int i = 0; i < out->device_count; ++i) {
         const RenderDeviceReport *d = &out->devices[i];

@@ -44,7 +44,9 @@
     PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC)                                                                    \
     PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC)                                                                      \
     PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE)                                                                      \
-    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)
+    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)                                                              \
+    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE)                                                                        \
+    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)
 
 #define PASS_ENUM_(id, name, type, kind) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };

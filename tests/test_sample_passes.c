@@ -5,11 +5,15 @@
  * estimates do not change when they are requested, their images do not
  * depend on pass batching, pbrt-v4's Film "maxcomponentvalue" selects
  * clamp, and clamp-sum's direct part is exactly the light a render of
- * maxdepth 1 sees. */
+ * maxdepth 1 sees; abmm's moments do not cancel (a pixel of 1e6 with
+ * relative variance 1e-6), abmm and gabmm match an independent long-double
+ * implementation (tests/support/moment_reference.c), and gabmm goes
+ * negative on a single firefly, as the spec says. */
 #include "film/film_sample.h"
 #include "film/film_sample_cl.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
+#include "moment_reference.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -93,7 +97,7 @@ static void test_hand_computed_stream(void **state)
     images.pass[PASS_CLAMP] = clamp;
     images.pass[PASS_CLAMP_SUM] = clamp_sum;
     images.length = 3;
-    assert_int_equal(film_sample_estimate(&s, state_sums, planes, 1, 3, &images, NULL, 0), ESTIMATOR_OK);
+    assert_int_equal(film_sample_estimate(&s, state_sums, planes, NULL, 1, 3, &images, NULL, 0), ESTIMATOR_OK);
     const float expected[4][3] = {
         {2.5f, 1.25f, 1.375f}, {14.5f, 7.25f, 11.125f}, {20.5f, 10.25f, 17.125f}, {7.0f, 4.25f, 4.625f}};
     for (int c = 0; c < 3; ++c) {
@@ -190,10 +194,10 @@ static void test_kernel_equals_host(void **state)
     di.pass[PASS_CLAMP] = device_clamp;
     di.pass[PASS_CLAMP_SUM] = device_sum;
     hi.length = di.length = PIXELS * 3;
-    assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
+    assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, NULL, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
     SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
     assert_non_null(program);
-    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, device, &di), 0);
+    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, NULL, device, &di), 0);
     assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
     assert_memory_equal(host_clamp, device_clamp, sizeof host_clamp);
     assert_memory_equal(host_sum, device_sum, sizeof host_sum);
@@ -208,6 +212,158 @@ static void test_kernel_equals_host(void **state)
     free(parts);
     free(host);
     free(device);
+}
+
+/* A stream of one pixel: each value x (grey) as a sample of weight 1, into
+ * the per-sample state and (sets > 0) set sums of `sets` sets. */
+static void add_grey_stream(const EstimatorSettings *s, const float *x, size_t n, uint64_t *state,
+                            uint64_t *accumulators, size_t pixel, size_t pixel_count)
+{
+    for (size_t i = 0; i < n; ++i) {
+        SampleParts p = parts_of(x[i], x[i], x[i], 0, 0, 0, 0, 0, 0, 1.0f);
+        film_sample_add(s, state, pixel, pixel_count, &p);
+        if (accumulators)
+            accumulate_sample(accumulators, pixel, pixel_count, (uint32_t)s->set_count,
+                              set_of_sample(s->first_sample + i, (uint32_t)s->set_count), x[i], x[i], x[i]);
+    }
+}
+
+/* A pixel of 1e6 with relative variance 1e-6 (sd 1e3): its central
+ * moments, about the pixel's first sample, match the two-pass reference
+ * (raw moments would lose them: 1e12 against 1e6). */
+static void test_moments_do_not_cancel(void **state)
+{
+    (void)state;
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM), NULL, 0);
+    s.params.clamp_level_count = 1;
+    enum { N = 4000 };
+    float *x = malloc(N * sizeof(float));
+    uint32_t seed = 99;
+    for (int i = 0; i < N; ++i) /* uniform: sd = 1e3 for a half-width of 1e3 sqrt(3) */
+        x[i] = 1e6f + 1732.0508f * (2.0f * uniform(&seed) - 1.0f) + (i % 50 == 0 ? 4000.0f : 0.0f);
+    uint64_t *st = calloc(film_sample_planes(&s), sizeof(uint64_t));
+    add_grey_stream(&s, x, N, st, NULL, 0, 1);
+    PixelMoments m = sample_moments(st, 0, 1, film_sample_passes(&s), 1, N, 1);
+    ReferenceMoments r = reference_moments(x, N);
+    long double sd = sqrtl(r.m2);
+    printf("  1e6 +- 1e3: mean %.12Lg (reference %.12Lg), m2 %.12g (%.12Lg), m3 %.6g (%.6Lg)\n", (long double)m.mean,
+           r.mean, m.second, r.m2, m.third, r.m3);
+    assert_true(fabsl((long double)m.mean - r.mean) <= 1e-12L * r.mean);
+    /* d^2 and d^3 are rounded to float per sample (2^-24 relative). */
+    assert_true(fabsl((long double)m.second - r.m2) <= 1e-7L * r.m2);
+    assert_true(fabsl((long double)m.third - r.m3) <= 1e-7L * sd * sd * sd);
+    assert_true(r.m2 > 0.9e6L && r.m2 < 1.5e6L);
+    free(x);
+    free(st);
+}
+
+/* abmm and gabmm on streams with known moments: a skewed stream and the
+ * spec's single firefly (background uniform [0.4, 0.6], one sample of
+ * 5e4, n = 1000, M = 21), where gabmm is about -232 with the truth 0.5. */
+static void test_abmm_gabmm_against_reference(void **state)
+{
+    (void)state;
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM), NULL, 0);
+    s.params.clamp_level_count = 1;
+    s.set_count = 21;
+    enum { N = 1000 };
+    float x[2][N];
+    uint32_t seed = 5;
+    for (int i = 0; i < N; ++i) {
+        float u = uniform(&seed);
+        x[0][i] = 0.1f / (1.0f - 0.999f * u); /* skewed, heavy right tail */
+        x[1][i] = i == 617 ? 5e4f : 0.4f + 0.2f * uniform(&seed);
+    }
+    const size_t planes = film_sample_planes(&s), sets = accumulator_planes(21);
+    uint64_t *st = calloc(planes * 2, sizeof(uint64_t)), *acc = calloc(sets * 2, sizeof(uint64_t));
+    for (int p = 0; p < 2; ++p)
+        add_grey_stream(&s, x[p], N, st, acc, (size_t)p, 2);
+    float abmm[2][3], gabmm[2][3];
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    images.pass[PASS_ABMM] = abmm;
+    images.pass[PASS_GABMM] = gabmm;
+    images.length = 6;
+    assert_int_equal(film_sample_estimate(&s, st, planes * 2, acc, 2, N, &images, NULL, 0), ESTIMATOR_OK);
+    for (int p = 0; p < 2; ++p) {
+        long double means[64];
+        int m = reference_set_means(x[p], N, 21, 0, means);
+        long double g = reference_gini(means, m);
+        long double want_abmm = reference_abmm(x[p], N, 1.0L), want_gabmm = reference_abmm(x[p], N, 1.0L - g);
+        printf("  %s: abmm %.7g (reference %.7Lg), gabmm %.7g (reference %.7Lg, Gbar %.5Lf), mean %.7Lg\n",
+               p ? "single firefly" : "skewed stream", abmm[p][0], want_abmm, gabmm[p][0], want_gabmm, g,
+               reference_moments(x[p], N).mean);
+        assert_true(fabsl(abmm[p][0] - want_abmm) <= 1e-5L * fabsl(want_abmm));
+        /* Gbar in float: its rounding moves gabmm by about 1e-6 relative. */
+        assert_true(fabsl(gabmm[p][0] - want_gabmm) <= 1e-4L * fabsl(want_gabmm));
+        assert_true(abmm[p][1] == abmm[p][0] && gabmm[p][2] == gabmm[p][0]);
+    }
+    assert_true(gabmm[1][0] < -200.0f && gabmm[1][0] > -260.0f); /* the spec's "about -232" */
+    free(st);
+    free(acc);
+}
+
+/* The kernels' moments and their estimates equal the host's bit for bit
+ * (also a render range not starting at set 0). */
+static void test_moments_kernel_equals_host(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_CLAMP), NULL, 0);
+    s.params.clamp_level_count = 1;
+    s.params.clamp_levels[0] = 2.0f;
+    s.set_count = 7;
+    s.first_sample = 3;
+    enum { PIXELS = 29, LENGTH = 45 };
+    float *parts = malloc(sizeof(float) * PIXELS * LENGTH * 10);
+    uint32_t seed = 777;
+    for (int i = 0; i < PIXELS * LENGTH; ++i) {
+        float *p = parts + i * 10;
+        for (int c = 0; c < 3; ++c) {
+            p[c] = (float)(i % PIXELS + 1) * (uniform(&seed) < 0.03f ? 1e4f : 1.0f) * uniform(&seed);
+            p[3 + c] = p[6 + c] = 0.0f;
+        }
+        p[9] = uniform(&seed) < 0.1f ? -0.5f : 1.0f;
+    }
+    const size_t planes = film_sample_planes(&s), sets = accumulator_planes(7);
+    uint64_t *host = calloc(planes * PIXELS, sizeof(uint64_t)), *device = calloc(planes * PIXELS, sizeof(uint64_t));
+    uint64_t *acc = calloc(sets * PIXELS, sizeof(uint64_t));
+    for (int pixel = 0; pixel < PIXELS; ++pixel)
+        for (int i = 0; i < LENGTH; ++i) {
+            const float *p = parts + ((size_t)pixel * LENGTH + (size_t)i) * 10;
+            SampleParts sp = parts_of(p[0], p[1], p[2], 0, 0, 0, 0, 0, 0, p[9]);
+            film_sample_add(&s, host, (size_t)pixel, PIXELS, &sp);
+            accumulate_sample(acc, (size_t)pixel, PIXELS, 7, set_of_sample(3 + (uint64_t)i, 7), p[0] * p[9],
+                              p[1] * p[9], p[2] * p[9]);
+        }
+    float hc[PIXELS][3], ha[PIXELS][3], hg[PIXELS][3], dc[PIXELS][3], da[PIXELS][3], dg[PIXELS][3];
+    EstimatorImages hi, di;
+    memset(&hi, 0, sizeof hi);
+    memset(&di, 0, sizeof di);
+    hi.pass[PASS_CLAMP] = hc;
+    hi.pass[PASS_ABMM] = ha;
+    hi.pass[PASS_GABMM] = hg;
+    di.pass[PASS_CLAMP] = dc;
+    di.pass[PASS_ABMM] = da;
+    di.pass[PASS_GABMM] = dg;
+    hi.length = di.length = PIXELS * 3;
+    assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, acc, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
+    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    assert_non_null(program);
+    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, acc, device, &di), 0);
+    assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
+    assert_memory_equal(hc, dc, sizeof hc);
+    assert_memory_equal(ha, da, sizeof ha);
+    assert_memory_equal(hg, dg, sizeof hg);
+    int differ = 0;
+    for (int p = 0; p < PIXELS; ++p)
+        differ |= ha[p][0] != hg[p][0];
+    assert_true(differ);
+    sample_estimator_destroy(program);
+    free(parts);
+    free(host);
+    free(device);
+    free(acc);
 }
 
 static RenderSettings glass_settings(uint32_t passes)
@@ -286,7 +442,8 @@ static void test_sets_unchanged_and_batching(void **state)
             assert_memory_equal(a.pass[p], b.pass[p], pixels * 3 * sizeof(float));
     assert_int_equal(b.bytes_per_pixel, a.bytes_per_pixel + b.sample_bytes_per_pixel);
     assert_memory_equal(b.pass[PASS_CLAMP], c.pass[PASS_CLAMP], 3 * pixels * 3 * sizeof(float));
-    assert_memory_equal(b.pass[PASS_CLAMP_SUM], c.pass[PASS_CLAMP_SUM], pixels * 3 * sizeof(float));
+    for (int p = PASS_CLAMP_SUM; p < PASS_COUNT; ++p)
+        assert_memory_equal(b.pass[p], c.pass[p], pixels * 3 * sizeof(float));
     render_output_free(&a);
     render_output_free(&b);
     render_output_free(&c);
@@ -356,10 +513,11 @@ static void test_clamp_sum_direct_part(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_hand_computed_stream),        cmocka_unit_test(test_levels_parameter),
-        cmocka_unit_test(test_kernel_equals_host),          cmocka_unit_test(test_clamp_infinity_is_the_mean),
-        cmocka_unit_test(test_sets_unchanged_and_batching), cmocka_unit_test(test_film_max_component_value),
-        cmocka_unit_test(test_clamp_sum_direct_part),
+        cmocka_unit_test(test_hand_computed_stream),         cmocka_unit_test(test_levels_parameter),
+        cmocka_unit_test(test_kernel_equals_host),           cmocka_unit_test(test_clamp_infinity_is_the_mean),
+        cmocka_unit_test(test_sets_unchanged_and_batching),  cmocka_unit_test(test_film_max_component_value),
+        cmocka_unit_test(test_clamp_sum_direct_part),        cmocka_unit_test(test_moments_do_not_cancel),
+        cmocka_unit_test(test_abmm_gabmm_against_reference), cmocka_unit_test(test_moments_kernel_equals_host),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -59,6 +59,26 @@ void film_sample_build_options(const EstimatorSettings *s, char *options, size_t
     }
 }
 
+int film_sample_needs_double(const EstimatorSettings *s)
+{
+    return (s->passes & SAMPLE_MOMENT_PASSES) != 0;
+}
+
+int film_sample_needs_sets(const EstimatorSettings *s)
+{
+    return (s->passes & PASS_BIT(PASS_GABMM)) != 0;
+}
+
+void film_sample_estimator_options(const EstimatorSettings *s, char *options, size_t size)
+{
+    film_sample_build_options(s, options, size);
+    size_t used = strlen(options);
+    if (film_sample_needs_double(s) && used < size)
+        used += (size_t)snprintf(options + used, size - used, " -DSAMPLE_PASSES_DOUBLE");
+    if (film_sample_needs_sets(s) && used < size)
+        snprintf(options + used, size - used, " -DEST_SETS=%d", s->set_count);
+}
+
 void film_sample_layer_name(const EstimatorSettings *s, int pass, int index, char *name, size_t size)
 {
     if (pass != PASS_CLAMP) {
@@ -96,30 +116,33 @@ int film_sample_select_film_clamp(EstimatorSettings *s, float level)
 
 void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t size)
 {
+    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "abmm/gabmm moments"};
     const uint32_t passes = film_sample_passes(s);
     size_t used = 0;
     line[0] = '\0';
-    for (int pass = PASS_CLAMP; pass < PASS_COUNT && used < size; ++pass) {
-        if (!(passes & PASS_BIT(pass)))
+    for (int block = 0; block < SAMPLE_BLOCKS && used < size; ++block) {
+        size_t bytes = sample_block_planes(passes, s->params.clamp_level_count, block) * sizeof(uint64_t);
+        if (!bytes)
             continue;
-        size_t bytes = sample_pass_planes(passes, s->params.clamp_level_count, pass) * sizeof(uint64_t);
-        if (pass == PASS_CLAMP)
+        if (block == SAMPLE_BLOCK_CLAMP)
             used += (size_t)snprintf(line + used, size - used, "%sclamp (%d level%s) %zu B", used ? ", " : "",
                                      s->params.clamp_level_count, s->params.clamp_level_count == 1 ? "" : "s", bytes);
         else
-            used += (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", pass_name(pass), bytes);
+            used +=
+                (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", block_names[block], bytes);
     }
 }
 
 EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
-                                     size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
-                                     size_t message_size)
+                                     const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
+                                     EstimatorImages *images, char *message, size_t message_size)
 {
     const uint32_t passes = film_sample_passes(s);
     const size_t planes = film_sample_planes(s);
-    if (!state || !images || state_length < planes * pixel_count || images->length < pixel_count * EST_CHANNELS) {
+    if (!state || !images || state_length < planes * pixel_count || images->length < pixel_count * EST_CHANNELS ||
+        (film_sample_needs_sets(s) && !accumulators)) {
         if (message && message_size)
-            snprintf(message, message_size, "per-sample state or images missing or too short");
+            snprintf(message, message_size, "per-sample state, set sums or images missing or too short");
         return ESTIMATOR_INVALID_ARGUMENT;
     }
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
@@ -127,9 +150,15 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
         if (!image)
             continue;
         for (int i = 0; i < sample_pass_images(passes, s->params.clamp_level_count, pass); ++i)
-            for (size_t p = 0; p < pixel_count; ++p)
-                sample_pass_estimate(state, p, pixel_count, passes, s->params.clamp_level_count, sample_count, pass, i,
-                                     image + ((size_t)i * pixel_count + p) * EST_CHANNELS);
+            for (size_t p = 0; p < pixel_count; ++p) {
+                float *rgb = image + ((size_t)i * pixel_count + p) * EST_CHANNELS;
+                if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
+                    sample_sum_estimate(state, p, pixel_count, passes, s->params.clamp_level_count, sample_count, pass,
+                                        i, rgb);
+                else
+                    moment_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
+                                    (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);
+            }
     }
     return ESTIMATOR_OK;
 }

@@ -11,7 +11,8 @@
 #define HOST_FILM_FILM_SAMPLE_H
 
 #include "film/film.h"
-#include "sample_passes.h" /* kernels/ */
+#define SAMPLE_PASSES_DOUBLE /* abmm and gabmm: their moments in double */
+#include "sample_passes.h"   /* kernels/ */
 
 #include <stddef.h>
 #include <stdint.h>
@@ -33,6 +34,17 @@ int film_sample_images(const EstimatorSettings *settings);
  * (with a leading space). */
 void film_sample_build_options(const EstimatorSettings *settings, char *options, size_t size);
 
+/* The sample estimator's build options: film_sample_build_options, and
+ * for abmm/gabmm -DSAMPLE_PASSES_DOUBLE, for gabmm -DEST_SETS=M. */
+void film_sample_estimator_options(const EstimatorSettings *settings, char *options, size_t size);
+
+/* Whether the passes need double precision on the device (cl_khr_fp64). */
+int film_sample_needs_double(const EstimatorSettings *settings);
+
+/* Whether the passes read the set sums (gabmm's Gbar): the render keeps M
+ * sets for them. */
+int film_sample_needs_sets(const EstimatorSettings *settings);
+
 /* The EXR layer of image `index` of `pass`: clamp-<V> (V as the shortest
  * decimal that reads back as the level), or the pass name. */
 void film_sample_layer_name(const EstimatorSettings *settings, int pass, int index, char *name, size_t size);
@@ -48,10 +60,11 @@ int film_sample_select_film_clamp(EstimatorSettings *settings, float max_compone
 
 /* Estimates every requested per-sample image from the state (length >=
  * film_sample_planes * pixel_count) into images->pass[...] (those not
- * NULL). */
+ * NULL); gabmm also reads the set sums `accumulators` (settings' M and
+ * first sample; NULL when gabmm is not requested). */
 EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
-                                     size_t pixel_count, uint64_t sample_count, EstimatorImages *images, char *message,
-                                     size_t message_size);
+                                     const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
+                                     EstimatorImages *images, char *message, size_t message_size);
 
 /* Adds one sample to pixel `pixel`'s state on the host (tests, the
  * reference of the kernels' accumulation). */

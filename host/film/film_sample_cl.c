@@ -24,8 +24,19 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
         return NULL;
     p->device = device;
     p->settings = *settings;
-    char options[512];
-    film_sample_build_options(settings, options, sizeof options);
+    if (film_sample_needs_double(settings)) {
+        char extensions[4096] = "";
+        clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
+        if (!strstr(extensions, "cl_khr_fp64")) {
+            fprintf(stderr,
+                    "sample estimator: abmm and gabmm compute their moments in double precision, which device '%s' "
+                    "lacks (no cl_khr_fp64): render them on another device\n",
+                    device->info.name);
+            goto fail;
+        }
+    }
+    char options[768];
+    film_sample_estimator_options(settings, options, sizeof options);
     p->program = cl_program_build(device, "sample_estimator", options, kernel_dir);
     if (!p->program)
         goto fail;
@@ -64,15 +75,17 @@ size_t sample_estimator_image_bytes(const SampleEstimatorProgram *p, size_t pixe
     return (size_t)image_count(p) * pixel_count * EST_CHANNELS * sizeof(float);
 }
 
-cl_event sample_estimator_enqueue(SampleEstimatorProgram *p, cl_mem state, size_t pixel_count, uint64_t sample_count,
-                                  cl_mem images)
+cl_event sample_estimator_enqueue(SampleEstimatorProgram *p, cl_mem state, cl_mem accumulators, size_t pixel_count,
+                                  uint64_t sample_count, cl_mem images)
 {
-    cl_ulong pixels = pixel_count, samples = sample_count;
+    cl_ulong pixels = pixel_count, samples = sample_count, first = p->settings.first_sample;
     cl_event event = NULL;
     CL_CHECK(clSetKernelArg(p->estimate, 0, sizeof state, &state), fail);
-    CL_CHECK(clSetKernelArg(p->estimate, 1, sizeof pixels, &pixels), fail);
-    CL_CHECK(clSetKernelArg(p->estimate, 2, sizeof samples, &samples), fail);
-    CL_CHECK(clSetKernelArg(p->estimate, 3, sizeof images, &images), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 1, sizeof accumulators, &accumulators), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 2, sizeof pixels, &pixels), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 3, sizeof samples, &samples), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 4, sizeof first, &first), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 5, sizeof images, &images), fail);
     size_t global = pixel_count;
     CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->estimate, 1, NULL, &global, NULL, 0, NULL, &event), fail);
     return event;
@@ -104,13 +117,13 @@ cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t fi
 }
 
 int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, size_t stream_length, size_t pixel_count,
-                                uint64_t *state, EstimatorImages *images)
+                                const uint64_t *accumulators, uint64_t *state, EstimatorImages *images)
 {
     cl_context ctx = p->device->context;
     const size_t state_bytes = film_sample_planes(&p->settings) * pixel_count * sizeof(uint64_t);
     memset(state, 0, state_bytes);
     cl_int err = CL_SUCCESS;
-    cl_mem in = NULL, st = NULL, out = NULL;
+    cl_mem in = NULL, st = NULL, out = NULL, sets = NULL;
     cl_event event = NULL;
     int status = -1;
     in = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
@@ -119,6 +132,13 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     st = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, state_bytes, state, &err);
     CL_CHECK(err, done);
     out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sample_estimator_image_bytes(p, pixel_count), NULL, &err);
+    CL_CHECK(err, done);
+    uint64_t none = 0;
+    sets = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          accumulators
+                              ? accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t)
+                              : sizeof none,
+                          accumulators ? (void *)accumulators : &none, &err);
     CL_CHECK(err, done);
     cl_ulong length = stream_length, pixels = pixel_count;
     float direct = p->settings.params.clamp_sum_direct, indirect = p->settings.params.clamp_sum_indirect;
@@ -131,7 +151,7 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     size_t global = pixel_count;
     CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);
-    event = sample_estimator_enqueue(p, st, pixel_count, stream_length, out);
+    event = sample_estimator_enqueue(p, st, sets, pixel_count, stream_length, out);
     if (!event)
         goto done;
     CL_CHECK(sample_estimator_read(p, out, 0, pixel_count, pixel_count, images), done);
@@ -143,6 +163,8 @@ done:
         clReleaseMemObject(out);
     if (st)
         clReleaseMemObject(st);
+    if (sets)
+        clReleaseMemObject(sets);
     if (in)
         clReleaseMemObject(in);
     return status;

@@ -503,7 +503,8 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
             cl_event done = NULL;
             if (err == CL_SUCCESS) {
                 track_peak(r, w, bytes);
-                done = sample_estimator_enqueue(w->sample_estimator, w->samples, w->count, samples, images);
+                done = sample_estimator_enqueue(w->sample_estimator, w->samples, w->accumulators, w->count, samples,
+                                                images);
                 err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
             }
             if (err == CL_SUCCESS)
@@ -532,8 +533,9 @@ static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out
         estimator_from_accumulators(&r->estimator, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
                                     &images, NULL, 0) != ESTIMATOR_OK)
         return -1;
-    if (r->sample_planes && film_sample_estimate(&r->estimator, r->saved.samples, r->sample_planes * r->pixels,
-                                                 r->pixels, samples, &images, NULL, 0) != ESTIMATOR_OK)
+    if (r->sample_planes &&
+        film_sample_estimate(&r->estimator, r->saved.samples, r->sample_planes * r->pixels, r->saved.accumulators,
+                             r->pixels, samples, &images, NULL, 0) != ESTIMATOR_OK)
         return -1;
     return 0;
 }
@@ -677,8 +679,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     scene_upload_init(&r.upload, scene, s->seed);
     /* Only the mean needs no sets: one sum per pixel (the per-sample passes
      * keep their own state). */
-    r.sets =
-        (s->estimator.passes & PASSES_ALL & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ? m : 1;
+    r.sets = (s->estimator.passes & PASSES_ALL & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ||
+                     film_sample_needs_sets(&s->estimator)
+                 ? m
+                 : 1;
     r.estimator = s->estimator;
     r.estimator.set_count = r.sets;
     /* pbrt-v4's Film "maxcomponentvalue" is the per-sample clamp at that
