@@ -4,10 +4,13 @@
  *
  *   bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N]
  *                [--repeats R] [--device I] [--integrator nee|bsdf]
- *                [--allow-unsupported]
+ *                [--allow-unsupported] [--estimators LIST] [--estimator-param NAME=VALUE]...
+ * (--estimators as gmonrt's, e.g. the per-sample estimators' cost:
+ * mean,mon,gmon against mean,mon,gmon,clamp,clamp-sum,abmm,gabmm).
  * It also prints the scene's load time and the device memory of a run. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "film/film_sample.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -28,9 +31,10 @@ static int usage(const char *message)
         fprintf(stderr, "bench_render: %s\n", message);
     fprintf(message ? stderr : stdout,
             "usage: bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N] [--repeats R]\n"
-            "                    [--device I] [--integrator nee|bsdf] [--allow-unsupported]\n"
-            "defaults: the diffuse Cornell box, 64 spp, 256x256, maxdepth 8, 5 repeats, device 0, nee;\n"
-            "--allow-unsupported: skip or substitute what gmonrt lacks, as gmonrt's option of that name\n");
+            "                    [--device I] [--integrator nee|bsdf] [--allow-unsupported] [--estimators LIST]\n"
+            "                    [--estimator-param NAME=VALUE]...\n"
+            "defaults: the diffuse Cornell box, 64 spp, 256x256, maxdepth 8, 5 repeats, device 0, nee,\n"
+            "mean,mon,gmon; --allow-unsupported: skip or substitute what gmonrt lacks, as gmonrt's option\n");
     return message ? 2 : 0;
 }
 
@@ -39,6 +43,9 @@ int main(int argc, char **argv)
     const char *scene_path = GMON_SOURCE_DIR "/scenes/cornell-diffuse.pbrt";
     unsigned long spp = 64, width = 256, height = 256, max_depth = 8, repeats = 5, device_index = 0;
     int bsdf_only = 0, allow_unsupported = 0;
+    RenderSettings settings;
+    render_settings_default(&settings);
+    char message[640];
     for (int i = 1; i < argc; ++i) {
         const char *flag = argv[i];
         if (strcmp(flag, "--help") == 0)
@@ -61,7 +68,13 @@ int main(int argc, char **argv)
             repeats = strtoul(value, &end, 10);
         else if (strcmp(flag, "--device") == 0)
             device_index = strtoul(value, &end, 10);
-        else if (strcmp(flag, "--resolution") == 0) {
+        else if (strcmp(flag, "--estimators") == 0) {
+            if (passes_from_list(value, &settings.estimator.passes, message, sizeof message))
+                return usage(message);
+        } else if (strcmp(flag, "--estimator-param") == 0) {
+            if (estimator_param_set(&settings.estimator.params, value, message, sizeof message))
+                return usage(message);
+        } else if (strcmp(flag, "--resolution") == 0) {
             if (sscanf(value, "%lux%lu", &width, &height) != 2 || width == 0 || height == 0)
                 return usage("--resolution takes WIDTHxHEIGHT");
         } else if (strcmp(flag, "--integrator") == 0) {
@@ -102,8 +115,6 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_render: %s\n", error);
         return 1;
     }
-    RenderSettings settings;
-    render_settings_default(&settings);
     settings.sample_count = spp;
     settings.seconds_per_pass = 1.0;
 
@@ -111,6 +122,8 @@ int main(int argc, char **argv)
            device.info.compute_units);
     printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, M = %d\n", scene_path, width, height, max_depth, spp,
            bsdf_only ? "BSDF sampling only" : "NEE + MIS", settings.estimator.set_count);
+    printf("estimators: 0x%x (%zu bytes of per-sample state a pixel)\n", (unsigned)settings.estimator.passes,
+           film_sample_planes(&settings.estimator) * sizeof(uint64_t));
     printf("primitives: %d, BVH nodes %d, depth %d; loaded and built in %.2f s, %.1f MiB of texels\n",
            scene.bvh.primitive_count, scene.bvh.node_count, scene.bvh.depth, load_seconds,
            (double)summary.texture_bytes / (1024.0 * 1024.0));

@@ -13,6 +13,7 @@
 #include "cli/output_files.h"
 #include "cli/progress.h"
 #include "film/film.h"
+#include "film/film_sample.h"
 #include "io/exr_image.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
@@ -54,6 +55,16 @@ static void print_summary(const Options *o, const RenderOutput *out)
     printf("  %d estimator%s%s, estimation %.3f s (device time, every estimation)\n", count_bits32(estimates),
            count_bits32(estimates) == 1 ? "" : "s", out->estimator.with_stderr ? " with standard errors" : "",
            estimate_seconds);
+    if (out->sample_bytes_per_pixel) {
+        char line[512];
+        film_sample_memory_summary(&out->estimator, line, sizeof line);
+        char names[256] = "";
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (out->estimator.passes & PASSES_SAMPLE & PASS_BIT(p))
+                snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", names[0] ? ", " : "",
+                         pass_name(p));
+        printf("  per-sample estimators %s: %s a pixel (in the bytes per pixel above)\n", names, line);
+    }
     for (int i = 0; i < out->device_count; ++i) {
         const RenderDeviceReport *d = &out->devices[i];
         printf("  device %d '%s': %.1f%% of samples, %.3g samples/s, %.1f MiB allocated, build %.2f s%s%s\n", i,

@@ -20,9 +20,10 @@
 #define FEATURE_POINT_LIGHTS 0x4000ul
 #define FEATURE_SPOT_LIGHTS 0x8000ul
 #define FEATURE_DISTANT_LIGHTS 0x10000ul
-#define FEATURE_ENVIRONMENT_MAP 0x20000ul  /* an infinite light with an image */
-#define FEATURE_FILM_MATRIX 0x40000ul      /* a film that is not the identity on radiance */
-#define FEATURE_FILM_CLAMP 0x80000ul       /* Film "maxcomponentvalue" */
+#define FEATURE_ENVIRONMENT_MAP 0x20000ul /* an infinite light with an image */
+#define FEATURE_FILM_MATRIX 0x40000ul     /* a film that is not the identity on radiance */
+/* 0x80000ul is free (it was Film "maxcomponentvalue": now the per-sample
+ * estimator clamp, sample_passes.h). */
 #define FEATURE_SHADING_NORMALS 0x100000ul /* meshes with vertex normals */
 #define FEATURE_GONIOMETRIC_LIGHTS 0x200000ul
 #define FEATURE_PROJECTION_LIGHTS 0x400000ul
@@ -42,7 +43,7 @@
 #define FEATURE_THIN_DIELECTRIC 0x800000000ul
 #define FEATURE_LAYERED 0x1000000000ul       /* the layered random walk: coated diffuse or coated conductor */
 #define FEATURE_ALPHA_TEXTURE 0x2000000000ul /* "texture alpha": cut-outs whose alpha is a float texture */
-#define FEATURES_ALL 0x3ffffffff0ul          /* bits 4..37 */
+#define FEATURES_ALL 0x3ffff7fff0ul          /* bits 4..37 but 19 */
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -65,7 +66,6 @@
 #define GMON_HAS_ENVIRONMENT_MAP GMON_HAS(FEATURE_ENVIRONMENT_MAP)
 #define GMON_HAS_INFINITE_LIGHTS (GMON_HAS_ENVIRONMENT || GMON_HAS_ENVIRONMENT_MAP)
 #define GMON_HAS_FILM_MATRIX GMON_HAS(FEATURE_FILM_MATRIX)
-#define GMON_HAS_FILM_CLAMP GMON_HAS(FEATURE_FILM_CLAMP)
 #define GMON_HAS_SHADING_NORMALS GMON_HAS(FEATURE_SHADING_NORMALS)
 #define GMON_HAS_GONIOMETRIC_LIGHTS GMON_HAS(FEATURE_GONIOMETRIC_LIGHTS)
 #define GMON_HAS_PROJECTION_LIGHTS GMON_HAS(FEATURE_PROJECTION_LIGHTS)

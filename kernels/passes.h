@@ -10,7 +10,10 @@
  *   type  PASS_FLOAT or PASS_INT (values per pixel: EST_CHANNELS, RGB)
  *   kind  PASS_ESTIMATE: an estimator of the pixel value, from the set sums
  *         (it has a <name>.stderr image on request); PASS_DIAGNOSTIC: what
- *         G-MoN decided (--diagnostics)
+ *         G-MoN decided (--diagnostics); PASS_SAMPLE: an estimator that
+ *         sees each sample as it is accumulated, from per-sample state the
+ *         path tracer keeps only when it is requested (sample_passes.h;
+ *         not re-estimable from the sets, not in "all")
  * Valid C11 and OpenCL C. */
 #ifndef KERNELS_PASSES_H
 #define KERNELS_PASSES_H
@@ -21,6 +24,7 @@
 #define PASS_INT 1
 #define PASS_ESTIMATE 0
 #define PASS_DIAGNOSTIC 1
+#define PASS_SAMPLE 2
 
 #define GMON_PASSES(PASS)                                                                                              \
     PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
@@ -38,7 +42,11 @@
     PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE)                                                          \
     PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE)                                                                \
     PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC)                                                                    \
-    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC)
+    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC)                                                                      \
+    PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE)                                                                      \
+    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)                                                              \
+    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE)                                                                        \
+    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)
 
 #define PASS_ENUM_(id, name, type, kind) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
@@ -48,10 +56,14 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
 #define PASS_BIT_IF_(id, name, type, kind, wanted) ((kind) == (wanted) ? PASS_BIT(PASS_##id) : 0u) |
 #define PASS_ESTIMATE_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_ESTIMATE)
 #define PASS_DIAGNOSTIC_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_DIAGNOSTIC)
-/* Every estimator, and the diagnostics. */
+#define PASS_SAMPLE_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_SAMPLE)
+/* Every set-based estimator, and the diagnostics: what the estimator
+ * kernel computes. */
 #define PASSES_ESTIMATES (GMON_PASSES(PASS_ESTIMATE_BIT_) 0u)
 #define PASSES_DIAGNOSTICS (GMON_PASSES(PASS_DIAGNOSTIC_BIT_) 0u)
 #define PASSES_ALL (PASSES_ESTIMATES | PASSES_DIAGNOSTICS)
+/* The per-sample estimators (sample_passes.h, sample_estimator.cl). */
+#define PASSES_SAMPLE (GMON_PASSES(PASS_SAMPLE_BIT_) 0u)
 /* What a render computes unless asked otherwise. */
 #define PASSES_DEFAULT (PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON))
 
@@ -75,13 +87,22 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
     PARAM(float, dmon_partial_alpha, "dmon-partial.alpha", 0.5f, 0, 1)                                                 \
     PARAM(int32_t, trimmed_c, "trimmed.c", -1, -1, 31)                                                                 \
     PARAM(int32_t, winsorized_c, "winsorized.c", -1, -1, 31)                                                           \
-    PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)
+    PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)                                              \
+    PARAM(float, clamp_sum_direct, "clamp-sum.direct", 0.0f, 0, INFINITY)                                              \
+    PARAM(float, clamp_sum_indirect, "clamp-sum.indirect", 10.0f, 0, INFINITY)
+
+/* clamp's levels V (at most EST_CLAMP_LEVELS_MAX, each > 0, INFINITY
+ * allowed), one image clamp-<V> each: the parameter clamp.levels, values
+ * separated by ':' (default 1:10:100). */
+#define EST_CLAMP_LEVELS_MAX 8
 
 #define PARAM_FIELD_(type, field, name, value, lowest, highest) type field;
 /* Plain 4-byte fields: the same layout as a kernel argument on every
  * device. */
 typedef struct {
     GMON_ESTIMATOR_PARAMS(PARAM_FIELD_)
+    int32_t clamp_level_count;
+    float clamp_levels[EST_CLAMP_LEVELS_MAX];
 } EstimatorParams;
 #undef PARAM_FIELD_
 

@@ -7,8 +7,10 @@
  * heuristic), as pbrt-v4's "path" integrator. Without: BSDF sampling only,
  * the firefly-prone estimator experiments need.
  *
- * Build options: -DEST_SETS=M, and -DGMON_FEATURES=<mask> to compile out
- * what the scene does not use (feature_mask.h). */
+ * Build options: -DEST_SETS=M, -DGMON_FEATURES=<mask> to compile out
+ * what the scene does not use (feature_mask.h), and with per-sample
+ * estimators -DEST_SAMPLE_PASSES=<mask> and their parameters
+ * (sample_passes.h): without it none of their code or state exists. */
 #include "accumulate.h"
 #include "bsdf.h"
 #include "camera.h"
@@ -21,6 +23,23 @@
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
+#endif
+
+#ifdef EST_SAMPLE_PASSES
+#include "sample_passes.h"
+#define SAMPLE_PASSES EST_SAMPLE_PASSES
+/* clamp-sum needs a sample's direct and indirect light apart. */
+#define TRACK_DIRECT ((SAMPLE_PASSES & PASS_BIT(PASS_CLAMP_SUM)) != 0)
+#else
+#define SAMPLE_PASSES 0u
+#define TRACK_DIRECT 0
+#endif
+#ifndef EST_CLAMP_LEVEL_COUNT
+#define EST_CLAMP_LEVEL_COUNT 0
+#endif
+#ifndef EST_CLAMP_SUM_DIRECT
+#define EST_CLAMP_SUM_DIRECT 0.0f
+#define EST_CLAMP_SUM_INDIRECT 0.0f
 #endif
 
 /* Random dimensions: 2 for the image position, then DIMS_PER_BOUNCE a
@@ -65,12 +84,29 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
     return !occluded(scene, origin, s->wi, distance * (1.0f - 1e-4f));
 }
 
-/* One path sample along a camera ray; returns its radiance. Texture
- * filtering follows a ray cone: its width grows by cone_spread per unit
- * length from cone_width at the camera, along the whole path (as if every
- * bounce were a mirror's). */
+/* Adds a contribution to the radiance and, with TRACK_DIRECT, to its
+ * direct or indirect part (Cycles' classes: emission seen from the camera
+ * and light reached after the first surface, by its light sample or its
+ * BSDF sample, are direct; everything after the first bounce indirect). */
+#define ADD_LIGHT(c, is_direct)                                                                                        \
+    do {                                                                                                               \
+        Vec3 contribution_ = (c);                                                                                      \
+        radiance = v_add(radiance, contribution_);                                                                     \
+        if (TRACK_DIRECT) {                                                                                            \
+            if (is_direct)                                                                                             \
+                parts[0] = v_add(parts[0], contribution_);                                                             \
+            else                                                                                                       \
+                parts[1] = v_add(parts[1], contribution_);                                                             \
+        }                                                                                                              \
+    } while (0)
+
+/* One path sample along a camera ray; returns its radiance (with
+ * TRACK_DIRECT also its direct and indirect parts in parts[0], parts[1]).
+ * Texture filtering follows a ray cone: its width grows by cone_spread per
+ * unit length from cone_width at the camera, along the whole path (as if
+ * every bounce were a mirror's). */
 KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float cone_width, float cone_spread,
-                          uint64_t key, uint *rays)
+                          uint64_t key, uint *rays, Vec3 *parts)
 {
     __global const IntegratorData *integrator = &scene->constants->integrator;
     const int use_nee = GMON_HAS_NEE && (integrator->flags & RENDER_NEE) != 0;
@@ -85,8 +121,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         int unweighted = depth == 0 || specular_bounce || !use_nee;
         if (!scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit)) {
             if (GMON_HAS_INFINITE_LIGHTS)
-                radiance =
-                    v_add(radiance, v_mul(throughput, infinite_radiance(scene, direction, previous_pdf, unweighted)));
+                ADD_LIGHT(v_mul(throughput, infinite_radiance(scene, direction, previous_pdf, unweighted)), depth <= 1);
             break;
         }
         __global const Primitive *prim = scene->primitives + hit.primitive;
@@ -103,7 +138,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
                 weight =
                     cos_light > 0.0f ? power_heuristic(previous_pdf, area_light_pdf(light, hit.t, cos_light)) : 0.0f;
             }
-            radiance = v_add(radiance, v_scale(v_mul(throughput, le), weight));
+            ADD_LIGHT(v_scale(v_mul(throughput, le), weight), depth <= 1);
         }
         if (depth >= integrator->max_depth)
             break;
@@ -146,7 +181,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
                 Vec3 f = bsdf_eval(material, wo, wi, &bsdf_pdf);
                 float weight = ls.is_delta ? 1.0f : power_heuristic(ls.pdf, bsdf_pdf);
                 Vec3 contribution = v_scale(v_mul(f, ls.radiance), fabs(wi.z) * weight / ls.pdf);
-                radiance = v_add(radiance, v_mul(throughput, contribution));
+                ADD_LIGHT(v_mul(throughput, contribution), depth == 0);
             }
         }
 
@@ -183,11 +218,6 @@ KERNEL_FN Vec3 film_response(__global const FilmData *film, Vec3 L)
         L = vec3(m[0][0] * L.x + m[0][1] * L.y + m[0][2] * L.z, m[1][0] * L.x + m[1][1] * L.y + m[1][2] * L.z,
                  m[2][0] * L.x + m[2][1] * L.y + m[2][2] * L.z);
     }
-    if (GMON_HAS_FILM_CLAMP) {
-        float largest = v_max_component(L);
-        if (largest > film->max_component_value)
-            L = v_scale(L, film->max_component_value / largest);
-    }
     return L;
 }
 
@@ -199,7 +229,12 @@ KERNEL_FN Vec3 film_response(__global const FilmData *film, Vec3 L)
 __kernel void render_samples(__global const SceneConstants *constants,
                              GMON_SCENE_ARRAYS(SCENE_ARRAY_PARAMETER) __global ulong *accumulators,
                              __global uint *rejected, __global ulong *ray_counts, ulong first_sample, uint sample_count,
-                             ulong first_pixel, ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count)
+                             ulong first_pixel, ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count
+#if SAMPLE_PASSES
+                             ,
+                             __global ulong *sample_state
+#endif
+)
 {
     if (get_global_id(0) >= pixel_count)
         return;
@@ -215,12 +250,41 @@ __kernel void render_samples(__global const SceneConstants *constants,
         ulong sample_index = first_sample + i;
         uint64_t key = rng_sample_key(constants->integrator.seed, pixel, sample_index);
         CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, key);
+        Vec3 parts[2] = {vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 0.0f)};
         Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, camera.cone_width,
-                                                            camera.cone_spread, key, &rays));
+                                                            camera.cone_spread, key, &rays, parts));
+#if SAMPLE_PASSES
+        SampleParts sample;
+        sample.film[0] = L.x;
+        sample.film[1] = L.y;
+        sample.film[2] = L.z;
+        if (TRACK_DIRECT) {
+            Vec3 direct = film_response(&constants->film, parts[0]);
+            Vec3 indirect = film_response(&constants->film, parts[1]);
+            sample.direct[0] = direct.x;
+            sample.direct[1] = direct.y;
+            sample.direct[2] = direct.z;
+            sample.indirect[0] = indirect.x;
+            sample.indirect[1] = indirect.y;
+            sample.indirect[2] = indirect.z;
+        }
+        sample.weight = GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f;
+#endif
         if (GMON_HAS_PIXEL_FILTER)
-            L = v_scale(L, camera.weight); /* after the film's clamp, as pbrt-v4 weighs samples */
+            L = v_scale(L, camera.weight); /* after the clamp of the per-sample passes, as pbrt-v4 weighs samples */
         int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
                                       set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+#if SAMPLE_PASSES
+        {
+#if EST_CLAMP_LEVEL_COUNT > 0
+            const float levels[EST_CLAMP_LEVEL_COUNT] = {EST_CLAMP_LEVEL_VALUES};
+#else
+            const float levels[1] = {0.0f};
+#endif
+            sample_passes_add(sample_state, local_pixel, buffer_pixel_count, SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
+                              levels, EST_CLAMP_SUM_DIRECT, EST_CLAMP_SUM_INDIRECT, &sample);
+        }
+#endif
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }

@@ -342,9 +342,10 @@ typedef struct {
 
 /* What the film does to each sample's radiance (linear sRGB) before it is
  * accumulated: the sensor's response as a 3x3 matrix (rows, padded; the
- * identity for pbrt-v4's default film), then, as pbrt-v4's
- * "maxcomponentvalue", a sample whose largest component exceeds
- * max_component_value is scaled down to it (INFINITY: never). */
+ * identity for pbrt-v4's default film). max_component_value is pbrt-v4's
+ * "maxcomponentvalue" (INFINITY when not given): the host turns it into the
+ * per-sample estimator clamp at that level (sample_passes.h); the kernels
+ * do not read it. */
 typedef struct {
     float from_radiance[3][4];
     float max_component_value;

@@ -174,6 +174,8 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     assert_non_null(merged.accumulators);
     assert_memory_equal(merged.accumulators, whole.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
     for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(PASSES_ALL & PASS_BIT(p)))
+            continue;
         assert_non_null(film_file_pass(&merged, p, 0));
         assert_memory_equal(film_file_pass(&merged, p, 0), film_file_pass(&whole, p, 0), pixels * 3 * sizeof(float));
     }

@@ -11,6 +11,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
 #include "film/film.h"
+#include "film/film_sample.h"
 #include "estimators.h"
 #include "feature_mask.h"
 #include "render/renderer.h"
@@ -89,7 +90,7 @@ static RenderSettings small_settings(void)
     RenderSettings s;
     render_settings_default(&s);
     s.estimator.set_count = 5;
-    s.estimator.passes = PASSES_ALL;
+    s.estimator.passes = PASSES_ALL | PASSES_SAMPLE; /* the per-sample state moves with the pixels too */
     s.estimator.with_stderr = 1;
     s.sample_count = 23;
     s.seed = 7;
@@ -118,8 +119,9 @@ static void assert_same_render(const RenderOutput *a, const RenderOutput *b)
     for (int p = 0; p < PASS_COUNT; ++p) {
         assert_true((a->pass[p] == NULL) == (b->pass[p] == NULL));
         assert_true((a->error[p] == NULL) == (b->error[p] == NULL));
+        const size_t images = (PASSES_SAMPLE & PASS_BIT(p)) ? (size_t)film_sample_pass_images(&a->estimator, p) : 1;
         if (a->pass[p])
-            assert_memory_equal(a->pass[p], b->pass[p], pixels * 3 * sizeof(float));
+            assert_memory_equal(a->pass[p], b->pass[p], images * pixels * 3 * sizeof(float));
         if (a->error[p])
             assert_memory_equal(a->error[p], b->error[p], pixels * 3 * sizeof(float));
     }

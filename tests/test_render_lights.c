@@ -97,7 +97,8 @@ static void test_point_light(void **state)
 }
 
 /* The film's response: its matrix scales every sample (iso 300 is 3 x the
- * identity), and maxcomponentvalue scales a sample down to it. */
+ * identity), and maxcomponentvalue selects clamp at that level (the mean
+ * stays unclamped). */
 static void test_film_response(void **state)
 {
     (void)state;
@@ -113,7 +114,35 @@ static void test_film_response(void **state)
             scene.constants.film.from_radiance[i][i] = 3.0f;
         if (clamp)
             scene.constants.film.max_component_value = 0.25f;
-        render_and_check(&scene, 1, 4, clamp ? 0.25 : 3.0 * lit, clamp ? "film clamp" : "film matrix 3 I");
+        if (!clamp) {
+            render_and_check(&scene, 1, 4, 3.0 * lit, "film matrix 3 I");
+            continue;
+        }
+        /* maxcomponentvalue is the per-sample estimator clamp at 0.25: the
+         * mean stays unclamped. */
+        char error[256];
+        scene.constants.integrator.max_depth = 1;
+        scene.constants.integrator.flags = RENDER_NEE;
+        assert_int_equal(render_scene_finalize(&scene, error, sizeof error), 0);
+        RenderSettings settings;
+        render_settings_default(&settings);
+        settings.sample_count = 4;
+        RenderOutput out;
+        if (renderer_run(&test_device, 1, &scene, &settings, &out, error, sizeof error) != 0)
+            fail_msg("film clamp: %s", error);
+        assert_int_equal(out.estimator.params.clamp_level_count, 1);
+        const size_t pixels = (size_t)out.width * out.height;
+        double clamped = 0.0, mean = 0.0;
+        for (size_t p = 0; p < pixels; ++p) {
+            clamped += ((const float *)out.pass[PASS_CLAMP])[3 * p + 1];
+            mean += ((const float *)out.pass[PASS_MEAN])[3 * p + 1];
+        }
+        printf("  film clamp: layer clamp-0.25 %.6f, mean %.6f (expected %.6f)\n", clamped / (double)pixels,
+               mean / (double)pixels, 3.0 * lit);
+        assert_true(fabs(clamped / (double)pixels - 0.25) < 1e-6);
+        assert_true(fabs(mean / (double)pixels - 3.0 * lit) < 0.05 * 3.0 * lit);
+        render_output_free(&out);
+        render_scene_destroy(&scene);
     }
 }
 

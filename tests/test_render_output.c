@@ -123,6 +123,8 @@ static void test_exr_estimates_equal_host_reference_on_its_sums(void **state)
                                                  back.metadata.sample_count, &images, error, sizeof error),
                      ESTIMATOR_OK);
     for (int p = 0; p < PASS_COUNT; ++p) {
+        if (!(PASSES_ALL & PASS_BIT(p)))
+            continue;
         const void *layer = film_file_pass(&back, p, 0), *error_layer = film_file_pass(&back, p, 1);
         assert_non_null(layer);
         assert_memory_equal(images.pass[p], layer, values * 4);

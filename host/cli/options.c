@@ -45,12 +45,13 @@ static const Flag flags[] = {
     {"--estimators", "LIST", FOR_ALL,
      "comma-separated estimators, or all (default mean,mon,gmon;\n`estimate`: the file's): mean, mon, gmon, amon, "
      "admon,\n"
-     "ggmon, gmon-binary, gmon-partial, dmon-partial,\ngmon-authors, pakmon, trimmed, winsorized, gmedian\n"
-     "(README, \"Estimators\")"},
+     "ggmon, gmon-binary, gmon-partial, dmon-partial,\ngmon-authors, pakmon, trimmed, winsorized, gmedian;\n"
+     "per sample, renders only (not in all): clamp (a layer\nclamp-<V> per level), clamp-sum (README, \"Estimators\")"},
     {"--estimator-param", "NAME=VALUE", FOR_ALL,
      "set an estimator parameter (repeatable): amon.alpha,\nadmon.alpha, gmon-binary.threshold,\n"
      "gmon-partial.threshold, gmon-partial.alpha,\ndmon-partial.threshold, dmon-partial.alpha, trimmed.c,\n"
-     "winsorized.c (-1: floor(m/4)), gmedian.iterations;\nwritten to the EXR metadata"},
+     "winsorized.c (-1: floor(m/4)), gmedian.iterations,\nclamp.levels (V:V:..., default 1:10:100),\n"
+     "clamp-sum.direct (default 0: none), clamp-sum.indirect\n(default 10); written to the EXR metadata"},
     {"--stderr", NULL, FOR_ALL,
      "add a <name>.stderr layer per estimator: its per-pixel\nstandard error (the mean's from the set means, the\n"
      "others by the jackknife over sets)"},
@@ -476,6 +477,14 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
         return fail(error, size, "--reference is used with --checkpoints");
     if (o->diagnostics)
         o->estimator.passes |= PASSES_DIAGNOSTICS;
+    if ((o->command == COMMAND_ESTIMATE || o->command == COMMAND_MERGE) && (o->estimator.passes & PASSES_SAMPLE)) {
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (o->estimator.passes & PASSES_SAMPLE & PASS_BIT(p))
+                return fail(error, size,
+                            "--estimators %s: it sees each sample as it is accumulated, so only a render computes it "
+                            "(`%s` has only the set sums)",
+                            pass_name(p), command_names[o->command]);
+    }
     if (o->estimator.with_stderr && o->estimator.gini_mode == SORT_BY_LUMINANCE)
         return fail(error, size, "--stderr is not available with --gini-mode luminance (it trims whole RGB sets)");
     /* estimate and merge take the file's estimators: their preview is

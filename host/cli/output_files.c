@@ -122,6 +122,13 @@ int options_for_file(const Options *o, const ExrImage *in, Options *chosen, char
         if (film_file_settings(in, &recorded, error, size) != 0)
             return -1;
         chosen->estimator.passes = (recorded.passes & PASSES_ESTIMATES) | (o->estimator.passes & PASSES_DIAGNOSTICS);
+        /* Never approximated from other layers: left out, and said so. */
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (recorded.passes & PASSES_SAMPLE & PASS_BIT(p))
+                fprintf(stderr,
+                        "gmonrt: note: the file's %s layers are left out: that estimator needs per-sample state "
+                        "that only a render keeps, not the set sums\n",
+                        pass_name(p));
         if (!(chosen->estimator.passes & PASSES_ESTIMATES))
             chosen->estimator.passes |= PASSES_DEFAULT;
     }

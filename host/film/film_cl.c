@@ -70,6 +70,8 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
         return NULL;
     p->device = device;
     p->settings = *settings;
+    p->settings.passes &= ~PASSES_SAMPLE; /* film_sample_cl.h's */
+    settings = &p->settings;
     if (choose_launch(device, &p->launch) != 0)
         goto fail;
     char options[256];

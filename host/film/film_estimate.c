@@ -60,10 +60,10 @@ int passes_from_list(const char *list, uint32_t *passes, char *message, size_t m
         int pass = pass_from_name(name);
         if (strcmp(name, "all") == 0) {
             *passes |= PASSES_ESTIMATES;
-        } else if (pass < 0 || !(PASSES_ESTIMATES & PASS_BIT(pass))) {
+        } else if (pass < 0 || !((PASSES_ESTIMATES | PASSES_SAMPLE) & PASS_BIT(pass))) {
             char known[512] = "";
             for (int q = 0; q < PASS_COUNT; ++q)
-                if (PASSES_ESTIMATES & PASS_BIT(q))
+                if ((PASSES_ESTIMATES | PASSES_SAMPLE) & PASS_BIT(q))
                     snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", q ? ", " : "", pass_names[q]);
             invalid(message, message_size, "unknown estimator '%s' (known: %s, or all)", name, known);
             return -1;
@@ -91,16 +91,50 @@ typedef struct {
 static const ParamSpec param_specs[] = {GMON_ESTIMATOR_PARAMS(PARAM_SPEC_)};
 #define PARAM_COUNT ((int)(sizeof param_specs / sizeof param_specs[0]))
 
+/* clamp.levels, a list (passes.h), follows the table's parameters. */
+#define CLAMP_LEVELS_NAME "clamp.levels"
+
 static void params_default(EstimatorParams *p)
 {
 #define PARAM_DEFAULT_(type, field, name, value, lowest, highest) p->field = value;
     GMON_ESTIMATOR_PARAMS(PARAM_DEFAULT_)
 #undef PARAM_DEFAULT_
+    static const float levels[] = {1.0f, 10.0f, 100.0f};
+    p->clamp_level_count = 3;
+    memset(p->clamp_levels, 0, sizeof p->clamp_levels);
+    memcpy(p->clamp_levels, levels, sizeof levels);
 }
 
 int estimator_param_count(void)
 {
-    return PARAM_COUNT;
+    return PARAM_COUNT + 1;
+}
+
+/* Parses "V:V:..." (each > 0, inf allowed). 0, or -1 with a reason. */
+static int clamp_levels_set(EstimatorParams *params, const char *text, char *message, size_t message_size)
+{
+    float levels[EST_CLAMP_LEVELS_MAX];
+    int count = 0;
+    const char *p = text;
+    for (;;) {
+        char *end = NULL;
+        errno = 0;
+        double v = strtod(p, &end);
+        if (end == p || errno != 0 || !(v > 0.0) || count == EST_CLAMP_LEVELS_MAX || (*end != ':' && *end != '\0')) {
+            invalid(message, message_size,
+                    CLAMP_LEVELS_NAME ": '%s' is not 1..%d levels > 0 (inf allowed) separated by ':', e.g. 1:10:100",
+                    text, EST_CLAMP_LEVELS_MAX);
+            return -1;
+        }
+        levels[count++] = (float)v;
+        if (*end == '\0')
+            break;
+        p = end + 1;
+    }
+    memset(params->clamp_levels, 0, sizeof params->clamp_levels);
+    memcpy(params->clamp_levels, levels, (size_t)count * sizeof levels[0]);
+    params->clamp_level_count = count;
+    return 0;
 }
 
 static double param_value(const EstimatorParams *params, const ParamSpec *spec)
@@ -118,6 +152,15 @@ static double param_value(const EstimatorParams *params, const ParamSpec *spec)
 
 void estimator_param_format(const EstimatorParams *params, int index, const char **name, char *value, size_t value_size)
 {
+    if (index == PARAM_COUNT) {
+        *name = CLAMP_LEVELS_NAME;
+        size_t used = 0;
+        value[0] = '\0';
+        for (int i = 0; i < params->clamp_level_count && used < value_size; ++i)
+            used += (size_t)snprintf(value + used, value_size - used, "%s%.9g", i ? ":" : "",
+                                     (double)params->clamp_levels[i]);
+        return;
+    }
     const ParamSpec *spec = &param_specs[index];
     *name = spec->name;
     snprintf(value, value_size, spec->is_float ? "%.9g" : "%.0f", param_value(params, spec));
@@ -127,6 +170,8 @@ int estimator_param_set(EstimatorParams *params, const char *assignment, char *m
 {
     const char *equals = strchr(assignment, '=');
     size_t length = equals ? (size_t)(equals - assignment) : 0;
+    if (equals && length == strlen(CLAMP_LEVELS_NAME) && strncmp(assignment, CLAMP_LEVELS_NAME, length) == 0)
+        return clamp_levels_set(params, equals + 1, message, message_size);
     for (int i = 0; equals && i < PARAM_COUNT; ++i) {
         const ParamSpec *spec = &param_specs[i];
         if (strlen(spec->name) != length || strncmp(spec->name, assignment, length) != 0)
@@ -153,6 +198,7 @@ int estimator_param_set(EstimatorParams *params, const char *assignment, char *m
     char known[512] = "";
     for (int i = 0; i < PARAM_COUNT; ++i)
         snprintf(known + strlen(known), sizeof known - strlen(known), "%s%s", i ? ", " : "", param_specs[i].name);
+    snprintf(known + strlen(known), sizeof known - strlen(known), ", %s", CLAMP_LEVELS_NAME);
     invalid(message, message_size, "'%s' is not <name>=<value> for a known parameter (%s)", assignment, known);
     return -1;
 }
@@ -186,7 +232,7 @@ int estimator_settings_check(const EstimatorSettings *s, char *message, size_t m
         invalid(message, message_size, "unknown Gini mode %d", (int)s->gini_mode);
         return -1;
     }
-    if (s->passes & ~PASSES_ALL) {
+    if (s->passes & ~(PASSES_ALL | PASSES_SAMPLE)) {
         invalid(message, message_size, "unknown passes in mask 0x%x", (unsigned)s->passes);
         return -1;
     }
@@ -204,6 +250,17 @@ int estimator_settings_check(const EstimatorSettings *s, char *message, size_t m
             return -1;
         }
     }
+    if (s->params.clamp_level_count < 1 || s->params.clamp_level_count > EST_CLAMP_LEVELS_MAX) {
+        invalid(message, message_size, "%s: %d levels, 1..%d allowed", CLAMP_LEVELS_NAME,
+                (int)s->params.clamp_level_count, EST_CLAMP_LEVELS_MAX);
+        return -1;
+    }
+    for (int i = 0; i < s->params.clamp_level_count; ++i)
+        if (!(s->params.clamp_levels[i] > 0.0f)) {
+            invalid(message, message_size, "%s: level %g is not > 0", CLAMP_LEVELS_NAME,
+                    (double)s->params.clamp_levels[i]);
+            return -1;
+        }
     return 0;
 }
 
@@ -271,10 +328,16 @@ static int sums_of_pixel(const uint64_t *accumulators, uint32_t m, uint32_t firs
 /* Estimates every pixel from float set sums or (when given) accumulators,
  * as the kernels do: accumulators' sums are in grid units, scaled back
  * after estimation. */
-static EstimatorStatus estimate_all(const EstimatorSettings *settings, const float *set_sums,
+static EstimatorStatus estimate_all(const EstimatorSettings *requested, const float *set_sums,
                                     const uint64_t *accumulators, size_t input_length, size_t pixel_count,
                                     uint64_t sample_count, EstimatorImages *images, char *message, size_t message_size)
 {
+    if (!requested)
+        return invalid(message, message_size, "settings is NULL");
+    /* The per-sample passes are film_sample.h's. */
+    EstimatorSettings set_based = *requested;
+    set_based.passes &= ~PASSES_SAMPLE;
+    const EstimatorSettings *settings = &set_based;
     const int from_accumulators = accumulators != NULL;
     EstimatorStatus status =
         check_common(settings, input_length, from_accumulators, pixel_count, images, message, message_size);

@@ -1,5 +1,6 @@
 #define _POSIX_C_SOURCE 200809L /* strtok_r */
 #include "film/film_file.h"
+#include "film/film_sample.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -49,6 +50,20 @@ void film_file_init(FilmFile *f, int width, int height, const EstimatorSettings 
                 continue;
             if (!with_error)
                 append(f->estimators, sizeof f->estimators, pass_name(p));
+            if (PASSES_SAMPLE & PASS_BIT(p)) {
+                if (with_error)
+                    continue;
+                for (int i = 0; i < film_sample_pass_images(settings, p); ++i) {
+                    char *name = f->sample_layer_names[sample_image_slot(film_sample_passes(settings),
+                                                                         settings->params.clamp_level_count, p, i)];
+                    film_sample_layer_name(settings, p, i, name, EXR_LAYER_NAME_CAPACITY);
+                    ExrRgbLayer *layer = &f->image.layers[f->image.layer_count++];
+                    layer->name = name;
+                    layer->is_int = 0;
+                    layer->data = (const float *)data + (size_t)i * (size_t)width * (size_t)height * EST_CHANNELS;
+                }
+                continue;
+            }
             char *name = f->layer_names[with_error][p];
             layer_name(p, with_error, name, EXR_LAYER_NAME_CAPACITY);
             ExrRgbLayer *layer = &f->image.layers[f->image.layer_count++];
@@ -58,7 +73,7 @@ void film_file_init(FilmFile *f, int width, int height, const EstimatorSettings 
         }
     for (int i = 0; i < estimator_param_count(); ++i) {
         const char *name;
-        char value[32], item[96];
+        char value[160], item[224];
         estimator_param_format(&settings->params, i, &name, value, sizeof value);
         snprintf(item, sizeof item, "%s=%s", name, value);
         append(f->params, sizeof f->params, item);

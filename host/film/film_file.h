@@ -4,6 +4,8 @@
  *   <pass>.R/G/B         a pass (passes.h names it): FLOAT, or UINT for the
  *                        trim counts
  *   <estimate>.stderr.*  an estimate's standard error (--stderr)
+ *   clamp-<V>.R/G/B, clamp-sum.R/G/B  the per-sample estimators
+ *                        (film_sample.h), one clamp-<V> per level
  *   gmon.estimators      the passes estimated, comma-separated names
  *   gmon.giniMode        per_channel | per_pixel | sort_by_luminance
  *   gmon.estimatorParams the estimators' parameters, name=value,...
@@ -22,7 +24,8 @@
 typedef struct {
     ExrImage image;
     ExrKeyValue attributes[FILM_FILE_ATTRIBUTES];
-    char layer_names[2][PASS_COUNT][EXR_LAYER_NAME_CAPACITY]; /* passes, their errors */
+    char layer_names[2][PASS_COUNT][EXR_LAYER_NAME_CAPACITY];                            /* passes, their errors */
+    char sample_layer_names[EST_CLAMP_LEVELS_MAX + PASS_COUNT][EXR_LAYER_NAME_CAPACITY]; /* per-sample images */
     char estimators[512];
     char params[512];
 } FilmFile;

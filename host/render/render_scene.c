@@ -898,8 +898,6 @@ uint64_t render_scene_features(const RenderScene *scene)
         for (int j = 0; j < 3; ++j)
             if (film->from_radiance[i][j] != (i == j ? 1.0f : 0.0f))
                 features |= FEATURE_FILM_MATRIX;
-    if (film->max_component_value < INFINITY)
-        features |= FEATURE_FILM_CLAMP;
     const CameraData *camera = &scene->constants.camera;
     if (camera->lens_radius > 0.0f)
         features |= FEATURE_THIN_LENS;

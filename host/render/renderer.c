@@ -6,6 +6,7 @@
 
 #include "cl/kernel_sources.h"
 #include "film/film_cl.h"
+#include "film/film_sample_cl.h"
 #include "estimators.h"
 #include "feature_mask.h"
 
@@ -60,6 +61,7 @@ typedef struct {
     uint64_t *accumulators;
     uint32_t *rejected;
     uint64_t *rays;
+    uint64_t *samples; /* per-sample state (film_sample.h); NULL when none is requested */
 } HostState;
 
 /* One device's part of the render. */
@@ -70,9 +72,10 @@ typedef struct {
     int fault_pass; /* injected failure in this pass (1-based); 0: none */
     cl_program program;
     cl_kernel kernel;
-    EstimatorProgram *estimator;
+    EstimatorProgram *estimator;              /* NULL when no set-based pass is requested */
+    SampleEstimatorProgram *sample_estimator; /* NULL when no per-sample pass is */
     cl_mem scene[SCENE_BUFFERS];
-    cl_mem accumulators, rejected, rays;
+    cl_mem accumulators, rejected, rays, samples;
     size_t first, count; /* its pixels */
     size_t scene_bytes;
     cl_event pass;
@@ -85,9 +88,10 @@ typedef struct {
     const RenderSettings *settings;
     EstimatorSettings estimator; /* as the workers estimate: M as rendered, the first sample */
     SceneUpload upload;
-    int sets;      /* M as rendered */
-    size_t pixels; /* of the image */
-    size_t planes; /* accumulator planes: accumulator_planes(sets) */
+    int sets;             /* M as rendered */
+    size_t pixels;        /* of the image */
+    size_t planes;        /* accumulator planes: accumulator_planes(sets) */
+    size_t sample_planes; /* per-sample state planes (film_sample.h), 0 for none */
     Worker workers[RENDER_MAX_DEVICES];
     int worker_count;
     HostState saved; /* every pixel's state after saved_samples samples */
@@ -114,8 +118,8 @@ static int live_workers(const Render *r)
 
 static void release_state(Worker *w)
 {
-    cl_mem *state[] = {&w->accumulators, &w->rejected, &w->rays};
-    for (int i = 0; i < 3; ++i)
+    cl_mem *state[] = {&w->accumulators, &w->rejected, &w->rays, &w->samples};
+    for (int i = 0; i < 4; ++i)
         if (*state[i]) {
             clReleaseMemObject(*state[i]);
             *state[i] = NULL;
@@ -131,6 +135,8 @@ static void release_worker(Worker *w)
     if (w->pass)
         clReleaseEvent(w->pass);
     estimator_program_destroy(w->estimator);
+    sample_estimator_destroy(w->sample_estimator);
+    w->sample_estimator = NULL;
     if (w->kernel)
         clReleaseKernel(w->kernel);
     if (w->program)
@@ -168,10 +174,17 @@ size_t render_bytes_per_pixel(size_t sets)
            sizeof(uint64_t);
 }
 
+/* The state of one pixel in this render: sums and counters, and the
+ * per-sample state. */
+static size_t pixel_state_bytes(const Render *r)
+{
+    return render_bytes_per_pixel((size_t)r->sets) + r->sample_planes * sizeof(uint64_t);
+}
+
 /* Device memory a worker holds now, plus `extra`. */
 static size_t worker_bytes(const Render *r, const Worker *w, size_t extra)
 {
-    size_t state = w->accumulators ? w->count * render_bytes_per_pixel((size_t)r->sets) : 0;
+    size_t state = w->accumulators ? w->count * pixel_state_bytes(r) : 0;
     return w->scene_bytes + state + extra;
 }
 
@@ -220,10 +233,19 @@ static int start_worker(Render *r, Worker *w, const char *options)
         drop_worker(r, w, "clCreateKernel(render_samples) failed");
         return -1;
     }
-    w->estimator = estimator_program_new(w->device, &r->estimator, s->kernel_dir);
-    if (!w->estimator) {
-        drop_worker(r, w, "the estimator failed to build (build log above)");
-        return -1;
+    if (r->estimator.passes & PASSES_ALL) {
+        w->estimator = estimator_program_new(w->device, &r->estimator, s->kernel_dir);
+        if (!w->estimator) {
+            drop_worker(r, w, "the estimator failed to build (build log above)");
+            return -1;
+        }
+    }
+    if (r->sample_planes) {
+        w->sample_estimator = sample_estimator_new(w->device, &r->estimator, s->kernel_dir);
+        if (!w->sample_estimator) {
+            drop_worker(r, w, "the per-sample estimator failed to build (build log above)");
+            return -1;
+        }
     }
     w->report->build_seconds = now_seconds() - start;
 
@@ -244,10 +266,11 @@ static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *h
         cl_mem buffer;
         void *host;
         size_t element, planes;
-    } parts[3] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
+    } parts[4] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
                   {w->rejected, host->rejected, sizeof(uint32_t), REJECTED_PLANES},
-                  {w->rays, host->rays, sizeof(uint64_t), 1}};
-    for (int i = 0; i < 3; ++i) {
+                  {w->rays, host->rays, sizeof(uint64_t), 1},
+                  {w->samples, host->samples, sizeof(uint64_t), r->sample_planes}};
+    for (int i = 0; i < (r->sample_planes ? 4 : 3); ++i) {
         size_t element = parts[i].element;
         size_t buffer_origin[3] = {0, 0, 0}, host_origin[3] = {w->first * element, 0, 0};
         size_t region[3] = {w->count * element, parts[i].planes, 1};
@@ -313,6 +336,9 @@ static int assign_pixels(Render *r, const double *weights, int reload, char *err
                     clCreateBuffer(context, CL_MEM_READ_WRITE, count * REJECTED_PLANES * sizeof(uint32_t), NULL, &err);
             if (err == CL_SUCCESS)
                 w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
+            if (err == CL_SUCCESS && r->sample_planes)
+                w->samples =
+                    clCreateBuffer(context, CL_MEM_READ_WRITE, count * r->sample_planes * sizeof(uint64_t), NULL, &err);
             if (err != CL_SUCCESS)
                 cl_report_error("clCreateBuffer", err, __FILE__, __LINE__);
             else
@@ -387,7 +413,7 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
             continue;
         }
         RenderPassArguments args = {w->accumulators, w->rejected, w->rays,  first_sample, count,
-                                    w->first,        w->count,    w->first, w->count};
+                                    w->first,        w->count,    w->first, w->count,     w->samples};
         /* A fixed work-group size (the kernel skips items past the end):
          * PoCL compiles a kernel per work-group size, on first use, and a
          * size of the runtime's choosing would follow every new share. */
@@ -433,7 +459,8 @@ static int allocate_images(RenderOutput *out, const EstimatorSettings *settings,
     for (int p = 0; p < PASS_COUNT; ++p) {
         if (!(settings->passes & PASS_BIT(p)))
             continue;
-        if (!out->pass[p] && !(out->pass[p] = malloc(bytes)))
+        const size_t images = (PASSES_SAMPLE & PASS_BIT(p)) ? (size_t)film_sample_pass_images(settings, p) : 1;
+        if (!out->pass[p] && !(out->pass[p] = malloc(images * bytes)))
             return -1;
         if (settings->with_stderr && (PASSES_ESTIMATES & PASS_BIT(p)) && !out->error[p] &&
             !(out->error[p] = malloc(bytes)))
@@ -451,23 +478,44 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
         Worker *w = &r->workers[i];
         if (!w->live)
             continue;
-        const size_t bytes = estimator_program_image_bytes(w->estimator, w->count);
         cl_int err = CL_SUCCESS;
-        cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
-        cl_event done = NULL;
-        if (err == CL_SUCCESS) {
-            track_peak(r, w, bytes);
-            done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images);
-            err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+        if (w->estimator) {
+            const size_t bytes = estimator_program_image_bytes(w->estimator, w->count);
+            cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
+            cl_event done = NULL;
+            if (err == CL_SUCCESS) {
+                track_peak(r, w, bytes);
+                done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images);
+                err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+            }
+            if (err == CL_SUCCESS)
+                err = estimator_program_read(w->estimator, images, w->first, w->count, &host);
+            if (done) {
+                w->report->estimate_seconds += cl_event_seconds(done);
+                clReleaseEvent(done);
+            }
+            if (images)
+                clReleaseMemObject(images);
         }
-        if (err == CL_SUCCESS)
-            err = estimator_program_read(w->estimator, images, w->first, w->count, &host);
-        if (done) {
-            w->report->estimate_seconds += cl_event_seconds(done);
-            clReleaseEvent(done);
+        if (err == CL_SUCCESS && w->sample_estimator) {
+            const size_t bytes = sample_estimator_image_bytes(w->sample_estimator, w->count);
+            cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
+            cl_event done = NULL;
+            if (err == CL_SUCCESS) {
+                track_peak(r, w, bytes);
+                done = sample_estimator_enqueue(w->sample_estimator, w->samples, w->accumulators, w->count, samples,
+                                                images);
+                err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+            }
+            if (err == CL_SUCCESS)
+                err = sample_estimator_read(w->sample_estimator, images, w->first, w->count, r->pixels, &host);
+            if (done) {
+                w->report->estimate_seconds += cl_event_seconds(done);
+                clReleaseEvent(done);
+            }
+            if (images)
+                clReleaseMemObject(images);
         }
-        if (images)
-            clReleaseMemObject(images);
         if (err != CL_SUCCESS) {
             drop_on_cl_error(r, w, "the estimator failed");
             return -1;
@@ -481,10 +529,15 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
 static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out)
 {
     EstimatorImages images = render_output_images(out);
-    return estimator_from_accumulators(&r->estimator, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
-                                       &images, NULL, 0) == ESTIMATOR_OK
-               ? 0
-               : -1;
+    if ((r->estimator.passes & PASSES_ALL) &&
+        estimator_from_accumulators(&r->estimator, r->saved.accumulators, r->planes * r->pixels, r->pixels, samples,
+                                    &images, NULL, 0) != ESTIMATOR_OK)
+        return -1;
+    if (r->sample_planes &&
+        film_sample_estimate(&r->estimator, r->saved.samples, r->sample_planes * r->pixels, r->saved.accumulators,
+                             r->pixels, samples, &images, NULL, 0) != ESTIMATOR_OK)
+        return -1;
+    return 0;
 }
 
 /* After a failure: every worker goes back to the saved state, split among
@@ -504,8 +557,7 @@ static int is_power_of_two(uint64_t x)
 }
 
 /* Writes the specialized path tracer source with its defines. */
-static int dump_kernel(const RenderSettings *s, const char *options, int sets, uint64_t features, char *error,
-                       size_t error_size)
+static int dump_kernel(const RenderSettings *s, const char *options, char *error, size_t error_size)
 {
     const char *include_dir = NULL;
     char message[512];
@@ -518,7 +570,16 @@ static int dump_kernel(const RenderSettings *s, const char *options, int sets, u
     int ok = f != NULL;
     if (f) {
         fprintf(f, "/* gmonrt: the path tracer as built for this render.\n * Build options: %s */\n", options);
-        fprintf(f, "#define EST_SETS %d\n#define GMON_FEATURES 0x%" PRIx64 "ul\n", sets, features);
+        /* The -DNAME=VALUE options as defines. */
+        char defines[1024];
+        snprintf(defines, sizeof defines, "%s", options);
+        for (char *save = NULL, *item = strtok_r(defines, " ", &save); item; item = strtok_r(NULL, " ", &save)) {
+            char *equals = strchr(item, '=');
+            if (strncmp(item, "-D", 2) == 0 && equals) {
+                *equals = ' ';
+                fprintf(f, "#define %s\n", item + 2);
+            }
+        }
         fputs(source, f);
         ok = fclose(f) == 0 && ok;
     }
@@ -546,7 +607,8 @@ static int host_copies(int device_count)
 static int check_memory(const Render *r, ClDevice *devices, int device_count, char *error, size_t error_size)
 {
     const int images = pass_image_count(r->estimator.passes, r->estimator.with_stderr);
-    const uint64_t state = render_bytes_per_pixel((size_t)r->sets), image = EST_CHANNELS * sizeof(float) * images;
+    const uint64_t state = pixel_state_bytes(r),
+                   image = EST_CHANNELS * sizeof(float) * (images + film_sample_images(&r->estimator));
     uint64_t scene = 0;
     scene += scene_upload_bytes(&r->upload);
     const int copies = host_copies(device_count);
@@ -586,15 +648,17 @@ static void free_state(HostState *h)
     free(h->accumulators);
     free(h->rejected);
     free(h->rays);
+    free(h->samples);
     memset(h, 0, sizeof *h);
 }
 
-static int allocate_state(HostState *h, size_t planes, size_t pixels)
+static int allocate_state(HostState *h, size_t planes, size_t sample_planes, size_t pixels)
 {
     h->accumulators = calloc(planes * pixels, sizeof(uint64_t));
     h->rejected = calloc(REJECTED_PLANES * pixels, sizeof(uint32_t));
     h->rays = calloc(pixels, sizeof(uint64_t));
-    return h->accumulators && h->rejected && h->rays ? 0 : -1;
+    h->samples = sample_planes ? calloc(sample_planes * pixels, sizeof(uint64_t)) : NULL;
+    return h->accumulators && h->rejected && h->rays && (h->samples || !sample_planes) ? 0 : -1;
 }
 
 RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene *scene, const RenderSettings *s,
@@ -613,10 +677,23 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     r.scene = scene;
     r.settings = s;
     scene_upload_init(&r.upload, scene, s->seed);
-    /* Only the mean needs no sets: one sum per pixel. */
-    r.sets = (s->estimator.passes & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ? m : 1;
+    /* Only the mean needs no sets: one sum per pixel (the per-sample passes
+     * keep their own state). */
+    r.sets = (s->estimator.passes & PASSES_ALL & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ||
+                     film_sample_needs_sets(&s->estimator)
+                 ? m
+                 : 1;
     r.estimator = s->estimator;
     r.estimator.set_count = r.sets;
+    /* pbrt-v4's Film "maxcomponentvalue" is the per-sample clamp at that
+     * level: the sets get the samples as they are. */
+    if (scene->constants.film.max_component_value < INFINITY &&
+        film_sample_select_film_clamp(&r.estimator, scene->constants.film.max_component_value) < 0) {
+        snprintf(error, error_size, "Film \"maxcomponentvalue\" needs a clamp level, but clamp.levels has %d already",
+                 EST_CLAMP_LEVELS_MAX);
+        return RENDER_FAILED;
+    }
+    r.sample_planes = film_sample_planes(&r.estimator);
     r.estimator.first_sample = s->first_sample;
     r.pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
     r.planes = accumulator_planes((uint32_t)r.sets);
@@ -636,18 +713,19 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
 
     if (check_memory(&r, devices, device_count, error, error_size))
         goto done;
-    if (allocate_state(&r.saved, r.planes, r.pixels) ||
-        (host_copies(device_count) > 1 && allocate_state(&r.scratch, r.planes, r.pixels)) ||
+    if (allocate_state(&r.saved, r.planes, r.sample_planes, r.pixels) ||
+        (host_copies(device_count) > 1 && allocate_state(&r.scratch, r.planes, r.sample_planes, r.pixels)) ||
         allocate_images(out, &r.estimator, r.pixels))
         goto out_of_memory;
 
     /* The path tracer needs no bit-exact agreement with the host (only its
      * integer accumulation does, which no float option touches), so it may
      * reassociate: about 10% faster on PoCL. */
-    char options[160];
-    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -cl-unsafe-math-optimizations",
-             r.sets, out->features);
-    if (s->dump_kernel && dump_kernel(s, options, r.sets, out->features, error, error_size))
+    char options[1024], sample_options[768];
+    film_sample_build_options(&r.estimator, sample_options, sizeof sample_options);
+    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -cl-unsafe-math-optimizations%s",
+             r.sets, out->features, sample_options);
+    if (s->dump_kernel && dump_kernel(s, options, error, error_size))
         goto done;
     for (int i = 0; i < device_count; ++i) {
         Worker *w = &r.workers[i];
@@ -799,7 +877,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         out->rounded_total += r.saved.rejected[r.pixels + i];
         out->rounded_pixels += r.saved.rejected[r.pixels + i] != 0;
     }
-    out->bytes_per_pixel = render_bytes_per_pixel((size_t)r.sets);
+    out->bytes_per_pixel = pixel_state_bytes(&r);
+    out->sample_bytes_per_pixel = r.sample_planes * sizeof(uint64_t);
     r.saved.accumulators = NULL;
     r.saved.rejected = NULL;
     if (complete) {

@@ -72,13 +72,14 @@ struct RenderOutput {
     uint64_t sample_count; /* samples per pixel actually rendered */
     char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
     uint32_t max_depth;
-    const char *integrator;  /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
-    uint64_t *accumulators;  /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
-    uint32_t *rejected;      /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
-    uint64_t rejected_total; /* non-finite samples (added as 0) */
-    uint64_t rounded_total;  /* samples not added exactly (see accumulate.h), in ... */
-    uint64_t rounded_pixels; /* ... this many pixels */
-    size_t bytes_per_pixel;  /* per-pixel state on the devices and in each host copy */
+    const char *integrator;        /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
+    uint64_t *accumulators;        /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
+    uint32_t *rejected;            /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
+    uint64_t rejected_total;       /* non-finite samples (added as 0) */
+    uint64_t rounded_total;        /* samples not added exactly (see accumulate.h), in ... */
+    uint64_t rounded_pixels;       /* ... this many pixels */
+    size_t bytes_per_pixel;        /* per-pixel state on the devices and in each host copy */
+    size_t sample_bytes_per_pixel; /* of which the per-sample estimators' state (film_sample.h) */
     uint64_t rays;
     double seconds;       /* rendering passes and estimates */
     double build_seconds; /* program builds, all devices */
@@ -87,7 +88,7 @@ struct RenderOutput {
     int device_count;
     RenderDeviceReport devices[RENDER_MAX_DEVICES];
     /* The images (RGB per pixel) by pass, as EstimatorImages; NULL where
-     * not requested. */
+     * not requested (a per-sample pass may hold several: film_sample.h). */
     void *pass[PASS_COUNT];
     float *error[PASS_COUNT];
 };

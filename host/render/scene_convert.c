@@ -639,9 +639,10 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     film->max_component_value = scene.max_component_value;
     if (scene.max_component_value < INFINITY && !quiet)
         fprintf(stderr,
-                "note: %s: Film \"maxcomponentvalue\" %g: every sample whose largest component exceeds it is "
-                "scaled down to it before it is accumulated, so every estimator sees the clamped samples\n",
-                path, (double)scene.max_component_value);
+                "note: %s: Film \"maxcomponentvalue\" %g: the mean pbrt-v4 writes is layer clamp-%g (each sample "
+                "whose largest component exceeds it scaled down to it); the sets, the mean layer and the other "
+                "estimators get the samples unclamped\n",
+                path, (double)scene.max_component_value, (double)scene.max_component_value);
 
     int failed = 0;
     for (size_t i = 0; i < scene.light_count && !failed; ++i)

@@ -82,5 +82,8 @@ cl_int scene_upload_bind_pass(cl_kernel kernel, const RenderPassArguments *a)
     cl_int err = CL_SUCCESS;
     for (size_t i = 0; i < sizeof args / sizeof args[0] && err == CL_SUCCESS; ++i)
         err = clSetKernelArg(kernel, (cl_uint)(SCENE_BUFFERS + i), args[i].size, args[i].value);
+    if (err == CL_SUCCESS && a->samples)
+        err = clSetKernelArg(kernel, (cl_uint)(SCENE_BUFFERS + sizeof args / sizeof args[0]), sizeof a->samples,
+                             &a->samples);
     return err;
 }

@@ -45,6 +45,7 @@ typedef struct {
     cl_uint sample_count;
     cl_ulong first_pixel, pixel_count;               /* the pixels to render */
     cl_ulong buffer_first_pixel, buffer_pixel_count; /* the pixels the state buffers cover */
+    cl_mem samples; /* per-sample state (film_sample.h); NULL: the kernel has no such argument */
 } RenderPassArguments;
 
 cl_int scene_upload_bind_pass(cl_kernel kernel, const RenderPassArguments *a);

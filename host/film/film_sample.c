@@ -1,0 +1,171 @@
+#include "film/film_sample.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+uint32_t film_sample_passes(const EstimatorSettings *s)
+{
+    return s->passes & PASSES_SAMPLE;
+}
+
+size_t film_sample_planes(const EstimatorSettings *s)
+{
+    return sample_state_planes(film_sample_passes(s), s->params.clamp_level_count);
+}
+
+int film_sample_pass_images(const EstimatorSettings *s, int pass)
+{
+    return sample_pass_images(film_sample_passes(s), s->params.clamp_level_count, pass);
+}
+
+int film_sample_images(const EstimatorSettings *s)
+{
+    return sample_image_slot(film_sample_passes(s), s->params.clamp_level_count, PASS_COUNT, 0);
+}
+
+/* A float as an OpenCL C literal that is exactly it. */
+static void float_literal(float x, char *text, size_t size)
+{
+    if (isinf(x))
+        snprintf(text, size, "INFINITY");
+    else
+        snprintf(text, size, "%af", (double)x);
+}
+
+void film_sample_build_options(const EstimatorSettings *s, char *options, size_t size)
+{
+    const uint32_t passes = film_sample_passes(s);
+    options[0] = '\0';
+    if (!passes)
+        return;
+    int used = snprintf(options, size, " -DEST_SAMPLE_PASSES=0x%xu", (unsigned)passes);
+    if (passes & PASS_BIT(PASS_CLAMP)) {
+        used += snprintf(options + used, size - (size_t)used,
+                         " -DEST_CLAMP_LEVEL_COUNT=%d -DEST_CLAMP_LEVEL_VALUES=", s->params.clamp_level_count);
+        for (int i = 0; i < s->params.clamp_level_count && (size_t)used < size; ++i) {
+            char literal[48];
+            float_literal(s->params.clamp_levels[i], literal, sizeof literal);
+            used += snprintf(options + used, size - (size_t)used, "%s%s", i ? "," : "", literal);
+        }
+    }
+    if ((passes & PASS_BIT(PASS_CLAMP_SUM)) && (size_t)used < size) {
+        char direct[48], indirect[48];
+        float_literal(s->params.clamp_sum_direct, direct, sizeof direct);
+        float_literal(s->params.clamp_sum_indirect, indirect, sizeof indirect);
+        snprintf(options + used, size - (size_t)used, " -DEST_CLAMP_SUM_DIRECT=%s -DEST_CLAMP_SUM_INDIRECT=%s", direct,
+                 indirect);
+    }
+}
+
+int film_sample_needs_double(const EstimatorSettings *s)
+{
+    return (s->passes & SAMPLE_MOMENT_PASSES) != 0;
+}
+
+int film_sample_needs_sets(const EstimatorSettings *s)
+{
+    return (s->passes & PASS_BIT(PASS_GABMM)) != 0;
+}
+
+void film_sample_estimator_options(const EstimatorSettings *s, char *options, size_t size)
+{
+    film_sample_build_options(s, options, size);
+    size_t used = strlen(options);
+    if (film_sample_needs_double(s) && used < size)
+        used += (size_t)snprintf(options + used, size - used, " -DSAMPLE_PASSES_DOUBLE");
+    if (film_sample_needs_sets(s) && used < size)
+        snprintf(options + used, size - used, " -DEST_SETS=%d", s->set_count);
+}
+
+void film_sample_layer_name(const EstimatorSettings *s, int pass, int index, char *name, size_t size)
+{
+    if (pass != PASS_CLAMP) {
+        snprintf(name, size, "%s", pass_name(pass));
+        return;
+    }
+    float level = s->params.clamp_levels[index];
+    if (isinf(level)) {
+        snprintf(name, size, "clamp-inf");
+        return;
+    }
+    for (int digits = 1; digits <= 9; ++digits) {
+        snprintf(name, size, "clamp-%.*g", digits, (double)level);
+        if (strtof(name + 6, NULL) == level)
+            return;
+    }
+}
+
+int film_sample_select_film_clamp(EstimatorSettings *s, float level)
+{
+    EstimatorParams *p = &s->params;
+    if (!(s->passes & PASS_BIT(PASS_CLAMP))) {
+        /* The levels asked for are the defaults, not the user's: only V. */
+        p->clamp_level_count = 0;
+        s->passes |= PASS_BIT(PASS_CLAMP);
+    }
+    for (int i = 0; i < p->clamp_level_count; ++i)
+        if (p->clamp_levels[i] == level)
+            return i;
+    if (p->clamp_level_count == EST_CLAMP_LEVELS_MAX)
+        return -1;
+    p->clamp_levels[p->clamp_level_count] = level;
+    return p->clamp_level_count++;
+}
+
+void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t size)
+{
+    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "abmm/gabmm moments"};
+    const uint32_t passes = film_sample_passes(s);
+    size_t used = 0;
+    line[0] = '\0';
+    for (int block = 0; block < SAMPLE_BLOCKS && used < size; ++block) {
+        size_t bytes = sample_block_planes(passes, s->params.clamp_level_count, block) * sizeof(uint64_t);
+        if (!bytes)
+            continue;
+        if (block == SAMPLE_BLOCK_CLAMP)
+            used += (size_t)snprintf(line + used, size - used, "%sclamp (%d level%s) %zu B", used ? ", " : "",
+                                     s->params.clamp_level_count, s->params.clamp_level_count == 1 ? "" : "s", bytes);
+        else
+            used +=
+                (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", block_names[block], bytes);
+    }
+}
+
+EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
+                                     const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
+                                     EstimatorImages *images, char *message, size_t message_size)
+{
+    const uint32_t passes = film_sample_passes(s);
+    const size_t planes = film_sample_planes(s);
+    if (!state || !images || state_length < planes * pixel_count || images->length < pixel_count * EST_CHANNELS ||
+        (film_sample_needs_sets(s) && !accumulators)) {
+        if (message && message_size)
+            snprintf(message, message_size, "per-sample state, set sums or images missing or too short");
+        return ESTIMATOR_INVALID_ARGUMENT;
+    }
+    for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
+        float *image = images->pass[pass];
+        if (!image)
+            continue;
+        for (int i = 0; i < sample_pass_images(passes, s->params.clamp_level_count, pass); ++i)
+            for (size_t p = 0; p < pixel_count; ++p) {
+                float *rgb = image + ((size_t)i * pixel_count + p) * EST_CHANNELS;
+                if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
+                    sample_sum_estimate(state, p, pixel_count, passes, s->params.clamp_level_count, sample_count, pass,
+                                        i, rgb);
+                else
+                    moment_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
+                                    (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);
+            }
+    }
+    return ESTIMATOR_OK;
+}
+
+int film_sample_add(const EstimatorSettings *s, uint64_t *state, size_t pixel, size_t pixel_count,
+                    const SampleParts *sample)
+{
+    return sample_passes_add(state, pixel, pixel_count, film_sample_passes(s), s->params.clamp_level_count,
+                             s->params.clamp_levels, s->params.clamp_sum_direct, s->params.clamp_sum_indirect, sample);
+}

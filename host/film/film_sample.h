@@ -1,0 +1,74 @@
+/* The host side of the per-sample estimators (kernels/sample_passes.h):
+ * which state and images a render's settings ask for, the kernels' build
+ * options, the layer names, and the host estimation (the reference the
+ * kernels are tested against, and what a render without a device left
+ * uses). Nothing is allocated for a render that requests none of them.
+ *
+ * The state is sample_state_planes() planes of uint64 per pixel; a pass's
+ * images lie in EstimatorImages.pass[pass], clamp's levels one after the
+ * other (image i at i * 3 * pixel_count floats). */
+#ifndef HOST_FILM_FILM_SAMPLE_H
+#define HOST_FILM_FILM_SAMPLE_H
+
+#include "film/film.h"
+#define SAMPLE_PASSES_DOUBLE /* abmm and gabmm: their moments in double */
+#include "sample_passes.h"   /* kernels/ */
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* The requested per-sample passes. */
+uint32_t film_sample_passes(const EstimatorSettings *settings);
+
+/* uint64 planes of per-sample state per pixel (0: none requested). */
+size_t film_sample_planes(const EstimatorSettings *settings);
+
+/* RGB images of `pass` (0 if not requested). */
+int film_sample_pass_images(const EstimatorSettings *settings, int pass);
+
+/* RGB images of every requested per-sample pass together. */
+int film_sample_images(const EstimatorSettings *settings);
+
+/* The build options of the path tracer and sample estimator for the
+ * settings: "" when none is requested, else " -DEST_SAMPLE_PASSES=..."
+ * (with a leading space). */
+void film_sample_build_options(const EstimatorSettings *settings, char *options, size_t size);
+
+/* The sample estimator's build options: film_sample_build_options, and
+ * for abmm/gabmm -DSAMPLE_PASSES_DOUBLE, for gabmm -DEST_SETS=M. */
+void film_sample_estimator_options(const EstimatorSettings *settings, char *options, size_t size);
+
+/* Whether the passes need double precision on the device (cl_khr_fp64). */
+int film_sample_needs_double(const EstimatorSettings *settings);
+
+/* Whether the passes read the set sums (gabmm's Gbar): the render keeps M
+ * sets for them. */
+int film_sample_needs_sets(const EstimatorSettings *settings);
+
+/* The EXR layer of image `index` of `pass`: clamp-<V> (V as the shortest
+ * decimal that reads back as the level), or the pass name. */
+void film_sample_layer_name(const EstimatorSettings *settings, int pass, int index, char *name, size_t size);
+
+/* One line for the summary: each requested pass with its bytes per pixel,
+ * e.g. "clamp (3 levels) 152 B, clamp-sum 56 B". "" when none. */
+void film_sample_memory_summary(const EstimatorSettings *settings, char *line, size_t size);
+
+/* pbrt-v4's Film "maxcomponentvalue" V: selects clamp with level V (added
+ * to the levels unless there). Returns the level's index, or -1 when the
+ * levels are full. */
+int film_sample_select_film_clamp(EstimatorSettings *settings, float max_component_value);
+
+/* Estimates every requested per-sample image from the state (length >=
+ * film_sample_planes * pixel_count) into images->pass[...] (those not
+ * NULL); gabmm also reads the set sums `accumulators` (settings' M and
+ * first sample; NULL when gabmm is not requested). */
+EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
+                                     const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
+                                     EstimatorImages *images, char *message, size_t message_size);
+
+/* Adds one sample to pixel `pixel`'s state on the host (tests, the
+ * reference of the kernels' accumulation). */
+int film_sample_add(const EstimatorSettings *settings, uint64_t *state, size_t pixel, size_t pixel_count,
+                    const SampleParts *sample);
+
+#endif

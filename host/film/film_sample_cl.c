@@ -1,0 +1,171 @@
+#include "film/film_sample_cl.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct SampleEstimatorProgram {
+    ClDevice *device;
+    EstimatorSettings settings;
+    cl_program program;
+    cl_kernel estimate;
+    cl_kernel accumulate;
+};
+
+SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
+                                             const char *kernel_dir)
+{
+    if (!film_sample_passes(settings)) {
+        fprintf(stderr, "sample estimator: no per-sample pass requested\n");
+        return NULL;
+    }
+    SampleEstimatorProgram *p = calloc(1, sizeof *p);
+    if (!p)
+        return NULL;
+    p->device = device;
+    p->settings = *settings;
+    if (film_sample_needs_double(settings)) {
+        char extensions[4096] = "";
+        clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
+        if (!strstr(extensions, "cl_khr_fp64")) {
+            fprintf(stderr,
+                    "sample estimator: abmm and gabmm compute their moments in double precision, which device '%s' "
+                    "lacks (no cl_khr_fp64): render them on another device\n",
+                    device->info.name);
+            goto fail;
+        }
+    }
+    char options[768];
+    film_sample_estimator_options(settings, options, sizeof options);
+    p->program = cl_program_build(device, "sample_estimator", options, kernel_dir);
+    if (!p->program)
+        goto fail;
+    cl_int err = CL_SUCCESS;
+    p->estimate = clCreateKernel(p->program, "estimate_sample_passes", &err);
+    CL_CHECK(err, fail);
+    p->accumulate = clCreateKernel(p->program, "accumulate_sample_stream", &err);
+    CL_CHECK(err, fail);
+    return p;
+fail:
+    sample_estimator_destroy(p);
+    return NULL;
+}
+
+void sample_estimator_destroy(SampleEstimatorProgram *p)
+{
+    if (!p)
+        return;
+    if (p->estimate)
+        clReleaseKernel(p->estimate);
+    if (p->accumulate)
+        clReleaseKernel(p->accumulate);
+    if (p->program)
+        clReleaseProgram(p->program);
+    free(p);
+}
+
+static int image_count(const SampleEstimatorProgram *p)
+{
+    const uint32_t passes = film_sample_passes(&p->settings);
+    return sample_image_slot(passes, p->settings.params.clamp_level_count, PASS_COUNT, 0);
+}
+
+size_t sample_estimator_image_bytes(const SampleEstimatorProgram *p, size_t pixel_count)
+{
+    return (size_t)image_count(p) * pixel_count * EST_CHANNELS * sizeof(float);
+}
+
+cl_event sample_estimator_enqueue(SampleEstimatorProgram *p, cl_mem state, cl_mem accumulators, size_t pixel_count,
+                                  uint64_t sample_count, cl_mem images)
+{
+    cl_ulong pixels = pixel_count, samples = sample_count, first = p->settings.first_sample;
+    cl_event event = NULL;
+    CL_CHECK(clSetKernelArg(p->estimate, 0, sizeof state, &state), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 1, sizeof accumulators, &accumulators), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 2, sizeof pixels, &pixels), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 3, sizeof samples, &samples), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 4, sizeof first, &first), fail);
+    CL_CHECK(clSetKernelArg(p->estimate, 5, sizeof images, &images), fail);
+    size_t global = pixel_count;
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->estimate, 1, NULL, &global, NULL, 0, NULL, &event), fail);
+    return event;
+fail:
+    return NULL;
+}
+
+cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t first, size_t pixel_count,
+                             size_t image_pixels, EstimatorImages *host)
+{
+    const uint32_t passes = film_sample_passes(&p->settings);
+    const int levels = p->settings.params.clamp_level_count;
+    const size_t plane = pixel_count * EST_CHANNELS * sizeof(float);
+    for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
+        if (!host->pass[pass])
+            continue;
+        for (int i = 0; i < sample_pass_images(passes, levels, pass); ++i) {
+            char *target = (char *)host->pass[pass] + ((size_t)i * image_pixels + first) * EST_CHANNELS * sizeof(float);
+            cl_int err = clEnqueueReadBuffer(p->device->queue, images, CL_TRUE,
+                                             (size_t)sample_image_slot(passes, levels, pass, i) * plane, plane, target,
+                                             0, NULL, NULL);
+            if (err != CL_SUCCESS) {
+                cl_report_error("clEnqueueReadBuffer", err, __FILE__, __LINE__);
+                return err;
+            }
+        }
+    }
+    return CL_SUCCESS;
+}
+
+int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, size_t stream_length, size_t pixel_count,
+                                const uint64_t *accumulators, uint64_t *state, EstimatorImages *images)
+{
+    cl_context ctx = p->device->context;
+    const size_t state_bytes = film_sample_planes(&p->settings) * pixel_count * sizeof(uint64_t);
+    memset(state, 0, state_bytes);
+    cl_int err = CL_SUCCESS;
+    cl_mem in = NULL, st = NULL, out = NULL, sets = NULL;
+    cl_event event = NULL;
+    int status = -1;
+    in = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                        (stream_length ? stream_length : 1) * pixel_count * 10 * sizeof(float), (void *)parts, &err);
+    CL_CHECK(err, done);
+    st = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, state_bytes, state, &err);
+    CL_CHECK(err, done);
+    out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sample_estimator_image_bytes(p, pixel_count), NULL, &err);
+    CL_CHECK(err, done);
+    uint64_t none = 0;
+    sets = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
+                          accumulators
+                              ? accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t)
+                              : sizeof none,
+                          accumulators ? (void *)accumulators : &none, &err);
+    CL_CHECK(err, done);
+    cl_ulong length = stream_length, pixels = pixel_count;
+    float direct = p->settings.params.clamp_sum_direct, indirect = p->settings.params.clamp_sum_indirect;
+    CL_CHECK(clSetKernelArg(p->accumulate, 0, sizeof in, &in), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 1, sizeof length, &length), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 2, sizeof st, &st), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 3, sizeof pixels, &pixels), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 4, sizeof direct, &direct), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 5, sizeof indirect, &indirect), done);
+    size_t global = pixel_count;
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
+    CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);
+    event = sample_estimator_enqueue(p, st, sets, pixel_count, stream_length, out);
+    if (!event)
+        goto done;
+    CL_CHECK(sample_estimator_read(p, out, 0, pixel_count, pixel_count, images), done);
+    status = 0;
+done:
+    if (event)
+        clReleaseEvent(event);
+    if (out)
+        clReleaseMemObject(out);
+    if (st)
+        clReleaseMemObject(st);
+    if (sets)
+        clReleaseMemObject(sets);
+    if (in)
+        clReleaseMemObject(in);
+    return status;
+}

@@ -1,0 +1,40 @@
+/* The per-sample estimators' kernels (kernels/sample_estimator.cl) on an
+ * OpenCL device: film_sample.h's estimation, bit for bit. */
+#ifndef HOST_FILM_FILM_SAMPLE_CL_H
+#define HOST_FILM_FILM_SAMPLE_CL_H
+
+#include "cl/cl_device.h"
+#include "film/film_sample.h"
+
+typedef struct SampleEstimatorProgram SampleEstimatorProgram;
+
+/* Builds the program for the settings' per-sample passes (none requested:
+ * an error). Returns NULL after printing the reason. */
+SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
+                                             const char *kernel_dir);
+void sample_estimator_destroy(SampleEstimatorProgram *program);
+
+/* Bytes of the images of pixel_count pixels (every per-sample image). */
+size_t sample_estimator_image_bytes(const SampleEstimatorProgram *program, size_t pixel_count);
+
+/* Enqueues the estimation of `state` (pixel_count pixels; gabmm also reads
+ * the set sums `accumulators`) into `images`; returns the kernel's event
+ * (caller releases) or NULL. */
+cl_event sample_estimator_enqueue(SampleEstimatorProgram *program, cl_mem state, cl_mem accumulators,
+                                  size_t pixel_count, uint64_t sample_count, cl_mem images);
+
+/* Reads the images (as enqueued for pixel_count pixels) into host images
+ * at pixels [first, first + pixel_count); blocking. */
+cl_int sample_estimator_read(SampleEstimatorProgram *program, cl_mem images, size_t first, size_t pixel_count,
+                             size_t image_pixels, EstimatorImages *host);
+
+/* Tests: runs the kernel's accumulation on a stream (stream_length
+ * samples a pixel, SampleParts as 10 floats) into host state (zeroed
+ * first), then estimates into host images (gabmm: with the set sums
+ * `accumulators`, M and first sample of the settings; else NULL). 0 on
+ * success. */
+int sample_estimator_run_stream(SampleEstimatorProgram *program, const float *parts, size_t stream_length,
+                                size_t pixel_count, const uint64_t *accumulators, uint64_t *state,
+                                EstimatorImages *images);
+
+#endif

@@ -1,0 +1,328 @@
+/* The per-sample estimators (passes.h, kind PASS_SAMPLE): the state the
+ * path tracer updates with each sample beside the set sums, and the
+ * estimates from it (ESTIMATORS.md, "Needing more per-pixel state").
+ *
+ *   clamp      pbrt-v4's Film "maxcomponentvalue": a sample whose largest
+ *              component exceeds V is scaled by V / max, at each of the
+ *              levels V of clamp.levels; one sum per level
+ *   clamp-sum  Cycles' sample clamping: if |r| + |g| + |b| > L the sample
+ *              is scaled by L / that sum, with L = clamp-sum.direct for
+ *              its direct light and clamp-sum.indirect for the rest (0: no
+ *              clamping); one sum
+ * Both clamp the film's response to the radiance before the pixel filter's
+ * weight multiplies it, as pbrt-v4 does.
+ *
+ * Every sum is an exact fixed-point sum as the set sums are (accumulate.h):
+ * a pass's sums form one block laid out as an accumulator of that many
+ * "sets" (its own grid plane, then its sums), so the state depends only on
+ * the samples, never on devices, pass batching or pixel moves. The blocks of
+ * the requested passes follow each other in one buffer of uint64 planes.
+ *
+ * Valid C11 and OpenCL C 1.2 (host/film/film_sample.c is the host side, the
+ * reference the kernels are tested against). In the path tracer and in
+ * kernels/sample_estimator.cl EST_SAMPLE_PASSES is the mask of requested
+ * passes and EST_CLAMP_LEVEL_VALUES their levels (build options); the host
+ * passes both at run time. */
+#ifndef KERNELS_SAMPLE_PASSES_H
+#define KERNELS_SAMPLE_PASSES_H
+
+#include "accumulate.h"
+#include "estimator_numerics.h"
+#include "passes.h"
+
+/* The state's blocks, in this order, each present only when a pass that
+ * needs it is requested:
+ *   clamp     an accumulator of L sums (L = clamp's levels)
+ *   clamp-sum an accumulator of 1 sum
+ *   moments   (abmm, gabmm) the pixel's shift c, three planes (one per
+ *             channel: the float's bits | SHIFT_SET), then three
+ *             accumulators of 1 sum each, of d = x - c, d^2 and d^3 (each
+ *             power on its own grid, as their magnitudes differ widely) */
+#define SAMPLE_BLOCK_CLAMP 0
+#define SAMPLE_BLOCK_CLAMP_SUM 1
+#define SAMPLE_BLOCK_MOMENTS 2
+#define SAMPLE_BLOCKS 3
+#define SAMPLE_MOMENT_PASSES (PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM))
+#define SHIFT_SET 0x100000000ul
+
+KERNEL_FN uint32_t sample_block_planes(uint32_t passes, int level_count, int block)
+{
+    if (block == SAMPLE_BLOCK_CLAMP)
+        return (passes & PASS_BIT(PASS_CLAMP)) ? accumulator_planes((uint32_t)level_count) : 0u;
+    if (block == SAMPLE_BLOCK_CLAMP_SUM)
+        return (passes & PASS_BIT(PASS_CLAMP_SUM)) ? accumulator_planes(1) : 0u;
+    return (passes & SAMPLE_MOMENT_PASSES) ? EST_CHANNELS + 3 * accumulator_planes(1) : 0u;
+}
+
+/* The first plane of a block. */
+KERNEL_FN uint32_t sample_block_first_plane(uint32_t passes, int level_count, int block)
+{
+    uint32_t plane = 0;
+    for (int b = 0; b < block; ++b)
+        plane += sample_block_planes(passes, level_count, b);
+    return plane;
+}
+
+/* Planes of the whole per-sample state. */
+KERNEL_FN uint32_t sample_state_planes(uint32_t passes, int level_count)
+{
+    return sample_block_first_plane(passes, level_count, SAMPLE_BLOCKS);
+}
+
+/* RGB images a pass produces: one per clamp level, else one. */
+KERNEL_FN int sample_pass_images(uint32_t passes, int level_count, int pass)
+{
+    if (!(passes & PASSES_SAMPLE & PASS_BIT(pass)))
+        return 0;
+    return pass == PASS_CLAMP ? level_count : 1;
+}
+
+/* The image slot of image `index` of a pass among all per-sample images. */
+KERNEL_FN int sample_image_slot(uint32_t passes, int level_count, int pass, int index)
+{
+    int slot = index;
+    for (int q = PASS_CLAMP; q < pass; ++q)
+        slot += sample_pass_images(passes, level_count, q);
+    return slot;
+}
+
+/* pbrt-v4's rule: (r, g, b) scaled by V / max(r, g, b) when that exceeds V
+ * (V = INFINITY changes nothing). */
+KERNEL_FN void clamp_largest_component(float *rgb, float level)
+{
+    float largest = rgb[0] > rgb[1] ? rgb[0] : rgb[1];
+    largest = rgb[2] > largest ? rgb[2] : largest;
+    if (largest > level) {
+        float scale = level / largest;
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            rgb[c] *= scale;
+    }
+}
+
+/* Cycles' rule: scaled by L / (|r| + |g| + |b|) when that exceeds L > 0. */
+KERNEL_FN void clamp_component_sum(float *rgb, float limit)
+{
+    float sum = abs_float(rgb[0]) + abs_float(rgb[1]) + abs_float(rgb[2]);
+    if (limit > 0.0f && sum > limit) {
+        float scale = limit / sum;
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            rgb[c] *= scale;
+    }
+}
+
+/* One sample: its film response `film` (clamp's input) and that of its
+ * direct and indirect parts (clamp-sum's), each multiplied by the pixel
+ * filter's `weight` after clamping. */
+typedef struct {
+    float film[EST_CHANNELS];
+    float direct[EST_CHANNELS];
+    float indirect[EST_CHANNELS];
+    float weight;
+} SampleParts;
+
+/* Adds one sample to the per-sample state of `pixel`. Returns EST_ADD_*
+ * (the worst of its sums: non-finite samples are added to none). */
+KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                int level_count, const float *levels, float direct_limit, float indirect_limit,
+                                const SampleParts *s)
+{
+    int result = EST_ADD_EXACT;
+    if (passes & PASS_BIT(PASS_CLAMP)) {
+        GLOBAL uint64_t *block =
+            state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_CLAMP) * pixel_count;
+        for (int level = 0; level < level_count; ++level) {
+            float rgb[EST_CHANNELS];
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                rgb[c] = s->film[c];
+            clamp_largest_component(rgb, levels[level]);
+            int added = accumulate_sample(block, pixel, pixel_count, (uint32_t)level_count, (uint32_t)level,
+                                          rgb[0] * s->weight, rgb[1] * s->weight, rgb[2] * s->weight);
+            result = added > result ? added : result;
+        }
+    }
+    if (passes & PASS_BIT(PASS_CLAMP_SUM)) {
+        GLOBAL uint64_t *block =
+            state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_CLAMP_SUM) * pixel_count;
+        float direct[EST_CHANNELS], indirect[EST_CHANNELS];
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            direct[c] = s->direct[c];
+            indirect[c] = s->indirect[c];
+        }
+        clamp_component_sum(direct, direct_limit);
+        clamp_component_sum(indirect, indirect_limit);
+        int added = accumulate_sample(block, pixel, pixel_count, 1u, 0u, (direct[0] + indirect[0]) * s->weight,
+                                      (direct[1] + indirect[1]) * s->weight, (direct[2] + indirect[2]) * s->weight);
+        result = added > result ? added : result;
+    }
+    if (passes & SAMPLE_MOMENT_PASSES) {
+        GLOBAL uint64_t *block =
+            state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
+        /* The sample as the sets see it; a non-finite one counts as 0, as
+         * there. */
+        float x[EST_CHANNELS], d[3][EST_CHANNELS];
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            x[c] = s->film[c] * s->weight;
+        if (!sample_is_finite(x[0], x[1], x[2]))
+            x[0] = x[1] = x[2] = 0.0f;
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            /* The pixel's first sample is its shift: the moments about it do
+             * not cancel as raw moments would (a pixel of 1e6 +- 1e3). */
+            uint64_t shift = block[(uint64_t)c * pixel_count + pixel];
+            if (!(shift & SHIFT_SET)) {
+                shift = SHIFT_SET | float_bits(x[c]);
+                block[(uint64_t)c * pixel_count + pixel] = shift;
+            }
+            d[0][c] = x[c] - float_from_bits((uint32_t)shift);
+            d[1][c] = d[0][c] * d[0][c];
+            d[2][c] = d[1][c] * d[0][c];
+        }
+        for (int k = 0; k < 3; ++k) {
+            GLOBAL uint64_t *power = block + (uint64_t)(EST_CHANNELS + k * accumulator_planes(1)) * pixel_count;
+            int added = accumulate_sample(power, pixel, pixel_count, 1u, 0u, d[k][0], d[k][1], d[k][2]);
+            result = added > result ? added : result;
+        }
+    }
+    return result;
+}
+
+/* Image `index` of clamp or clamp-sum at `pixel` after sample_count
+ * samples: the sum's mean, as the mean of a render of one set computes it
+ * (so that clamp at V = INFINITY equals that mean bit for bit). */
+KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                   int level_count, uint64_t sample_count, int pass, int index, float *rgb)
+{
+    GLOBAL const uint64_t *block =
+        state + (uint64_t)sample_block_first_plane(passes, level_count,
+                                                   pass == PASS_CLAMP ? SAMPLE_BLOCK_CLAMP : SAMPLE_BLOCK_CLAMP_SUM) *
+                    pixel_count;
+    int exponent = grid_exponent(block[grid_index(pixel)]);
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        uint64_t i = accumulator_index((uint32_t)index, (uint32_t)c, 0, pixel, pixel_count);
+        float sum = fixed_to_float_lanes(block[i], block[i + pixel_count]);
+        float mean = sample_count > 0 ? sum / (float)sample_count : 0.0f;
+        rgb[c] = scale_by_grid(mean, exponent);
+    }
+}
+
+#ifdef SAMPLE_PASSES_DOUBLE
+#include "estimators.h"
+
+/* ------------------------------------------------------------------------
+ * abmm and gabmm: the moments in double (a kernel needs cl_khr_fp64), with
+ * only + - * / so that host and kernels agree bit for bit.
+ * ---------------------------------------------------------------------- */
+
+/* 2^e as a double, e in -1022..1023, from its bits. */
+KERNEL_FN double double_power_of_two(int e)
+{
+#ifdef __OPENCL_C_VERSION__
+    return as_double((ulong)(e + 1023) << 52);
+#else
+    uint64_t bits = (uint64_t)(e + 1023) << 52;
+    double x;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+#endif
+}
+
+/* An accumulator of one sum (block of accumulator_planes(1) planes):
+ * channel c's value as a double (two roundings: deterministic). */
+KERNEL_FN double moment_sum(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, int c)
+{
+    uint64_t lo = block[accumulator_index(0, (uint32_t)c, 0, pixel, pixel_count)];
+    uint64_t hi = block[accumulator_index(0, (uint32_t)c, 1, pixel, pixel_count)];
+    double value = (double)(int64_t)hi * 18446744073709551616.0 + (double)lo;
+    return value * double_power_of_two(grid_exponent(block[grid_index(pixel)]));
+}
+
+typedef struct {
+    double mean;   /* mu */
+    double second; /* m2 = mean of (x - mu)^2 */
+    double third;  /* m3 = mean of (x - mu)^3 */
+} PixelMoments;
+
+/* Channel c's mean and central moments after n samples, from the moments
+ * about the shift: with a = mean(d), m2 = mean(d^2) - a^2, m3 = mean(d^3)
+ * - 3 a mean(d^2) + 2 a^3; they cancel only as far as the shift is from the
+ * mean, not as far as the mean is from 0. */
+KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count,
+                                      uint32_t passes, int level_count, uint64_t n, int c)
+{
+    GLOBAL const uint64_t *block =
+        state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
+    PixelMoments m;
+    m.mean = m.second = m.third = 0.0;
+    if (n == 0)
+        return m;
+    const double count = (double)n;
+    double shift = (double)float_from_bits((uint32_t)block[(uint64_t)c * pixel_count + pixel]);
+    double s[3];
+    for (int k = 0; k < 3; ++k)
+        s[k] = moment_sum(block + (uint64_t)(EST_CHANNELS + k * accumulator_planes(1)) * pixel_count, pixel,
+                          pixel_count, c) /
+               count;
+    m.mean = shift + s[0];
+    m.second = s[1] - s[0] * s[0];
+    m.third = s[2] - 3.0 * s[0] * s[1] + 2.0 * s[0] * s[0] * s[0];
+    return m;
+}
+
+/* Orenstein's approximate Bayesian median of means: theta = mu - m3 / (3 m2
+ * (n alpha + 2)) (mu where m2 is not positive). */
+KERNEL_FN float abmm_of_moments(PixelMoments m, uint64_t n, double alpha)
+{
+    if (!(m.second > 0.0))
+        return (float)m.mean;
+    return (float)(m.mean - m.third / (3.0 * m.second * ((double)n * alpha + 2.0)));
+}
+
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+/* gabmm's Gbar: the mean of the channels' Gini coefficients of the set
+ * means (estimators.h's G), from the render's set sums (set_count sets,
+ * sample s of [first_sample, first_sample + n) in set s mod set_count). */
+KERNEL_FN float sets_mean_gini(GLOBAL const uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                               uint32_t set_count, uint64_t first_sample, uint64_t n)
+{
+    float total = 0.0f;
+    const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        float t[EST_CAPACITY];
+        int m = 0;
+        for (uint32_t j = 0; j < set_count; ++j) {
+            uint64_t count = n / set_count + ((j + set_count - first_set) % set_count < extra ? 1u : 0u);
+            if (count == 0)
+                continue;
+            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
+            float mean = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)count;
+            int k = m++;
+            for (; k > 0 && t[k - 1] > mean; --k) /* insertion: ascending */
+                t[k] = t[k - 1];
+            t[k] = mean;
+        }
+        total += gini_of_sorted(t, m);
+    }
+    return total / 3.0f;
+}
+#endif
+
+/* abmm (alpha = 1) or gabmm (alpha = 1 - Gbar) of a pixel, per channel. */
+KERNEL_FN void moment_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
+                               uint64_t pixel_count, uint32_t passes, int level_count, uint32_t set_count,
+                               uint64_t first_sample, uint64_t n, int pass, float *rgb)
+{
+    double alpha = 1.0;
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+    if (pass == PASS_GABMM)
+        alpha = 1.0 - (double)sets_mean_gini(accumulators, pixel, pixel_count, set_count, first_sample, n);
+#else
+    (void)accumulators;
+    (void)set_count;
+    (void)first_sample;
+#endif
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        rgb[c] = abmm_of_moments(sample_moments(state, pixel, pixel_count, passes, level_count, n, c), n, alpha);
+}
+
+#endif /* SAMPLE_PASSES_DOUBLE */
+
+#endif /* KERNELS_SAMPLE_PASSES_H */

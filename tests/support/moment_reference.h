@@ -1,0 +1,29 @@
+/* An independent long-double implementation of the moment-based estimators
+ * (ESTIMATORS.md, "Needing more per-pixel state": abmm, gabmm), written from
+ * the spec, not from kernels/sample_passes.h: two-pass central moments and
+ * the paper's Gini of the set means. */
+#ifndef TESTS_SUPPORT_MOMENT_REFERENCE_H
+#define TESTS_SUPPORT_MOMENT_REFERENCE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    long double mean, m2, m3; /* mean, central moments (means of (x - mean)^k) */
+} ReferenceMoments;
+
+ReferenceMoments reference_moments(const float *x, size_t n);
+
+/* theta = mu - m3 / (3 m2 (n alpha + 2)); mu when m2 <= 0. */
+long double reference_abmm(const float *x, size_t n, long double alpha);
+
+/* G of m values: sorted ascending t_1..t_m, sum_i (2i - m - 1) t_i / (m sum t),
+ * clamped to [0, 1] (0 when the sum is not positive). */
+long double reference_gini(const long double *values, int m);
+
+/* The set means of a stream of samples x (sample i is sample index
+ * first_sample + i, in set index mod sets); non-empty sets only. Returns
+ * their number. */
+int reference_set_means(const float *x, size_t n, int sets, uint64_t first_sample, long double *means);
+
+#endif

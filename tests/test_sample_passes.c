@@ -1,0 +1,523 @@
+/* The per-sample estimators (kernels/sample_passes.h): clamp and clamp-sum
+ * on a hand-computed sample stream, the kernels' accumulation and
+ * estimation equal to the host's bit for bit, and in renders: clamp at
+ * V = infinity equals the mean bit for bit, the set sums and set-based
+ * estimates do not change when they are requested, their images do not
+ * depend on pass batching, pbrt-v4's Film "maxcomponentvalue" selects
+ * clamp, and clamp-sum's direct part is exactly the light a render of
+ * maxdepth 1 sees; abmm's moments do not cancel (a pixel of 1e6 with
+ * relative variance 1e-6), abmm and gabmm match an independent long-double
+ * implementation (tests/support/moment_reference.c), and gabmm goes
+ * negative on a single firefly, as the spec says. */
+#include "film/film_sample.h"
+#include "film/film_sample_cl.h"
+#include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "moment_reference.h"
+#include "test_device.h"
+
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+static RenderScene glass;
+static int glass_loaded;
+
+static int setup(void **state)
+{
+    char path[1024], error[1024];
+    snprintf(path, sizeof path, "%s/scenes/cornell-glass.pbrt", GMON_SOURCE_DIR);
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, 24, 18, 1, &glass, &summary, error, sizeof error) ||
+        render_scene_finalize(&glass, error, sizeof error)) {
+        fprintf(stderr, "%s\n", error);
+        return -1;
+    }
+    glass_loaded = 1;
+    return test_device_setup(state);
+}
+
+static int teardown(void **state)
+{
+    if (glass_loaded)
+        render_scene_destroy(&glass);
+    return test_device_teardown(state);
+}
+
+static EstimatorSettings sample_settings(uint32_t passes, const float *levels, int level_count)
+{
+    EstimatorSettings s;
+    estimator_settings_default(&s);
+    s.passes = passes;
+    s.params.clamp_level_count = level_count;
+    for (int i = 0; i < level_count; ++i)
+        s.params.clamp_levels[i] = levels[i];
+    return s;
+}
+
+static SampleParts parts_of(float fr, float fg, float fb, float dr, float dg, float db, float ir, float ig, float ib,
+                            float weight)
+{
+    SampleParts p = {{fr, fg, fb}, {dr, dg, db}, {ir, ig, ib}, weight};
+    return p;
+}
+
+/* Three samples whose clamped sums are known by hand (every value exact in
+ * binary). */
+static void test_hand_computed_stream(void **state)
+{
+    (void)state;
+    const float levels[] = {1.0f, 10.0f, INFINITY};
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_CLAMP_SUM), levels, 3);
+    s.params.clamp_sum_direct = 2.0f;
+    s.params.clamp_sum_indirect = 10.0f;
+    assert_int_equal(estimator_settings_check(&s, NULL, 0), 0);
+    const size_t planes = film_sample_planes(&s);
+    assert_int_equal(planes, accumulator_planes(3) + accumulator_planes(1));
+    uint64_t *state_sums = calloc(planes, sizeof(uint64_t));
+    const SampleParts stream[] = {
+        parts_of(0.5f, 0.25f, 0.125f, 0.5f, 0.25f, 0.125f, 0, 0, 0, 1.0f),
+        /* direct |.| sum 4 > 2: halved; indirect 3 <= 10 */
+        parts_of(4, 2, 1, 3, 0, 1, 1, 2, 0, 1.0f),
+        /* max 16: by 1/16 at V = 1, by 10/16 at V = 10; indirect sum 40 > 10: by 1/4 */
+        parts_of(16, 8, 16, 0, 0, 0, 16, 8, 16, 1.0f),
+    };
+    for (int i = 0; i < 3; ++i)
+        assert_int_equal(film_sample_add(&s, state_sums, 0, 1, &stream[i]), EST_ADD_EXACT);
+    float clamp[3][3], clamp_sum[3];
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    images.pass[PASS_CLAMP] = clamp;
+    images.pass[PASS_CLAMP_SUM] = clamp_sum;
+    images.length = 3;
+    assert_int_equal(film_sample_estimate(&s, state_sums, planes, NULL, 1, 3, &images, NULL, 0), ESTIMATOR_OK);
+    const float expected[4][3] = {
+        {2.5f, 1.25f, 1.375f}, {14.5f, 7.25f, 11.125f}, {20.5f, 10.25f, 17.125f}, {7.0f, 4.25f, 4.625f}};
+    for (int c = 0; c < 3; ++c) {
+        for (int level = 0; level < 3; ++level)
+            assert_true(clamp[level][c] == expected[level][c] / 3.0f);
+        assert_true(clamp_sum[c] == expected[3][c] / 3.0f);
+    }
+    char name[32];
+    film_sample_layer_name(&s, PASS_CLAMP, 0, name, sizeof name);
+    assert_string_equal(name, "clamp-1");
+    film_sample_layer_name(&s, PASS_CLAMP, 2, name, sizeof name);
+    assert_string_equal(name, "clamp-inf");
+    s.params.clamp_levels[0] = 0.1f;
+    film_sample_layer_name(&s, PASS_CLAMP, 0, name, sizeof name);
+    assert_string_equal(name, "clamp-0.1");
+    free(state_sums);
+}
+
+/* clamp.levels parses and formats as V:V:...; bad lists are refused. */
+static void test_levels_parameter(void **state)
+{
+    (void)state;
+    EstimatorSettings s;
+    estimator_settings_default(&s);
+    char message[512];
+    assert_int_equal(estimator_param_set(&s.params, "clamp.levels=0.5:2:inf", message, sizeof message), 0);
+    assert_int_equal(s.params.clamp_level_count, 3);
+    assert_true(s.params.clamp_levels[0] == 0.5f && s.params.clamp_levels[1] == 2.0f &&
+                isinf(s.params.clamp_levels[2]));
+    const char *name;
+    char value[160];
+    estimator_param_format(&s.params, estimator_param_count() - 1, &name, value, sizeof value);
+    assert_string_equal(name, "clamp.levels");
+    assert_string_equal(value, "0.5:2:inf");
+    assert_int_equal(estimator_param_set(&s.params, "clamp.levels=0:1", message, sizeof message), -1);
+    assert_int_equal(estimator_param_set(&s.params, "clamp.levels=1,10", message, sizeof message), -1);
+    assert_int_equal(estimator_param_set(&s.params, "clamp.levels=1:2:3:4:5:6:7:8:9", message, sizeof message), -1);
+    uint32_t passes = 0;
+    assert_int_equal(passes_from_list("all", &passes, message, sizeof message), 0);
+    assert_int_equal(passes & PASSES_SAMPLE, 0);
+    assert_int_equal(passes_from_list("mean,clamp,clamp-sum", &passes, message, sizeof message), 0);
+    assert_int_equal(passes, PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_CLAMP_SUM));
+}
+
+static uint32_t lcg(uint32_t *x)
+{
+    *x = *x * 1664525u + 1013904223u;
+    return *x >> 8;
+}
+
+static float uniform(uint32_t *x)
+{
+    return (float)lcg(x) / 16777216.0f;
+}
+
+/* Random streams with fireflies, negative filter weights and non-finite
+ * samples: the kernel's state and images equal the host's bit for bit. */
+static void test_kernel_equals_host(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const float levels[] = {0.5f, 3.0f, INFINITY};
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_CLAMP_SUM), levels, 3);
+    s.params.clamp_sum_direct = 1.0f;
+    s.params.clamp_sum_indirect = 5.0f;
+    enum { PIXELS = 37, LENGTH = 41 };
+    float *parts = malloc(sizeof(float) * PIXELS * LENGTH * 10);
+    uint32_t seed = 12345;
+    for (int i = 0; i < PIXELS * LENGTH; ++i) {
+        float *p = parts + i * 10;
+        for (int c = 0; c < 3; ++c) {
+            p[3 + c] = uniform(&seed) * (uniform(&seed) < 0.05f ? 1e4f : 1.0f);
+            p[6 + c] = uniform(&seed) * (uniform(&seed) < 0.05f ? 3e5f : 0.5f);
+            p[c] = p[3 + c] + p[6 + c];
+        }
+        p[9] = uniform(&seed) < 0.1f ? -0.25f : 0.5f + uniform(&seed);
+        if (i % 97 == 5)
+            p[1] = NAN;
+    }
+    const size_t planes = film_sample_planes(&s);
+    uint64_t *host = calloc(planes * PIXELS, sizeof(uint64_t)), *device = calloc(planes * PIXELS, sizeof(uint64_t));
+    for (int pixel = 0; pixel < PIXELS; ++pixel)
+        for (int i = 0; i < LENGTH; ++i) {
+            const float *p = parts + ((size_t)pixel * LENGTH + (size_t)i) * 10;
+            SampleParts sp = parts_of(p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9]);
+            film_sample_add(&s, host, (size_t)pixel, PIXELS, &sp);
+        }
+    float host_clamp[3][PIXELS][3], host_sum[PIXELS][3], device_clamp[3][PIXELS][3], device_sum[PIXELS][3];
+    EstimatorImages hi, di;
+    memset(&hi, 0, sizeof hi);
+    memset(&di, 0, sizeof di);
+    hi.pass[PASS_CLAMP] = host_clamp;
+    hi.pass[PASS_CLAMP_SUM] = host_sum;
+    di.pass[PASS_CLAMP] = device_clamp;
+    di.pass[PASS_CLAMP_SUM] = device_sum;
+    hi.length = di.length = PIXELS * 3;
+    assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, NULL, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
+    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    assert_non_null(program);
+    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, NULL, device, &di), 0);
+    assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
+    assert_memory_equal(host_clamp, device_clamp, sizeof host_clamp);
+    assert_memory_equal(host_sum, device_sum, sizeof host_sum);
+    /* The levels bite: clamp-0.5 <= clamp-3 <= clamp-inf where weights are
+     * positive, and they differ somewhere. */
+    int differ = 0;
+    for (int p = 0; p < PIXELS; ++p)
+        for (int c = 0; c < 3; ++c)
+            differ |= host_clamp[0][p][c] != host_clamp[2][p][c];
+    assert_true(differ);
+    sample_estimator_destroy(program);
+    free(parts);
+    free(host);
+    free(device);
+}
+
+/* A stream of one pixel: each value x (grey) as a sample of weight 1, into
+ * the per-sample state and (sets > 0) set sums of `sets` sets. */
+static void add_grey_stream(const EstimatorSettings *s, const float *x, size_t n, uint64_t *state,
+                            uint64_t *accumulators, size_t pixel, size_t pixel_count)
+{
+    for (size_t i = 0; i < n; ++i) {
+        SampleParts p = parts_of(x[i], x[i], x[i], 0, 0, 0, 0, 0, 0, 1.0f);
+        film_sample_add(s, state, pixel, pixel_count, &p);
+        if (accumulators)
+            accumulate_sample(accumulators, pixel, pixel_count, (uint32_t)s->set_count,
+                              set_of_sample(s->first_sample + i, (uint32_t)s->set_count), x[i], x[i], x[i]);
+    }
+}
+
+/* A pixel of 1e6 with relative variance 1e-6 (sd 1e3): its central
+ * moments, about the pixel's first sample, match the two-pass reference
+ * (raw moments would lose them: 1e12 against 1e6). */
+static void test_moments_do_not_cancel(void **state)
+{
+    (void)state;
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM), NULL, 0);
+    s.params.clamp_level_count = 1;
+    enum { N = 4000 };
+    float *x = malloc(N * sizeof(float));
+    uint32_t seed = 99;
+    for (int i = 0; i < N; ++i) /* uniform: sd = 1e3 for a half-width of 1e3 sqrt(3) */
+        x[i] = 1e6f + 1732.0508f * (2.0f * uniform(&seed) - 1.0f) + (i % 50 == 0 ? 4000.0f : 0.0f);
+    uint64_t *st = calloc(film_sample_planes(&s), sizeof(uint64_t));
+    add_grey_stream(&s, x, N, st, NULL, 0, 1);
+    PixelMoments m = sample_moments(st, 0, 1, film_sample_passes(&s), 1, N, 1);
+    ReferenceMoments r = reference_moments(x, N);
+    long double sd = sqrtl(r.m2);
+    printf("  1e6 +- 1e3: mean %.12Lg (reference %.12Lg), m2 %.12g (%.12Lg), m3 %.6g (%.6Lg)\n", (long double)m.mean,
+           r.mean, m.second, r.m2, m.third, r.m3);
+    assert_true(fabsl((long double)m.mean - r.mean) <= 1e-12L * r.mean);
+    /* d^2 and d^3 are rounded to float per sample (2^-24 relative). */
+    assert_true(fabsl((long double)m.second - r.m2) <= 1e-7L * r.m2);
+    assert_true(fabsl((long double)m.third - r.m3) <= 1e-7L * sd * sd * sd);
+    assert_true(r.m2 > 0.9e6L && r.m2 < 1.5e6L);
+    free(x);
+    free(st);
+}
+
+/* abmm and gabmm on streams with known moments: a skewed stream and the
+ * spec's single firefly (background uniform [0.4, 0.6], one sample of
+ * 5e4, n = 1000, M = 21), where gabmm is about -232 with the truth 0.5. */
+static void test_abmm_gabmm_against_reference(void **state)
+{
+    (void)state;
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM), NULL, 0);
+    s.params.clamp_level_count = 1;
+    s.set_count = 21;
+    enum { N = 1000 };
+    float x[2][N];
+    uint32_t seed = 5;
+    for (int i = 0; i < N; ++i) {
+        float u = uniform(&seed);
+        x[0][i] = 0.1f / (1.0f - 0.999f * u); /* skewed, heavy right tail */
+        x[1][i] = i == 617 ? 5e4f : 0.4f + 0.2f * uniform(&seed);
+    }
+    const size_t planes = film_sample_planes(&s), sets = accumulator_planes(21);
+    uint64_t *st = calloc(planes * 2, sizeof(uint64_t)), *acc = calloc(sets * 2, sizeof(uint64_t));
+    for (int p = 0; p < 2; ++p)
+        add_grey_stream(&s, x[p], N, st, acc, (size_t)p, 2);
+    float abmm[2][3], gabmm[2][3];
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    images.pass[PASS_ABMM] = abmm;
+    images.pass[PASS_GABMM] = gabmm;
+    images.length = 6;
+    assert_int_equal(film_sample_estimate(&s, st, planes * 2, acc, 2, N, &images, NULL, 0), ESTIMATOR_OK);
+    for (int p = 0; p < 2; ++p) {
+        long double means[64];
+        int m = reference_set_means(x[p], N, 21, 0, means);
+        long double g = reference_gini(means, m);
+        long double want_abmm = reference_abmm(x[p], N, 1.0L), want_gabmm = reference_abmm(x[p], N, 1.0L - g);
+        printf("  %s: abmm %.7g (reference %.7Lg), gabmm %.7g (reference %.7Lg, Gbar %.5Lf), mean %.7Lg\n",
+               p ? "single firefly" : "skewed stream", abmm[p][0], want_abmm, gabmm[p][0], want_gabmm, g,
+               reference_moments(x[p], N).mean);
+        assert_true(fabsl(abmm[p][0] - want_abmm) <= 1e-5L * fabsl(want_abmm));
+        /* Gbar in float: its rounding moves gabmm by about 1e-6 relative. */
+        assert_true(fabsl(gabmm[p][0] - want_gabmm) <= 1e-4L * fabsl(want_gabmm));
+        assert_true(abmm[p][1] == abmm[p][0] && gabmm[p][2] == gabmm[p][0]);
+    }
+    assert_true(gabmm[1][0] < -200.0f && gabmm[1][0] > -260.0f); /* the spec's "about -232" */
+    free(st);
+    free(acc);
+}
+
+/* The kernels' moments and their estimates equal the host's bit for bit
+ * (also a render range not starting at set 0). */
+static void test_moments_kernel_equals_host(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_CLAMP), NULL, 0);
+    s.params.clamp_level_count = 1;
+    s.params.clamp_levels[0] = 2.0f;
+    s.set_count = 7;
+    s.first_sample = 3;
+    enum { PIXELS = 29, LENGTH = 45 };
+    float *parts = malloc(sizeof(float) * PIXELS * LENGTH * 10);
+    uint32_t seed = 777;
+    for (int i = 0; i < PIXELS * LENGTH; ++i) {
+        float *p = parts + i * 10;
+        for (int c = 0; c < 3; ++c) {
+            p[c] = (float)(i % PIXELS + 1) * (uniform(&seed) < 0.03f ? 1e4f : 1.0f) * uniform(&seed);
+            p[3 + c] = p[6 + c] = 0.0f;
+        }
+        p[9] = uniform(&seed) < 0.1f ? -0.5f : 1.0f;
+    }
+    const size_t planes = film_sample_planes(&s), sets = accumulator_planes(7);
+    uint64_t *host = calloc(planes * PIXELS, sizeof(uint64_t)), *device = calloc(planes * PIXELS, sizeof(uint64_t));
+    uint64_t *acc = calloc(sets * PIXELS, sizeof(uint64_t));
+    for (int pixel = 0; pixel < PIXELS; ++pixel)
+        for (int i = 0; i < LENGTH; ++i) {
+            const float *p = parts + ((size_t)pixel * LENGTH + (size_t)i) * 10;
+            SampleParts sp = parts_of(p[0], p[1], p[2], 0, 0, 0, 0, 0, 0, p[9]);
+            film_sample_add(&s, host, (size_t)pixel, PIXELS, &sp);
+            accumulate_sample(acc, (size_t)pixel, PIXELS, 7, set_of_sample(3 + (uint64_t)i, 7), p[0] * p[9],
+                              p[1] * p[9], p[2] * p[9]);
+        }
+    float hc[PIXELS][3], ha[PIXELS][3], hg[PIXELS][3], dc[PIXELS][3], da[PIXELS][3], dg[PIXELS][3];
+    EstimatorImages hi, di;
+    memset(&hi, 0, sizeof hi);
+    memset(&di, 0, sizeof di);
+    hi.pass[PASS_CLAMP] = hc;
+    hi.pass[PASS_ABMM] = ha;
+    hi.pass[PASS_GABMM] = hg;
+    di.pass[PASS_CLAMP] = dc;
+    di.pass[PASS_ABMM] = da;
+    di.pass[PASS_GABMM] = dg;
+    hi.length = di.length = PIXELS * 3;
+    assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, acc, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
+    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    assert_non_null(program);
+    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, acc, device, &di), 0);
+    assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
+    assert_memory_equal(hc, dc, sizeof hc);
+    assert_memory_equal(ha, da, sizeof ha);
+    assert_memory_equal(hg, dg, sizeof hg);
+    int differ = 0;
+    for (int p = 0; p < PIXELS; ++p)
+        differ |= ha[p][0] != hg[p][0];
+    assert_true(differ);
+    sample_estimator_destroy(program);
+    free(parts);
+    free(host);
+    free(device);
+    free(acc);
+}
+
+static RenderSettings glass_settings(uint32_t passes)
+{
+    RenderSettings s;
+    render_settings_default(&s);
+    s.estimator.set_count = 5;
+    s.estimator.passes = passes;
+    s.sample_count = 19;
+    s.seed = 3;
+    return s;
+}
+
+static void render_glass(const RenderSettings *s, RenderOutput *out)
+{
+    char error[2048];
+    if (renderer_run(&test_device, 1, &glass, s, out, error, sizeof error) != RENDER_OK)
+        fail_msg("renderer: %s", error);
+}
+
+static size_t glass_pixels(const RenderOutput *out)
+{
+    return (size_t)out->width * out->height;
+}
+
+/* clamp at V = infinity is the mean of the same samples (one set: only the
+ * mean among the set-based passes) bit for bit. */
+static void test_clamp_infinity_is_the_mean(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderSettings s = glass_settings(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_CLAMP));
+    s.estimator.params.clamp_level_count = 2;
+    s.estimator.params.clamp_levels[0] = INFINITY;
+    s.estimator.params.clamp_levels[1] = 1.0f;
+    RenderOutput out;
+    render_glass(&s, &out);
+    assert_int_equal(out.set_count, 1);
+    const size_t values = glass_pixels(&out) * 3;
+    assert_memory_equal(out.pass[PASS_MEAN], out.pass[PASS_CLAMP], values * sizeof(float));
+    /* V = 1 clamps the light and the caustics. */
+    const float *clamped = (const float *)out.pass[PASS_CLAMP] + values;
+    int below = 0;
+    for (size_t i = 0; i < values; ++i) {
+        assert_true(clamped[i] <= ((const float *)out.pass[PASS_MEAN])[i]);
+        below += clamped[i] < ((const float *)out.pass[PASS_MEAN])[i];
+    }
+    assert_true(below > 0);
+    assert_int_equal(out.sample_bytes_per_pixel, accumulator_planes(2) * sizeof(uint64_t));
+    render_output_free(&out);
+}
+
+/* Requesting the per-sample passes changes no set sum and no set-based
+ * estimate; their images do not depend on how passes batch samples. */
+static void test_sets_unchanged_and_batching(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const uint32_t set_based = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON);
+    RenderSettings plain = glass_settings(set_based);
+    RenderSettings with = glass_settings(set_based | PASSES_SAMPLE);
+    with.estimator.params.clamp_sum_direct = 5.0f;
+    with.estimator.params.clamp_sum_indirect = 1.0f;
+    RenderSettings batched = with;
+    batched.seconds_per_pass = 1e-6; /* a sample a pass */
+    RenderOutput a, b, c;
+    render_glass(&plain, &a);
+    render_glass(&with, &b);
+    render_glass(&batched, &c);
+    const size_t pixels = glass_pixels(&a);
+    assert_int_equal(a.set_count, b.set_count);
+    assert_memory_equal(a.accumulators, b.accumulators,
+                        accumulator_planes((uint32_t)a.set_count) * pixels * sizeof(uint64_t));
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if (set_based & PASS_BIT(p))
+            assert_memory_equal(a.pass[p], b.pass[p], pixels * 3 * sizeof(float));
+    assert_int_equal(b.bytes_per_pixel, a.bytes_per_pixel + b.sample_bytes_per_pixel);
+    assert_memory_equal(b.pass[PASS_CLAMP], c.pass[PASS_CLAMP], 3 * pixels * 3 * sizeof(float));
+    for (int p = PASS_CLAMP_SUM; p < PASS_COUNT; ++p)
+        assert_memory_equal(b.pass[p], c.pass[p], pixels * 3 * sizeof(float));
+    render_output_free(&a);
+    render_output_free(&b);
+    render_output_free(&c);
+}
+
+/* Film "maxcomponentvalue" V: the render adds clamp at V; the mean stays
+ * unclamped. */
+static void test_film_max_component_value(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    glass.constants.film.max_component_value = 0.75f;
+    RenderSettings s = glass_settings(PASS_BIT(PASS_MEAN));
+    RenderOutput out;
+    render_glass(&s, &out);
+    glass.constants.film.max_component_value = INFINITY;
+    assert_true(out.estimator.passes & PASS_BIT(PASS_CLAMP));
+    assert_int_equal(out.estimator.params.clamp_level_count, 1);
+    assert_true(out.estimator.params.clamp_levels[0] == 0.75f);
+    RenderOutput plain;
+    render_glass(&s, &plain);
+    const size_t values = glass_pixels(&out) * 3;
+    assert_memory_equal(out.pass[PASS_MEAN], plain.pass[PASS_MEAN], values * sizeof(float));
+    assert_null(plain.pass[PASS_CLAMP]);
+    float largest = 0.0f;
+    for (size_t i = 0; i < values; ++i)
+        largest = fmaxf(largest, ((const float *)out.pass[PASS_CLAMP])[i]);
+    assert_true(largest <= 0.75f);
+    render_output_free(&out);
+    render_output_free(&plain);
+}
+
+/* clamp-sum with no direct threshold and an indirect one far below every
+ * value keeps the direct light alone: exactly (to the clamped remainder)
+ * what a render of maxdepth 1 sees (emission from the camera, and the
+ * first surface's light sample and BSDF sample). */
+static void test_clamp_sum_direct_part(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const uint32_t saved_depth = glass.constants.integrator.max_depth;
+    RenderSettings s = glass_settings(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_CLAMP_SUM));
+    s.estimator.params.clamp_sum_direct = 0.0f;
+    s.estimator.params.clamp_sum_indirect = 1e-30f;
+    RenderOutput full, direct;
+    render_glass(&s, &full);
+    glass.constants.integrator.max_depth = 1;
+    render_glass(&s, &direct);
+    glass.constants.integrator.max_depth = saved_depth;
+    const size_t values = glass_pixels(&full) * 3;
+    const float *part = full.pass[PASS_CLAMP_SUM], *one_bounce = direct.pass[PASS_MEAN], *mean = full.pass[PASS_MEAN];
+    double worst = 0.0, indirect = 0.0;
+    for (size_t i = 0; i < values; ++i) {
+        worst = fmax(worst, fabs((double)part[i] - one_bounce[i]) - 1e-6 * fabs((double)one_bounce[i]));
+        indirect += mean[i] - part[i];
+    }
+    printf("  clamp-sum (indirect clamped away) vs maxdepth 1: worst %.3g; indirect light in the mean %.4g\n", worst,
+           indirect / (double)values);
+    assert_true(worst <= 1e-25);
+    assert_true(indirect / (double)values > 1e-3);
+    /* At maxdepth 1 nothing is indirect: clamp-sum is the mean. */
+    assert_memory_equal(direct.pass[PASS_CLAMP_SUM], direct.pass[PASS_MEAN], values * sizeof(float));
+    render_output_free(&full);
+    render_output_free(&direct);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_hand_computed_stream),         cmocka_unit_test(test_levels_parameter),
+        cmocka_unit_test(test_kernel_equals_host),           cmocka_unit_test(test_clamp_infinity_is_the_mean),
+        cmocka_unit_test(test_sets_unchanged_and_batching),  cmocka_unit_test(test_film_max_component_value),
+        cmocka_unit_test(test_clamp_sum_direct_part),        cmocka_unit_test(test_moments_do_not_cancel),
+        cmocka_unit_test(test_abmm_gabmm_against_reference), cmocka_unit_test(test_moments_kernel_equals_host),
+    };
+    return cmocka_run_group_tests(tests, setup, teardown);
+}
