@@ -90,6 +90,17 @@ KERNEL_FN TextureContext surface_texture_context(const SurfaceUv *uv, Vec3 p, Ve
     return c;
 }
 
+/* A float texture at a hit (a mix's amount): `texture` a program's first
+ * node, n the shading normal. */
+KERNEL_FN float scene_texture_float(const Scene *scene, int32_t texture, const Hit *hit, __global const Primitive *prim,
+                                    Vec3 p, Vec3 n, float footprint)
+{
+    SurfaceUv uv = surface_uv(scene, hit, prim, p);
+    TextureContext c = surface_texture_context(&uv, p, n, footprint);
+    TextureArrays a = scene_texture_arrays(scene);
+    return texture_evaluate_float(&a, texture, &c);
+}
+
 KERNEL_FN float roughness_to_alpha(float roughness, uint32_t remap)
 {
     roughness = roughness > 0.0f ? roughness : 0.0f;
