@@ -296,14 +296,9 @@ KERNEL_FN float alpha_at(const Geometry *geometry, const GLOBAL Primitive *p, in
         Vec3 d = vec3(ray->direction[0], ray->direction[1], ray->direction[2]);
         Vec3 at = v_add(o, v_scale(d, hit->t));
         SurfaceUv uv = surface_uv_at(geometry->surface_uvs, primitive, hit->u, hit->v, p, at);
-        TextureContext c;
-        c.p = at;
-        c.n = v_normalize(is_sphere(p) ? v_sub(at, vec3_from_global(p->a))
-                                       : v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
-        c.u = uv.u;
-        c.v = uv.v;
-        c.footprint = 0.0f;
-        c.uv_density = uv.density;
+        Vec3 n = v_normalize(is_sphere(p) ? v_sub(at, vec3_from_global(p->a))
+                                          : v_cross(vec3_from_global(p->b), vec3_from_global(p->c)));
+        TextureContext c = surface_texture_context(&uv, at, n, 0.0f);
         TextureArrays a;
         a.nodes = geometry->textures;
         a.bytes = geometry->texture_bytes;

@@ -76,20 +76,6 @@ KERNEL_FN SurfaceUv surface_uv(const Scene *scene, const Hit *hit, __global cons
     return surface_uv_at(scene->surface_uvs, hit->primitive, hit->u, hit->v, prim, p);
 }
 
-/* The texture context at a hit: footprint is the ray's footprint width
- * across the surface there (world units). */
-KERNEL_FN TextureContext surface_texture_context(const SurfaceUv *uv, Vec3 p, Vec3 ns, float footprint)
-{
-    TextureContext c;
-    c.p = p;
-    c.n = ns;
-    c.u = uv->u;
-    c.v = uv->v;
-    c.footprint = footprint;
-    c.uv_density = uv->density;
-    return c;
-}
-
 /* A float texture at a hit (a mix's amount): `texture` a program's first
  * node, n the shading normal. */
 KERNEL_FN float scene_texture_float(const Scene *scene, int32_t texture, const Hit *hit, __global const Primitive *prim,

@@ -74,4 +74,18 @@ KERNEL_FN SurfaceUv surface_uv_at(const GLOBAL float *surface_uvs, int32_t primi
     return s;
 }
 
+/* The texture context at a hit: footprint is the ray's footprint width
+ * across the surface there (world units). */
+KERNEL_FN TextureContext surface_texture_context(const SurfaceUv *uv, Vec3 p, Vec3 ns, float footprint)
+{
+    TextureContext c;
+    c.p = p;
+    c.n = ns;
+    c.u = uv->u;
+    c.v = uv->v;
+    c.footprint = footprint;
+    c.uv_density = uv->density;
+    return c;
+}
+
 #endif
