@@ -46,7 +46,8 @@
     PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE)                                                                      \
     PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)                                                              \
     PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE)                                                                        \
-    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)
+    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)                                                                      \
+    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE)
 
 #define PASS_ENUM_(id, name, type, kind) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
@@ -73,6 +74,9 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
     (PASS_BIT(PASS_GGMON) | PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL) |   \
      PASS_BIT(PASS_GMON_AUTHORS) | PASS_BIT(PASS_GMEDIAN))
 
+/* zirr's cascades K (the parameter zirr.k) at most. */
+#define EST_ZIRR_CASCADES_MAX 16
+
 /* The estimators' parameters (ESTIMATORS.md, "The estimator family"):
  * PARAM(type, field, name, default, lowest, highest), set per render as
  * --estimator-param <name>=<value> and written to the EXR metadata. An
@@ -89,7 +93,11 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
     PARAM(int32_t, winsorized_c, "winsorized.c", -1, -1, 31)                                                           \
     PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)                                              \
     PARAM(float, clamp_sum_direct, "clamp-sum.direct", 0.0f, 0, INFINITY)                                              \
-    PARAM(float, clamp_sum_indirect, "clamp-sum.indirect", 10.0f, 0, INFINITY)
+    PARAM(float, clamp_sum_indirect, "clamp-sum.indirect", 10.0f, 0, INFINITY)                                         \
+    PARAM(int32_t, zirr_k, "zirr.k", 6, 2, EST_ZIRR_CASCADES_MAX)                                                      \
+    PARAM(float, zirr_base, "zirr.base", 8.0f, 1.125, 1024)                                                            \
+    PARAM(float, zirr_kappa, "zirr.kappa", 1.0f, 0.001, 1e6)                                                           \
+    PARAM(float, zirr_emin, "zirr.emin", 0.05f, 0, INFINITY)
 
 /* clamp's levels V (at most EST_CLAMP_LEVELS_MAX, each > 0, INFINITY
  * allowed), one image clamp-<V> each: the parameter clamp.levels, values

@@ -41,6 +41,10 @@
 #define EST_CLAMP_SUM_DIRECT 0.0f
 #define EST_CLAMP_SUM_INDIRECT 0.0f
 #endif
+#ifndef EST_ZIRR_COUNT
+#define EST_ZIRR_COUNT 2
+#define EST_ZIRR_BASE 8.0f
+#endif
 
 /* Random dimensions: 2 for the image position, then DIMS_PER_BOUNCE a
  * bounce (and 2 for the lens, past them: camera.h). */
@@ -282,7 +286,8 @@ __kernel void render_samples(__global const SceneConstants *constants,
             const float levels[1] = {0.0f};
 #endif
             sample_passes_add(sample_state, local_pixel, buffer_pixel_count, SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
-                              levels, EST_CLAMP_SUM_DIRECT, EST_CLAMP_SUM_INDIRECT, &sample);
+                              levels, EST_CLAMP_SUM_DIRECT, EST_CLAMP_SUM_INDIRECT, EST_ZIRR_COUNT, EST_ZIRR_BASE,
+                              &sample);
         }
 #endif
         nonfinite += added == EST_ADD_NONFINITE;

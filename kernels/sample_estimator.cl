@@ -5,7 +5,9 @@
  * per-sample passes), -DEST_CLAMP_LEVEL_COUNT=L and
  * -DEST_CLAMP_LEVEL_VALUES=<L floats, comma-separated> (clamp's levels);
  * with abmm or gabmm -DSAMPLE_PASSES_DOUBLE (the device needs cl_khr_fp64),
- * with gabmm -DEST_SETS=M (it reads the set sums). */
+ * with gabmm -DEST_SETS=M (it reads the set sums); with zirr
+ * -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b -DEST_ZIRR_KAPPA=kappa
+ * -DEST_ZIRR_EMIN=emin. */
 #ifdef SAMPLE_PASSES_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
@@ -16,6 +18,12 @@
 #endif
 #ifndef EST_CLAMP_LEVEL_COUNT
 #define EST_CLAMP_LEVEL_COUNT 0
+#endif
+#ifndef EST_ZIRR_COUNT
+#define EST_ZIRR_COUNT 2
+#define EST_ZIRR_BASE 8.0f
+#define EST_ZIRR_KAPPA 1.0f
+#define EST_ZIRR_EMIN 0.0f
 #endif
 
 /* Output: one buffer of RGB images, pixel-interleaved, in the order of
@@ -30,6 +38,8 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass)
         for (int i = 0; i < sample_pass_images(EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, pass); ++i) {
             float rgb[EST_CHANNELS];
+            if (pass == PASS_ZIRR)
+                continue; /* estimate_zirr's, over the whole image */
             if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
                 sample_sum_estimate(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, sample_count,
                                     pass, i, rgb);
@@ -47,6 +57,23 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
             for (int c = 0; c < EST_CHANNELS; ++c)
                 images[(slot * pixel_count + pixel) * EST_CHANNELS + c] = rgb[c];
         }
+}
+
+/* zirr's image from the cascades of a whole width x height image (its
+ * neighbourhoods cross any split of the pixels among devices), one work
+ * item a pixel; output pixel-interleaved RGB. */
+__kernel void estimate_zirr(__global const ulong *state, uint width, uint height, ulong sample_count,
+                            __global float *image)
+{
+    ulong pixel = get_global_id(0);
+    if (pixel >= (ulong)width * height)
+        return;
+    float rgb[EST_CHANNELS];
+    zirr_estimate(state, (uint)(pixel % width), (uint)(pixel / width), width, height, EST_SAMPLE_PASSES,
+                  EST_CLAMP_LEVEL_COUNT, EST_ZIRR_COUNT, EST_ZIRR_BASE, EST_ZIRR_KAPPA, EST_ZIRR_EMIN, sample_count,
+                  rgb);
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        image[pixel * EST_CHANNELS + c] = rgb[c];
 }
 
 /* Drives the per-sample accumulation from a stream (tests): work item p
@@ -73,6 +100,6 @@ __kernel void accumulate_sample_stream(__global const float *parts, ulong stream
         }
         s.weight = p[9];
         sample_passes_add(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, levels, direct_limit,
-                          indirect_limit, &s);
+                          indirect_limit, EST_ZIRR_COUNT, EST_ZIRR_BASE, &s);
     }
 }

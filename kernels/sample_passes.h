@@ -11,6 +11,11 @@
  *              clamping); one sum
  * Both clamp the film's response to the radiance before the pixel filter's
  * weight multiplies it, as pbrt-v4 does.
+ *   zirr       Zirr, Hanika and Dachsbacher's reweighting of framebuffer
+ *              cascades: each sample split by its luminance between the
+ *              two of K cascades (scales b^i) that bracket it; estimated
+ *              over a 3x3 neighbourhood of the cascades (zirr_estimate),
+ *              so after every sum of the image is gathered
  *
  * Every sum is an exact fixed-point sum as the set sums are (accumulate.h):
  * a pass's sums form one block laid out as an accumulator of that many
@@ -29,6 +34,7 @@
 #include "accumulate.h"
 #include "estimator_numerics.h"
 #include "passes.h"
+#include "vec3.h"
 
 /* The state's blocks, in this order, each present only when a pass that
  * needs it is requested:
@@ -37,36 +43,43 @@
  *   moments   (abmm, gabmm) the pixel's shift c, three planes (one per
  *             channel: the float's bits | SHIFT_SET), then three
  *             accumulators of 1 sum each, of d = x - c, d^2 and d^3 (each
- *             power on its own grid, as their magnitudes differ widely) */
+ *             power on its own grid, as their magnitudes differ widely)
+ *   zirr      an accumulator of K sums, sum k the cascade of scale b^k
+ *             (last, so that the blocks before it do not depend on K) */
 #define SAMPLE_BLOCK_CLAMP 0
 #define SAMPLE_BLOCK_CLAMP_SUM 1
 #define SAMPLE_BLOCK_MOMENTS 2
-#define SAMPLE_BLOCKS 3
+#define SAMPLE_BLOCK_ZIRR 3
+#define SAMPLE_BLOCKS 4
 #define SAMPLE_MOMENT_PASSES (PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM))
 #define SHIFT_SET 0x100000000ul
 
-KERNEL_FN uint32_t sample_block_planes(uint32_t passes, int level_count, int block)
+/* Planes of a block; cascade_count (zirr's K) matters for zirr's only. */
+KERNEL_FN uint32_t sample_block_planes(uint32_t passes, int level_count, int cascade_count, int block)
 {
     if (block == SAMPLE_BLOCK_CLAMP)
         return (passes & PASS_BIT(PASS_CLAMP)) ? accumulator_planes((uint32_t)level_count) : 0u;
     if (block == SAMPLE_BLOCK_CLAMP_SUM)
         return (passes & PASS_BIT(PASS_CLAMP_SUM)) ? accumulator_planes(1) : 0u;
-    return (passes & SAMPLE_MOMENT_PASSES) ? EST_CHANNELS + 3 * accumulator_planes(1) : 0u;
+    if (block == SAMPLE_BLOCK_MOMENTS)
+        return (passes & SAMPLE_MOMENT_PASSES) ? EST_CHANNELS + 3 * accumulator_planes(1) : 0u;
+    return (passes & PASS_BIT(PASS_ZIRR)) ? accumulator_planes((uint32_t)cascade_count) : 0u;
 }
 
-/* The first plane of a block. */
+/* The first plane of a block (zirr's block is last: no K needed). */
 KERNEL_FN uint32_t sample_block_first_plane(uint32_t passes, int level_count, int block)
 {
     uint32_t plane = 0;
-    for (int b = 0; b < block; ++b)
-        plane += sample_block_planes(passes, level_count, b);
+    for (int b = 0; b < block && b < SAMPLE_BLOCK_ZIRR; ++b)
+        plane += sample_block_planes(passes, level_count, 0, b);
     return plane;
 }
 
 /* Planes of the whole per-sample state. */
-KERNEL_FN uint32_t sample_state_planes(uint32_t passes, int level_count)
+KERNEL_FN uint32_t sample_state_planes(uint32_t passes, int level_count, int cascade_count)
 {
-    return sample_block_first_plane(passes, level_count, SAMPLE_BLOCKS);
+    return sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) +
+           sample_block_planes(passes, level_count, cascade_count, SAMPLE_BLOCK_ZIRR);
 }
 
 /* RGB images a pass produces: one per clamp level, else one. */
@@ -110,6 +123,62 @@ KERNEL_FN void clamp_component_sum(float *rgb, float limit)
     }
 }
 
+/* ------------------------------------------------------------------------
+ * zirr (Zirr, Hanika, Dachsbacher 2018): K cascades of scales
+ * s_k = ZIRR_START b^k. The paper's rules as its authors' public code
+ * (ic.js/rw: split.cpp, reweight.fs) applies them; README.md, "zirr",
+ * says what was chosen where the paper leaves it open.
+ * ---------------------------------------------------------------------- */
+#define ZIRR_START 1.0f
+
+/* s_k, by repeated multiplication (the split and the estimate use these
+ * same floats). */
+KERNEL_FN float zirr_scale(int cascade, float base)
+{
+    float scale = ZIRR_START;
+    for (int k = 0; k < cascade; ++k)
+        scale *= base;
+    return scale;
+}
+
+/* How a sample of luminance l (finite) is split: weight_lower of it into
+ * cascade `lower`, weight_upper into lower + 1. Between s_k and s_{k+1}
+ * the lower weight is linear in 1/l, (s_k / l - s_k / s_{k+1}) / (1 - s_k /
+ * s_{k+1}), so that the weights add up to 1 and the sample's count
+ * estimates w_lower l / s_k + w_upper l / s_{k+1} add up to 1 as well.
+ * At or below s_0 all goes to cascade 0; above s_{K-1} the sample goes to
+ * the last cascade scaled to luminance s_{K-1} (the authors' rule: no
+ * cascade counts it). */
+typedef struct {
+    int lower;
+    float weight_lower, weight_upper;
+} ZirrSplit;
+
+KERNEL_FN ZirrSplit zirr_split(float luminance, int cascade_count, float base)
+{
+    ZirrSplit split;
+    float lower_scale = ZIRR_START, upper_scale = ZIRR_START * base;
+    split.lower = 0;
+    while (!(luminance < upper_scale) && split.lower < cascade_count - 2) {
+        lower_scale = upper_scale;
+        upper_scale *= base;
+        ++split.lower;
+    }
+    if (luminance <= lower_scale) {
+        split.weight_lower = 1.0f;
+        split.weight_upper = 0.0f;
+    } else if (luminance < upper_scale) {
+        float ratio = lower_scale / upper_scale;
+        float w = (lower_scale / luminance - ratio) / (1.0f - ratio);
+        split.weight_lower = w > 0.0f ? w : 0.0f;
+        split.weight_upper = 1.0f - split.weight_lower > 0.0f ? 1.0f - split.weight_lower : 0.0f;
+    } else {
+        split.weight_lower = 0.0f;
+        split.weight_upper = upper_scale / luminance;
+    }
+    return split;
+}
+
 /* One sample: its film response `film` (clamp's input) and that of its
  * direct and indirect parts (clamp-sum's), each multiplied by the pixel
  * filter's `weight` after clamping. */
@@ -124,7 +193,7 @@ typedef struct {
  * (the worst of its sums: non-finite samples are added to none). */
 KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
                                 int level_count, const float *levels, float direct_limit, float indirect_limit,
-                                const SampleParts *s)
+                                int cascade_count, float cascade_base, const SampleParts *s)
 {
     int result = EST_ADD_EXACT;
     if (passes & PASS_BIT(PASS_CLAMP)) {
@@ -182,7 +251,41 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
             result = added > result ? added : result;
         }
     }
+    if (passes & PASS_BIT(PASS_ZIRR)) {
+        GLOBAL uint64_t *block =
+            state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
+        float x[EST_CHANNELS];
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            x[c] = s->film[c] * s->weight; /* the sample as the sets see it */
+        if (!sample_is_finite(x[0], x[1], x[2]))
+            return EST_ADD_NONFINITE > result ? EST_ADD_NONFINITE : result;
+        /* One luminance splits all three channels: colours are kept. */
+        ZirrSplit split = zirr_split(v_luminance(vec3(x[0], x[1], x[2])), cascade_count, cascade_base);
+        const float weights[2] = {split.weight_lower, split.weight_upper};
+        for (int k = 0; k < 2; ++k) {
+            if (weights[k] == 0.0f)
+                continue;
+            int added =
+                accumulate_sample(block, pixel, pixel_count, (uint32_t)cascade_count, (uint32_t)(split.lower + k),
+                                  x[0] * weights[k], x[1] * weights[k], x[2] * weights[k]);
+            result = added > result ? added : result;
+        }
+    }
     return result;
+}
+
+/* Sum `index` of the accumulator `block` at `pixel` divided by n (0 for
+ * n = 0), as the mean of a render of one set computes it. */
+KERNEL_FN void accumulator_mean(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, uint32_t index,
+                                uint64_t n, float *rgb)
+{
+    int exponent = grid_exponent(block[grid_index(pixel)]);
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        uint64_t i = accumulator_index(index, (uint32_t)c, 0, pixel, pixel_count);
+        float sum = fixed_to_float_lanes(block[i], block[i + pixel_count]);
+        float mean = n > 0 ? sum / (float)n : 0.0f;
+        rgb[c] = scale_by_grid(mean, exponent);
+    }
 }
 
 /* Image `index` of clamp or clamp-sum at `pixel` after sample_count
@@ -195,12 +298,68 @@ KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel,
         state + (uint64_t)sample_block_first_plane(passes, level_count,
                                                    pass == PASS_CLAMP ? SAMPLE_BLOCK_CLAMP : SAMPLE_BLOCK_CLAMP_SUM) *
                     pixel_count;
-    int exponent = grid_exponent(block[grid_index(pixel)]);
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        uint64_t i = accumulator_index((uint32_t)index, (uint32_t)c, 0, pixel, pixel_count);
-        float sum = fixed_to_float_lanes(block[i], block[i + pixel_count]);
-        float mean = sample_count > 0 ? sum / (float)sample_count : 0.0f;
-        rgb[c] = scale_by_grid(mean, exponent);
+    accumulator_mean(block, pixel, pixel_count, (uint32_t)index, sample_count, rgb);
+}
+
+/* zirr's estimate at pixel (x, y) of a width x height image after n
+ * samples a pixel, from the cascades' means B_k (sum / n). With
+ * c_k = lum(B_k) n / s_k the estimated count of samples in cascade k (at
+ * the pixel, or averaged over its 3x3 neighbourhood, clamped to the
+ * image's edge), cascade i's reliability from counting is
+ * (C - 1) / kappa, C = c_{i-1} + c_i + c_{i+1} at the pixel where that
+ * sum over the neighbourhood is at least 1 sample, else the
+ * neighbourhood's; from colour it is max(lum(P), emin) n / (kappa s_i) f,
+ * P = sum_{k<i} r_k B_k (the estimate of the cascades below) and
+ * f = (0.4 + 0.6 b) (1 - t) + t, t = min(1, 1 / kappa); r_i is their mean
+ * clamped to [0, 1], and the estimate is P after the last cascade. */
+KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *state, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
+                             uint32_t passes, int level_count, int cascade_count, float base, float kappa, float emin,
+                             uint64_t n, float *rgb)
+{
+    const uint64_t pixel_count = (uint64_t)width * height;
+    GLOBAL const uint64_t *block =
+        state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
+    const float samples = (float)n;
+    float means[EST_ZIRR_CASCADES_MAX][EST_CHANNELS], center[EST_ZIRR_CASCADES_MAX], hood[EST_ZIRR_CASCADES_MAX];
+    for (int k = 0; k < cascade_count; ++k) {
+        const float scale = zirr_scale(k, base);
+        float around = 0.0f;
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                int64_t qx = (int64_t)x + dx, qy = (int64_t)y + dy;
+                qx = qx < 0 ? 0 : (qx >= (int64_t)width ? (int64_t)width - 1 : qx);
+                qy = qy < 0 ? 0 : (qy >= (int64_t)height ? (int64_t)height - 1 : qy);
+                float mean[EST_CHANNELS];
+                accumulator_mean(block, (uint64_t)qy * width + (uint64_t)qx, pixel_count, (uint32_t)k, n, mean);
+                around += v_luminance(vec3(mean[0], mean[1], mean[2]));
+            }
+        accumulator_mean(block, (uint64_t)y * width + x, pixel_count, (uint32_t)k, n, means[k]);
+        center[k] = v_luminance(vec3(means[k][0], means[k][1], means[k][2])) * samples / scale;
+        hood[k] = around / 9.0f * samples / scale;
+    }
+    const float t = 1.0f / kappa < 1.0f ? 1.0f / kappa : 1.0f;
+    const float colour_factor = (0.4f + 0.6f * base) * (1.0f - t) + t;
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        rgb[c] = 0.0f;
+    for (int i = 0; i < cascade_count; ++i) {
+        float at_pixel = center[i], around = hood[i];
+        if (i > 0) {
+            at_pixel += center[i - 1];
+            around += hood[i - 1];
+        }
+        if (i + 1 < cascade_count) {
+            at_pixel += center[i + 1];
+            around += hood[i + 1];
+        }
+        const float count = around < 1.0f ? around : at_pixel;
+        float brightness = v_luminance(vec3(rgb[0], rgb[1], rgb[2]));
+        brightness = brightness > emin ? brightness : emin;
+        const float by_count = (count - 1.0f) / kappa;
+        const float by_colour = brightness * samples / (kappa * zirr_scale(i, base)) * colour_factor;
+        float r = (by_count + by_colour) * 0.5f;
+        r = r > 0.0f ? (r < 1.0f ? r : 1.0f) : 0.0f;
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            rgb[c] += r * means[i][c];
     }
 }
 

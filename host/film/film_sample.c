@@ -12,7 +12,7 @@ uint32_t film_sample_passes(const EstimatorSettings *s)
 
 size_t film_sample_planes(const EstimatorSettings *s)
 {
-    return sample_state_planes(film_sample_passes(s), s->params.clamp_level_count);
+    return sample_state_planes(film_sample_passes(s), s->params.clamp_level_count, s->params.zirr_k);
 }
 
 int film_sample_pass_images(const EstimatorSettings *s, int pass)
@@ -54,8 +54,17 @@ void film_sample_build_options(const EstimatorSettings *s, char *options, size_t
         char direct[48], indirect[48];
         float_literal(s->params.clamp_sum_direct, direct, sizeof direct);
         float_literal(s->params.clamp_sum_indirect, indirect, sizeof indirect);
-        snprintf(options + used, size - (size_t)used, " -DEST_CLAMP_SUM_DIRECT=%s -DEST_CLAMP_SUM_INDIRECT=%s", direct,
-                 indirect);
+        used += snprintf(options + used, size - (size_t)used, " -DEST_CLAMP_SUM_DIRECT=%s -DEST_CLAMP_SUM_INDIRECT=%s",
+                         direct, indirect);
+    }
+    if ((passes & PASS_BIT(PASS_ZIRR)) && (size_t)used < size) {
+        char base[48], kappa[48], emin[48];
+        float_literal(s->params.zirr_base, base, sizeof base);
+        float_literal(s->params.zirr_kappa, kappa, sizeof kappa);
+        float_literal(s->params.zirr_emin, emin, sizeof emin);
+        snprintf(options + used, size - (size_t)used,
+                 " -DEST_ZIRR_COUNT=%d -DEST_ZIRR_BASE=%s -DEST_ZIRR_KAPPA=%s -DEST_ZIRR_EMIN=%s", s->params.zirr_k,
+                 base, kappa, emin);
     }
 }
 
@@ -116,17 +125,21 @@ int film_sample_select_film_clamp(EstimatorSettings *s, float level)
 
 void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t size)
 {
-    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "abmm/gabmm moments"};
+    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "abmm/gabmm moments", "zirr"};
     const uint32_t passes = film_sample_passes(s);
     size_t used = 0;
     line[0] = '\0';
     for (int block = 0; block < SAMPLE_BLOCKS && used < size; ++block) {
-        size_t bytes = sample_block_planes(passes, s->params.clamp_level_count, block) * sizeof(uint64_t);
+        size_t bytes =
+            sample_block_planes(passes, s->params.clamp_level_count, s->params.zirr_k, block) * sizeof(uint64_t);
         if (!bytes)
             continue;
         if (block == SAMPLE_BLOCK_CLAMP)
             used += (size_t)snprintf(line + used, size - used, "%sclamp (%d level%s) %zu B", used ? ", " : "",
                                      s->params.clamp_level_count, s->params.clamp_level_count == 1 ? "" : "s", bytes);
+        else if (block == SAMPLE_BLOCK_ZIRR)
+            used += (size_t)snprintf(line + used, size - used, "%szirr (K = %d cascades) %zu B", used ? ", " : "",
+                                     s->params.zirr_k, bytes);
         else
             used +=
                 (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", block_names[block], bytes);
@@ -147,7 +160,7 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
     }
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
         float *image = images->pass[pass];
-        if (!image)
+        if (!image || pass == PASS_ZIRR) /* film_sample_estimate_zirr's */
             continue;
         for (int i = 0; i < sample_pass_images(passes, s->params.clamp_level_count, pass); ++i)
             for (size_t p = 0; p < pixel_count; ++p) {
@@ -163,9 +176,30 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
     return ESTIMATOR_OK;
 }
 
+EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
+                                          uint32_t width, uint32_t height, uint64_t sample_count, float *image,
+                                          char *message, size_t message_size)
+{
+    const size_t pixel_count = (size_t)width * height;
+    if (!(film_sample_passes(s) & PASS_BIT(PASS_ZIRR)) || !state || !image || !pixel_count ||
+        state_length < film_sample_planes(s) * pixel_count) {
+        if (message && message_size)
+            snprintf(message, message_size, "zirr not requested, or its state or image missing or too short");
+        return ESTIMATOR_INVALID_ARGUMENT;
+    }
+    const EstimatorParams *p = &s->params;
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x)
+            zirr_estimate(state, x, y, width, height, film_sample_passes(s), p->clamp_level_count, p->zirr_k,
+                          p->zirr_base, p->zirr_kappa, p->zirr_emin, sample_count,
+                          image + ((size_t)y * width + x) * EST_CHANNELS);
+    return ESTIMATOR_OK;
+}
+
 int film_sample_add(const EstimatorSettings *s, uint64_t *state, size_t pixel, size_t pixel_count,
                     const SampleParts *sample)
 {
     return sample_passes_add(state, pixel, pixel_count, film_sample_passes(s), s->params.clamp_level_count,
-                             s->params.clamp_levels, s->params.clamp_sum_direct, s->params.clamp_sum_indirect, sample);
+                             s->params.clamp_levels, s->params.clamp_sum_direct, s->params.clamp_sum_indirect,
+                             s->params.zirr_k, s->params.zirr_base, sample);
 }

@@ -58,13 +58,21 @@ void film_sample_memory_summary(const EstimatorSettings *settings, char *line, s
  * levels are full. */
 int film_sample_select_film_clamp(EstimatorSettings *settings, float max_component_value);
 
-/* Estimates every requested per-sample image from the state (length >=
- * film_sample_planes * pixel_count) into images->pass[...] (those not
- * NULL); gabmm also reads the set sums `accumulators` (settings' M and
- * first sample; NULL when gabmm is not requested). */
+/* Estimates every requested per-sample image but zirr's from the state
+ * (length >= film_sample_planes * pixel_count) into images->pass[...]
+ * (those not NULL); gabmm also reads the set sums `accumulators` (settings'
+ * M and first sample; NULL when gabmm is not requested). */
 EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
                                      const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
                                      EstimatorImages *images, char *message, size_t message_size);
+
+/* zirr's image (RGB, pixel-interleaved, width x height) from the state of
+ * the whole image (pixel y * width + x; length >= film_sample_planes *
+ * width * height): its neighbourhoods need every pixel's cascades, so it
+ * runs once they are all gathered. */
+EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
+                                          uint32_t width, uint32_t height, uint64_t sample_count, float *image,
+                                          char *message, size_t message_size);
 
 /* Adds one sample to pixel `pixel`'s state on the host (tests, the
  * reference of the kernels' accumulation). */

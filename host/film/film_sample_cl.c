@@ -10,6 +10,7 @@ struct SampleEstimatorProgram {
     cl_program program;
     cl_kernel estimate;
     cl_kernel accumulate;
+    cl_kernel zirr; /* NULL unless zirr is requested */
 };
 
 SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
@@ -45,6 +46,10 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
     CL_CHECK(err, fail);
     p->accumulate = clCreateKernel(p->program, "accumulate_sample_stream", &err);
     CL_CHECK(err, fail);
+    if (film_sample_passes(settings) & PASS_BIT(PASS_ZIRR)) {
+        p->zirr = clCreateKernel(p->program, "estimate_zirr", &err);
+        CL_CHECK(err, fail);
+    }
     return p;
 fail:
     sample_estimator_destroy(p);
@@ -59,6 +64,8 @@ void sample_estimator_destroy(SampleEstimatorProgram *p)
         clReleaseKernel(p->estimate);
     if (p->accumulate)
         clReleaseKernel(p->accumulate);
+    if (p->zirr)
+        clReleaseKernel(p->zirr);
     if (p->program)
         clReleaseProgram(p->program);
     free(p);
@@ -100,7 +107,7 @@ cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t fi
     const int levels = p->settings.params.clamp_level_count;
     const size_t plane = pixel_count * EST_CHANNELS * sizeof(float);
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
-        if (!host->pass[pass])
+        if (!host->pass[pass] || pass == PASS_ZIRR) /* sample_estimator_zirr's */
             continue;
         for (int i = 0; i < sample_pass_images(passes, levels, pass); ++i) {
             char *target = (char *)host->pass[pass] + ((size_t)i * image_pixels + first) * EST_CHANNELS * sizeof(float);
@@ -167,5 +174,45 @@ done:
         clReleaseMemObject(sets);
     if (in)
         clReleaseMemObject(in);
+    return status;
+}
+
+int sample_estimator_zirr(SampleEstimatorProgram *p, const uint64_t *state, uint32_t width, uint32_t height,
+                          uint64_t sample_count, float *image, double *seconds)
+{
+    if (!p->zirr)
+        return -1;
+    cl_context ctx = p->device->context;
+    const size_t pixel_count = (size_t)width * height;
+    const size_t state_bytes = film_sample_planes(&p->settings) * pixel_count * sizeof(uint64_t);
+    const size_t image_bytes = pixel_count * EST_CHANNELS * sizeof(float);
+    cl_int err = CL_SUCCESS;
+    cl_mem st = NULL, out = NULL;
+    cl_event event = NULL;
+    int status = -1;
+    st = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, state_bytes, (void *)state, &err);
+    CL_CHECK(err, done);
+    out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes, NULL, &err);
+    CL_CHECK(err, done);
+    cl_uint w = width, h = height;
+    cl_ulong samples = sample_count;
+    CL_CHECK(clSetKernelArg(p->zirr, 0, sizeof st, &st), done);
+    CL_CHECK(clSetKernelArg(p->zirr, 1, sizeof w, &w), done);
+    CL_CHECK(clSetKernelArg(p->zirr, 2, sizeof h, &h), done);
+    CL_CHECK(clSetKernelArg(p->zirr, 3, sizeof samples, &samples), done);
+    CL_CHECK(clSetKernelArg(p->zirr, 4, sizeof out, &out), done);
+    size_t global = pixel_count;
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr, 1, NULL, &global, NULL, 0, NULL, &event), done);
+    CL_CHECK(clEnqueueReadBuffer(p->device->queue, out, CL_TRUE, 0, image_bytes, image, 0, NULL, NULL), done);
+    if (seconds)
+        *seconds += cl_event_seconds(event);
+    status = 0;
+done:
+    if (event)
+        clReleaseEvent(event);
+    if (out)
+        clReleaseMemObject(out);
+    if (st)
+        clReleaseMemObject(st);
     return status;
 }

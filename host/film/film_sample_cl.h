@@ -37,4 +37,11 @@ int sample_estimator_run_stream(SampleEstimatorProgram *program, const float *pa
                                 size_t pixel_count, const uint64_t *accumulators, uint64_t *state,
                                 EstimatorImages *images);
 
+/* zirr's image (film_sample_estimate_zirr's, computed by the kernel
+ * estimate_zirr) from the host state of a whole width x height image,
+ * uploaded for it; adds the kernel's time to *seconds (if not NULL).
+ * Returns 0, or -1 (zirr not requested, or an OpenCL error, reported). */
+int sample_estimator_zirr(SampleEstimatorProgram *program, const uint64_t *state, uint32_t width, uint32_t height,
+                          uint64_t sample_count, float *image, double *seconds);
+
 #endif

@@ -469,6 +469,32 @@ static int allocate_images(RenderOutput *out, const EstimatorSettings *settings,
     return 0;
 }
 
+/* zirr's image: its 3x3 neighbourhoods cross the workers' pixel ranges,
+ * so it is estimated from every worker's cascades gathered on the host
+ * (exact sums: the same whatever the split), by the first live worker's
+ * kernel. Returns 0, or -1 after dropping a worker. */
+static int save_state(Render *r, uint64_t samples);
+static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *out)
+{
+    if (!(r->estimator.passes & PASS_BIT(PASS_ZIRR)))
+        return 0;
+    if (r->saved_samples != samples && save_state(r, samples) != 0)
+        return -1;
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        if (!w->live || !w->sample_estimator)
+            continue;
+        if (sample_estimator_zirr(w->sample_estimator, r->saved.samples, r->scene->constants.camera.width,
+                                  r->scene->constants.camera.height, samples, out->pass[PASS_ZIRR],
+                                  &w->report->estimate_seconds) != 0) {
+            drop_on_cl_error(r, w, "the zirr estimator failed");
+            return -1;
+        }
+        return 0;
+    }
+    return -1;
+}
+
 /* The estimates of `samples` samples per pixel, each worker on its pixels,
  * into the output's images. Returns 0, or -1 after dropping a worker. */
 static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
@@ -521,7 +547,7 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
             return -1;
         }
     }
-    return 0;
+    return estimate_zirr_on_device(r, samples, out);
 }
 
 /* The same on the host from the saved state (bit-identical to the kernels),
@@ -536,6 +562,11 @@ static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out
     if (r->sample_planes &&
         film_sample_estimate(&r->estimator, r->saved.samples, r->sample_planes * r->pixels, r->saved.accumulators,
                              r->pixels, samples, &images, NULL, 0) != ESTIMATOR_OK)
+        return -1;
+    if ((r->estimator.passes & PASS_BIT(PASS_ZIRR)) &&
+        film_sample_estimate_zirr(&r->estimator, r->saved.samples, r->sample_planes * r->pixels,
+                                  r->scene->constants.camera.width, r->scene->constants.camera.height, samples,
+                                  out->pass[PASS_ZIRR], NULL, 0) != ESTIMATOR_OK)
         return -1;
     return 0;
 }
