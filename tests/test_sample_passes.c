@@ -14,6 +14,8 @@
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "moment_reference.h"
+#include "sample_streams.h"
+#include "zirr_reference.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -441,6 +443,7 @@ static void test_sets_unchanged_and_batching(void **state)
         if (set_based & PASS_BIT(p))
             assert_memory_equal(a.pass[p], b.pass[p], pixels * 3 * sizeof(float));
     assert_int_equal(b.bytes_per_pixel, a.bytes_per_pixel + b.sample_bytes_per_pixel);
+    assert_non_null(b.pass[PASS_ZIRR]); /* zirr too: its cascades change no set sum either */
     assert_memory_equal(b.pass[PASS_CLAMP], c.pass[PASS_CLAMP], 3 * pixels * 3 * sizeof(float));
     for (int p = PASS_CLAMP_SUM; p < PASS_COUNT; ++p)
         assert_memory_equal(b.pass[p], c.pass[p], pixels * 3 * sizeof(float));
@@ -510,14 +513,244 @@ static void test_clamp_sum_direct_part(void **state)
     render_output_free(&direct);
 }
 
+/* ------------------------------------------------------------------------
+ * zirr
+ * ---------------------------------------------------------------------- */
+
+static EstimatorSettings zirr_settings(void)
+{
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ZIRR), NULL, 0);
+    s.params.clamp_level_count = 1;
+    s.params.clamp_levels[0] = 1.0f;
+    return s;
+}
+
+static ZirrReferenceParams zirr_reference_params(const EstimatorSettings *s)
+{
+    ZirrReferenceParams p = {s->params.zirr_k, s->params.zirr_base, s->params.zirr_kappa, s->params.zirr_emin};
+    return p;
+}
+
+/* Host zirr of an image of RGB streams (n samples a pixel, weight 1). */
+static void zirr_of_streams(const EstimatorSettings *s, const float *samples, size_t n, int width, int height,
+                            float *image)
+{
+    const size_t pixels = (size_t)width * height, planes = film_sample_planes(s);
+    uint64_t *st = calloc(planes * pixels, sizeof(uint64_t));
+    for (size_t p = 0; p < pixels; ++p)
+        for (size_t i = 0; i < n; ++i) {
+            const float *x = samples + (p * n + i) * 3;
+            SampleParts sp = parts_of(x[0], x[1], x[2], 0, 0, 0, 0, 0, 0, 1.0f);
+            assert_int_not_equal(film_sample_add(s, st, p, pixels, &sp), EST_ADD_NONFINITE);
+        }
+    assert_int_equal(
+        film_sample_estimate_zirr(s, st, planes * pixels, (uint32_t)width, (uint32_t)height, n, image, NULL, 0),
+        ESTIMATOR_OK);
+    free(st);
+}
+
+/* The worst of |host - reference| / max(|reference|, 1e-3) over an image. */
+static double zirr_worst_error(const EstimatorSettings *s, const float *samples, size_t n, int width, int height,
+                               float *image, long double *reference)
+{
+    zirr_of_streams(s, samples, n, width, height, image);
+    ZirrReferenceParams rp = zirr_reference_params(s);
+    reference_zirr(&rp, samples, n, width, height, reference);
+    double worst = 0.0;
+    for (size_t i = 0; i < (size_t)width * height * 3; ++i) {
+        double scale = fabsl(reference[i]) > 1e-3L ? (double)fabsl(reference[i]) : 1e-3;
+        worst = fmax(worst, fabs((double)image[i] - (double)reference[i]) / scale);
+    }
+    return worst;
+}
+
+/* Synthetic streams against the independent reference: a constant (below
+ * the first scale, and between two scales), one outlier among constants,
+ * and Pareto samples (a 2D image, so that neighbourhoods and borders
+ * matter), at the default parameters and at others. */
+static void test_zirr_streams_against_reference(void **state)
+{
+    (void)state;
+    enum { N = 400, W = 6, H = 5 };
+    float *samples = malloc(sizeof(float) * W * H * N * 3), image[W * H * 3];
+    long double reference[W * H * 3];
+    EstimatorSettings s = zirr_settings();
+    assert_int_equal(estimator_settings_check(&s, NULL, 0), 0);
+    assert_int_equal(film_sample_planes(&s), accumulator_planes(6)); /* K = 6 RGB sums and a grid word */
+
+    /* One pixel, constant 3 (split between cascades 0 and 1), then one
+     * outlier of 1e4 (cascades 4 and 5) in it. */
+    for (int i = 0; i < N * 3; ++i)
+        samples[i] = 3.0f;
+    double worst = zirr_worst_error(&s, samples, N, 1, 1, image, reference);
+    printf("  zirr constant 3: %.9g (reference %.9Lg), worst relative error %.3g\n", (double)image[0], reference[0],
+           worst);
+    assert_true(worst < 1e-5);
+    assert_true(fabsf(image[0] - 3.0f) <= 3.0f * 4e-7f);
+    samples[7 * 3] = samples[7 * 3 + 1] = samples[7 * 3 + 2] = 1e4f;
+    worst = zirr_worst_error(&s, samples, N, 1, 1, image, reference);
+    const double mean = (3.0 * (N - 1) + 1e4) / N;
+    printf("  zirr one outlier: %.9g (reference %.9Lg, mean %.9g), worst relative error %.3g\n", (double)image[0],
+           reference[0], mean, worst);
+    assert_true(worst < 1e-5);
+    assert_true(image[0] > 3.0f && image[0] < 0.5 * mean); /* the firefly mostly weighed out */
+
+    /* Pareto (alpha 1.5: infinite variance) in colour, over a 2D image. */
+    TestRng rng = test_rng(2018);
+    for (int i = 0; i < W * H * N; ++i) {
+        const double x = 0.2 * test_pareto(&rng, 1.5);
+        samples[i * 3] = (float)x;
+        samples[i * 3 + 1] = (float)(0.5 * x);
+        samples[i * 3 + 2] = (float)(0.25 * x * test_rng_uniform(&rng));
+    }
+    const struct {
+        int k;
+        float base, kappa;
+    } variants[] = {{6, 8.0f, 1.0f}, {4, 4.0f, 8.0f}, {8, 2.5f, 0.5f}};
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; ++v) {
+        s.params.zirr_k = variants[v].k;
+        s.params.zirr_base = variants[v].base;
+        s.params.zirr_kappa = variants[v].kappa;
+        worst = zirr_worst_error(&s, samples, N, W, H, image, reference);
+        double estimate = 0.0, plain = 0.0;
+        for (int p = 0; p < W * H; ++p) {
+            estimate += image[p * 3];
+            for (int i = 0; i < N; ++i)
+                plain += samples[((size_t)p * N + (size_t)i) * 3];
+        }
+        printf("  zirr Pareto K = %d, b = %g, kappa = %g: red %.5g (mean %.5g), worst relative error %.3g\n",
+               variants[v].k, (double)variants[v].base, (double)variants[v].kappa, estimate / (W * H),
+               plain / (W * H * N), worst);
+        assert_true(worst < 1e-4);
+        assert_true(estimate / (W * H) < plain / (W * H * N)); /* it reweights the tail down */
+    }
+    free(samples);
+}
+
+/* A firefly-free constant image estimates to that constant, on every
+ * pixel (also the borders): exactly below the first scale, to rounding
+ * between two. */
+static void test_zirr_constant_image(void **state)
+{
+    (void)state;
+    enum { N = 64, W = 5, H = 4 };
+    EstimatorSettings s = zirr_settings();
+    float samples[W * H * N * 3], image[W * H * 3];
+    const float values[] = {0.5f, 3.0f, 100.0f};
+    for (size_t v = 0; v < sizeof values / sizeof values[0]; ++v) {
+        for (int i = 0; i < W * H * N * 3; ++i)
+            samples[i] = values[v];
+        zirr_of_streams(&s, samples, N, W, H, image);
+        for (int i = 0; i < W * H * 3; ++i) {
+            if (values[v] <= 1.0f)
+                assert_true(image[i] == values[v]);
+            else
+                assert_true(fabsf(image[i] - values[v]) <= values[v] * 1e-6f);
+        }
+    }
+}
+
+/* Random colour streams with fireflies, negative filter weights and
+ * non-finite samples over a 2D image: the kernel's cascades and its zirr
+ * image equal the host's bit for bit. */
+static void test_zirr_kernel_equals_host(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    EstimatorSettings s = zirr_settings();
+    s.passes |= PASS_BIT(PASS_CLAMP); /* zirr's block after another */
+    s.params.zirr_base = 5.0f;
+    s.params.zirr_kappa = 2.0f;
+    enum { W = 9, H = 7, PIXELS = W * H, LENGTH = 33 };
+    float *parts = malloc(sizeof(float) * PIXELS * LENGTH * 10);
+    uint32_t seed = 4242;
+    for (int i = 0; i < PIXELS * LENGTH; ++i) {
+        float *p = parts + i * 10;
+        for (int c = 0; c < 3; ++c) {
+            p[c] = uniform(&seed) * (uniform(&seed) < 0.04f ? 3e4f : 2.0f);
+            p[3 + c] = p[6 + c] = 0.0f;
+        }
+        p[9] = uniform(&seed) < 0.1f ? -0.5f : 0.5f + uniform(&seed);
+        if (i % 89 == 3)
+            p[2] = INFINITY;
+    }
+    const size_t planes = film_sample_planes(&s);
+    uint64_t *host = calloc(planes * PIXELS, sizeof(uint64_t)), *device = calloc(planes * PIXELS, sizeof(uint64_t));
+    for (int pixel = 0; pixel < PIXELS; ++pixel)
+        for (int i = 0; i < LENGTH; ++i) {
+            const float *p = parts + ((size_t)pixel * LENGTH + (size_t)i) * 10;
+            SampleParts sp = parts_of(p[0], p[1], p[2], 0, 0, 0, 0, 0, 0, p[9]);
+            film_sample_add(&s, host, (size_t)pixel, PIXELS, &sp);
+        }
+    float clamp_image[PIXELS][3], host_image[PIXELS][3], device_image[PIXELS][3];
+    EstimatorImages di;
+    memset(&di, 0, sizeof di);
+    di.pass[PASS_CLAMP] = clamp_image;
+    di.length = PIXELS * 3;
+    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    assert_non_null(program);
+    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, NULL, device, &di), 0);
+    assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
+    assert_int_equal(film_sample_estimate_zirr(&s, host, planes * PIXELS, W, H, LENGTH, &host_image[0][0], NULL, 0),
+                     ESTIMATOR_OK);
+    assert_int_equal(sample_estimator_zirr(program, device, W, H, LENGTH, &device_image[0][0], NULL), 0);
+    assert_memory_equal(host_image, device_image, sizeof host_image);
+    /* Not every cascade at full weight: the fireflies are weighed down
+     * somewhere (against sum_k B_k, every reliability 1). */
+    int lower = 0;
+    for (int p = 0; p < PIXELS; ++p) {
+        float all = 0.0f;
+        for (int k = 0; k < s.params.zirr_k; ++k) {
+            float mean[3];
+            accumulator_mean(host + (size_t)sample_block_first_plane(s.passes, 1, SAMPLE_BLOCK_ZIRR) * PIXELS,
+                             (uint64_t)p, PIXELS, (uint32_t)k, LENGTH, mean);
+            all += mean[0];
+        }
+        lower += host_image[p][0] < 0.5f * all;
+    }
+    printf("  zirr kernel == host on %dx%d; %d pixels below half their unweighted cascades\n", W, H, lower);
+    assert_true(lower > 0);
+    sample_estimator_destroy(program);
+    free(parts);
+    free(host);
+    free(device);
+}
+
+/* zirr's memory: K = 6 costs 6 RGB sums and a grid word a pixel, and says
+ * so in the summary. */
+static void test_zirr_memory_summary(void **state)
+{
+    (void)state;
+    EstimatorSettings s = zirr_settings();
+    char line[256];
+    film_sample_memory_summary(&s, line, sizeof line);
+    assert_string_equal(line, "zirr (K = 6 cascades) 296 B");
+    assert_int_equal(296, accumulator_planes(6) * sizeof(uint64_t));
+    char message[256];
+    assert_int_equal(estimator_param_set(&s.params, "zirr.kappa=4", message, sizeof message), 0);
+    assert_true(s.params.zirr_kappa == 4.0f);
+    assert_int_equal(estimator_param_set(&s.params, "zirr.k=1", message, sizeof message), -1);
+    assert_int_equal(estimator_param_set(&s.params, "zirr.k=17", message, sizeof message), -1);
+    assert_int_equal(estimator_param_set(&s.params, "zirr.base=1", message, sizeof message), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_hand_computed_stream),         cmocka_unit_test(test_levels_parameter),
-        cmocka_unit_test(test_kernel_equals_host),           cmocka_unit_test(test_clamp_infinity_is_the_mean),
-        cmocka_unit_test(test_sets_unchanged_and_batching),  cmocka_unit_test(test_film_max_component_value),
-        cmocka_unit_test(test_clamp_sum_direct_part),        cmocka_unit_test(test_moments_do_not_cancel),
-        cmocka_unit_test(test_abmm_gabmm_against_reference), cmocka_unit_test(test_moments_kernel_equals_host),
+        cmocka_unit_test(test_hand_computed_stream),
+        cmocka_unit_test(test_levels_parameter),
+        cmocka_unit_test(test_kernel_equals_host),
+        cmocka_unit_test(test_clamp_infinity_is_the_mean),
+        cmocka_unit_test(test_sets_unchanged_and_batching),
+        cmocka_unit_test(test_film_max_component_value),
+        cmocka_unit_test(test_clamp_sum_direct_part),
+        cmocka_unit_test(test_moments_do_not_cancel),
+        cmocka_unit_test(test_abmm_gabmm_against_reference),
+        cmocka_unit_test(test_moments_kernel_equals_host),
+        cmocka_unit_test(test_zirr_streams_against_reference),
+        cmocka_unit_test(test_zirr_constant_image),
+        cmocka_unit_test(test_zirr_kernel_equals_host),
+        cmocka_unit_test(test_zirr_memory_summary),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
