@@ -59,19 +59,18 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
         }
 }
 
-/* zirr's image from the cascades of a whole width x height image (its
- * neighbourhoods cross any split of the pixels among devices), one work
- * item a pixel; output pixel-interleaved RGB. */
-__kernel void estimate_zirr(__global const ulong *state, uint width, uint height, ulong sample_count,
+/* zirr's image from the cascades (the state's zirr block) of a whole
+ * width x height image (its neighbourhoods cross any split of the pixels
+ * among devices), one work item a pixel; output pixel-interleaved RGB. */
+__kernel void estimate_zirr(__global const ulong *cascades, uint width, uint height, ulong sample_count,
                             __global float *image)
 {
     ulong pixel = get_global_id(0);
     if (pixel >= (ulong)width * height)
         return;
     float rgb[EST_CHANNELS];
-    zirr_estimate(state, (uint)(pixel % width), (uint)(pixel / width), width, height, EST_SAMPLE_PASSES,
-                  EST_CLAMP_LEVEL_COUNT, EST_ZIRR_COUNT, EST_ZIRR_BASE, EST_ZIRR_KAPPA, EST_ZIRR_EMIN, sample_count,
-                  rgb);
+    zirr_estimate(cascades, (uint)(pixel % width), (uint)(pixel / width), width, height, EST_ZIRR_COUNT, EST_ZIRR_BASE,
+                  EST_ZIRR_KAPPA, EST_ZIRR_EMIN, sample_count, rgb);
     for (int c = 0; c < EST_CHANNELS; ++c)
         image[pixel * EST_CHANNELS + c] = rgb[c];
 }

@@ -302,7 +302,8 @@ KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel,
 }
 
 /* zirr's estimate at pixel (x, y) of a width x height image after n
- * samples a pixel, from the cascades' means B_k (sum / n). With
+ * samples a pixel, from the cascades' means B_k (sum / n); `block` is
+ * the state's zirr block (an accumulator of K sums) of the whole image. With
  * c_k = lum(B_k) n / s_k the estimated count of samples in cascade k (at
  * the pixel, or averaged over its 3x3 neighbourhood, clamped to the
  * image's edge), cascade i's reliability from counting is
@@ -312,13 +313,10 @@ KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel,
  * P = sum_{k<i} r_k B_k (the estimate of the cascades below) and
  * f = (0.4 + 0.6 b) (1 - t) + t, t = min(1, 1 / kappa); r_i is their mean
  * clamped to [0, 1], and the estimate is P after the last cascade. */
-KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *state, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
-                             uint32_t passes, int level_count, int cascade_count, float base, float kappa, float emin,
-                             uint64_t n, float *rgb)
+KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *block, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
+                             int cascade_count, float base, float kappa, float emin, uint64_t n, float *rgb)
 {
     const uint64_t pixel_count = (uint64_t)width * height;
-    GLOBAL const uint64_t *block =
-        state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
     const float samples = (float)n;
     float means[EST_ZIRR_CASCADES_MAX][EST_CHANNELS], center[EST_ZIRR_CASCADES_MAX], hood[EST_ZIRR_CASCADES_MAX];
     for (int k = 0; k < cascade_count; ++k) {

@@ -716,6 +716,30 @@ static void test_zirr_kernel_equals_host(void **state)
     free(device);
 }
 
+/* A render with zirr the only per-sample pass: 296 B a pixel at K = 6;
+ * the image is finite, no brighter than the mean in total, and not far
+ * below it in a scene of few fireflies (glass caustics aside). */
+static void test_zirr_render(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderSettings s = glass_settings(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_ZIRR));
+    RenderOutput out;
+    render_glass(&s, &out);
+    assert_int_equal(out.sample_bytes_per_pixel, 296);
+    const size_t values = glass_pixels(&out) * 3;
+    const float *zirr = out.pass[PASS_ZIRR], *mean = out.pass[PASS_MEAN];
+    double total = 0.0, plain = 0.0;
+    for (size_t i = 0; i < values; ++i) {
+        assert_true(isfinite(zirr[i]));
+        total += zirr[i];
+        plain += mean[i];
+    }
+    printf("  zirr render: mean of the image %.5g, of the mean %.5g\n", total / (double)values, plain / (double)values);
+    assert_true(total <= plain * 1.0001 && total > 0.5 * plain);
+    render_output_free(&out);
+}
+
 /* zirr's memory: K = 6 costs 6 RGB sums and a grid word a pixel, and says
  * so in the summary. */
 static void test_zirr_memory_summary(void **state)
@@ -751,6 +775,7 @@ int main(void)
         cmocka_unit_test(test_zirr_constant_image),
         cmocka_unit_test(test_zirr_kernel_equals_host),
         cmocka_unit_test(test_zirr_memory_summary),
+        cmocka_unit_test(test_zirr_render),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -176,6 +176,18 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
     return ESTIMATOR_OK;
 }
 
+const uint64_t *film_sample_zirr_block(const EstimatorSettings *s, const uint64_t *state, size_t pixel_count)
+{
+    return state +
+           (size_t)sample_block_first_plane(film_sample_passes(s), s->params.clamp_level_count, SAMPLE_BLOCK_ZIRR) *
+               pixel_count;
+}
+
+size_t film_sample_zirr_planes(const EstimatorSettings *s)
+{
+    return sample_block_planes(film_sample_passes(s), s->params.clamp_level_count, s->params.zirr_k, SAMPLE_BLOCK_ZIRR);
+}
+
 EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
                                           uint32_t width, uint32_t height, uint64_t sample_count, float *image,
                                           char *message, size_t message_size)
@@ -188,11 +200,11 @@ EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *s, const uint
         return ESTIMATOR_INVALID_ARGUMENT;
     }
     const EstimatorParams *p = &s->params;
+    const uint64_t *cascades = film_sample_zirr_block(s, state, pixel_count);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x)
-            zirr_estimate(state, x, y, width, height, film_sample_passes(s), p->clamp_level_count, p->zirr_k,
-                          p->zirr_base, p->zirr_kappa, p->zirr_emin, sample_count,
-                          image + ((size_t)y * width + x) * EST_CHANNELS);
+            zirr_estimate(cascades, x, y, width, height, p->zirr_k, p->zirr_base, p->zirr_kappa, p->zirr_emin,
+                          sample_count, image + ((size_t)y * width + x) * EST_CHANNELS);
     return ESTIMATOR_OK;
 }
 

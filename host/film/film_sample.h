@@ -66,6 +66,11 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const ui
                                      const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
                                      EstimatorImages *images, char *message, size_t message_size);
 
+/* zirr's block of a state of pixel_count pixels (its cascades: an
+ * accumulator of K sums), and its planes. */
+const uint64_t *film_sample_zirr_block(const EstimatorSettings *settings, const uint64_t *state, size_t pixel_count);
+size_t film_sample_zirr_planes(const EstimatorSettings *settings);
+
 /* zirr's image (RGB, pixel-interleaved, width x height) from the state of
  * the whole image (pixel y * width + x; length >= film_sample_planes *
  * width * height): its neighbourhoods need every pixel's cascades, so it

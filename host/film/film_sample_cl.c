@@ -71,10 +71,12 @@ void sample_estimator_destroy(SampleEstimatorProgram *p)
     free(p);
 }
 
+/* The images estimate_sample_passes writes: all but zirr's (the last slot;
+ * sample_estimator_zirr's, over the whole image). */
 static int image_count(const SampleEstimatorProgram *p)
 {
     const uint32_t passes = film_sample_passes(&p->settings);
-    return sample_image_slot(passes, p->settings.params.clamp_level_count, PASS_COUNT, 0);
+    return sample_image_slot(passes, p->settings.params.clamp_level_count, PASS_ZIRR, 0);
 }
 
 size_t sample_estimator_image_bytes(const SampleEstimatorProgram *p, size_t pixel_count)
@@ -138,7 +140,8 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     CL_CHECK(err, done);
     st = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, state_bytes, state, &err);
     CL_CHECK(err, done);
-    out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, sample_estimator_image_bytes(p, pixel_count), NULL, &err);
+    const size_t image_bytes = sample_estimator_image_bytes(p, pixel_count);
+    out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes ? image_bytes : sizeof(float), NULL, &err);
     CL_CHECK(err, done);
     uint64_t none = 0;
     sets = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
@@ -184,13 +187,14 @@ int sample_estimator_zirr(SampleEstimatorProgram *p, const uint64_t *state, uint
         return -1;
     cl_context ctx = p->device->context;
     const size_t pixel_count = (size_t)width * height;
-    const size_t state_bytes = film_sample_planes(&p->settings) * pixel_count * sizeof(uint64_t);
+    const size_t cascade_bytes = film_sample_zirr_planes(&p->settings) * pixel_count * sizeof(uint64_t);
     const size_t image_bytes = pixel_count * EST_CHANNELS * sizeof(float);
     cl_int err = CL_SUCCESS;
     cl_mem st = NULL, out = NULL;
     cl_event event = NULL;
     int status = -1;
-    st = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, state_bytes, (void *)state, &err);
+    st = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cascade_bytes,
+                        (void *)film_sample_zirr_block(&p->settings, state, pixel_count), &err);
     CL_CHECK(err, done);
     out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes, NULL, &err);
     CL_CHECK(err, done);

@@ -14,7 +14,8 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
                                              const char *kernel_dir);
 void sample_estimator_destroy(SampleEstimatorProgram *program);
 
-/* Bytes of the images of pixel_count pixels (every per-sample image). */
+/* Bytes of the images of pixel_count pixels that sample_estimator_enqueue
+ * writes (every per-sample image but zirr's; 0 for zirr alone). */
 size_t sample_estimator_image_bytes(const SampleEstimatorProgram *program, size_t pixel_count);
 
 /* Enqueues the estimation of `state` (pixel_count pixels; gabmm also reads
@@ -39,7 +40,7 @@ int sample_estimator_run_stream(SampleEstimatorProgram *program, const float *pa
 
 /* zirr's image (film_sample_estimate_zirr's, computed by the kernel
  * estimate_zirr) from the host state of a whole width x height image,
- * uploaded for it; adds the kernel's time to *seconds (if not NULL).
+ * its cascades uploaded for it; adds the kernel's time to *seconds (if not NULL).
  * Returns 0, or -1 (zirr not requested, or an OpenCL error, reported). */
 int sample_estimator_zirr(SampleEstimatorProgram *program, const uint64_t *state, uint32_t width, uint32_t height,
                           uint64_t sample_count, float *image, double *seconds);

@@ -484,6 +484,9 @@ static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *ou
         Worker *w = &r->workers[i];
         if (!w->live || !w->sample_estimator)
             continue;
+        track_peak(r, w,
+                   (film_sample_zirr_planes(&r->estimator) * sizeof(uint64_t) + EST_CHANNELS * sizeof(float)) *
+                       r->pixels);
         if (sample_estimator_zirr(w->sample_estimator, r->saved.samples, r->scene->constants.camera.width,
                                   r->scene->constants.camera.height, samples, out->pass[PASS_ZIRR],
                                   &w->report->estimate_seconds) != 0) {
@@ -523,8 +526,10 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
             if (images)
                 clReleaseMemObject(images);
         }
-        if (err == CL_SUCCESS && w->sample_estimator) {
-            const size_t bytes = sample_estimator_image_bytes(w->sample_estimator, w->count);
+        const size_t sample_image_bytes =
+            w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, w->count) : 0;
+        if (err == CL_SUCCESS && sample_image_bytes) { /* zirr alone: estimate_zirr_on_device's */
+            const size_t bytes = sample_image_bytes;
             cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
             cl_event done = NULL;
             if (err == CL_SUCCESS) {
