@@ -29,7 +29,8 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
         clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
         if (!strstr(extensions, "cl_khr_fp64")) {
             fprintf(stderr,
-                    "sample estimator: abmm and gabmm compute their moments in double precision, which device '%s' "
+                    "sample estimator: abmm, gabmm and mean-or-mon compute their moments in double precision, which "
+                    "device '%s' "
                     "lacks (no cl_khr_fp64): render them on another device\n",
                     device->info.name);
             goto fail;
@@ -148,6 +149,8 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     CL_CHECK(clSetKernelArg(p->accumulate, 3, sizeof pixels, &pixels), done);
     CL_CHECK(clSetKernelArg(p->accumulate, 4, sizeof direct, &direct), done);
     CL_CHECK(clSetKernelArg(p->accumulate, 5, sizeof indirect, &indirect), done);
+    cl_ulong first = p->settings.first_sample;
+    CL_CHECK(clSetKernelArg(p->accumulate, 6, sizeof first, &first), done);
     size_t global = pixel_count;
     CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);
