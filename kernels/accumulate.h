@@ -188,30 +188,71 @@ KERNEL_FN FixedSum fixed_shift_right_rounded(FixedSum v, int d, int *inexact)
     return r;
 }
 
-/* A finite float on the grid 2^grid_exponent, rounded to nearest (ties away
- * from zero; *inexact is set if bits were lost). The caller keeps
- * |x| < 2^(grid_exponent + EST_SUM_BITS). */
-KERNEL_FN FixedSum fixed_from_float(float x, int grid_exponent, int *inexact)
+/* A finite value exactly: significand * 2^exponent, with its sign apart;
+ * the significand lies below 2^width. A float's (width 24), or the square
+ * of a float's (width 48: mean-or-mon's sums of x^2, sample_passes.h),
+ * which no float holds exactly and whose range (2^-298 .. 2^256) no float
+ * reaches. */
+typedef struct {
+    uint64_t significand;
+    int exponent;
+    int negative;
+    int width;
+} ExactValue;
+
+KERNEL_FN ExactValue exact_of_float(float x)
 {
     uint32_t bits = float_bits(x);
-    uint64_t mantissa = float_significand(bits);
-    int shift = ulp_exponent(bits) - grid_exponent;
+    ExactValue v;
+    v.significand = float_significand(bits);
+    v.exponent = ulp_exponent(bits);
+    v.negative = (int)(bits >> 31);
+    v.width = 24;
+    return v;
+}
+
+/* x^2 of a finite float, exactly. */
+KERNEL_FN ExactValue exact_square_of_float(float x)
+{
+    uint32_t bits = float_bits(x);
+    uint64_t significand = float_significand(bits);
+    ExactValue v;
+    v.significand = significand * significand;
+    v.exponent = 2 * ulp_exponent(bits);
+    v.negative = 0;
+    v.width = 48;
+    return v;
+}
+
+/* A value on the grid 2^grid_exponent, rounded to nearest (ties away from
+ * zero; *inexact is set if bits were lost). The caller keeps |v| <
+ * 2^(grid_exponent + EST_SUM_BITS). */
+KERNEL_FN FixedSum fixed_from_exact(ExactValue x, int grid_exponent, int *inexact)
+{
+    uint64_t mantissa = x.significand;
+    int shift = x.exponent - grid_exponent;
     FixedSum v;
     if (shift >= 0) {
         v.lo = mantissa;
         v.hi = 0;
         v = fixed_shift_left(v, shift);
     } else {
-        int drop = -shift;
+        int drop = -shift; /* mantissa < 2^48: the rounding half fits below 2^63 */
         v.hi = 0;
-        v.lo = drop > 25 ? 0 : (mantissa + ((uint64_t)1 << (drop - 1))) >> drop;
-        *inexact |= drop > 25 ? mantissa != 0 : (mantissa & (((uint64_t)1 << drop) - 1)) != 0;
+        v.lo = drop > 63 ? 0 : (mantissa + ((uint64_t)1 << (drop - 1))) >> drop;
+        *inexact |= drop > 63 ? mantissa != 0 : (mantissa & (((uint64_t)1 << drop) - 1)) != 0;
     }
-    if (bits >> 31) {
+    if (x.negative) {
         v.lo = ~v.lo + 1;
         v.hi = ~v.hi + (v.lo == 0 ? 1 : 0);
     }
     return v;
+}
+
+/* A finite float on the grid 2^grid_exponent (fixed_from_exact). */
+KERNEL_FN FixedSum fixed_from_float(float x, int grid_exponent, int *inexact)
+{
+    return fixed_from_exact(exact_of_float(x), grid_exponent, inexact);
 }
 
 /* The fixed-point value (lo, hi) of each lane, as an integer count of grid
@@ -320,21 +361,17 @@ KERNEL_COLD_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     return inexact;
 }
 
-/* accumulate_sample for a finite sample, any case. */
-KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
-                                                uint32_t set_count, uint32_t set, float r, float g, float b)
+/* accumulate_exact for any finite values, any case. */
+KERNEL_COLD_FN int accumulate_exact_in_general(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                                               uint32_t set_count, uint32_t set, const ExactValue *values)
 {
-    float rgb[EST_CHANNELS];
-    rgb[0] = r;
-    rgb[1] = g;
-    rgb[2] = b;
     /* The sample's finest bit and the bound of its magnitude: |x| < 2^top. */
     int finest = 0, top = 0, nonzero = 0;
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
-        uint32_t bits = float_bits(rgb[c]);
-        if ((bits & 0x7fffffffu) == 0)
+        if (values[c].significand == 0)
             continue;
-        int lowest = lowest_bit_exponent(bits), bound = ulp_exponent(bits) + 24;
+        int lowest = values[c].exponent + trailing_zeros64(values[c].significand);
+        int bound = values[c].exponent + values[c].width;
         finest = nonzero && finest < lowest ? finest : lowest;
         top = nonzero && top > bound ? top : bound;
         nonzero = 1;
@@ -361,10 +398,11 @@ KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, u
     }
     int too_wide = 0;
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
-        if ((float_bits(rgb[c]) & 0x7fffffffu) == 0)
+        if (values[c].significand == 0)
             continue;
         uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
-        FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), fixed_from_float(rgb[c], exponent, &inexact));
+        FixedSum sum =
+            fixed_add(load_sum(accumulators, i, pixel_count), fixed_from_exact(values[c], exponent, &inexact));
         store_sum(accumulators, i, pixel_count, sum);
         too_wide |= fixed_too_wide(sum);
     }
@@ -380,44 +418,40 @@ KERNEL_COLD_FN int accumulate_sample_in_general(GLOBAL uint64_t *accumulators, u
 /* A value as a count of units 2^grid_exponent, if it is such a count and
  * below 2^(EST_SUM_BITS - 1) in magnitude (else *fits becomes 0), as nearly
  * every sample is once a pixel has its grid. */
-KERNEL_FN FixedSum value_on_grid(float x, int grid_exponent, int *fits)
+KERNEL_FN FixedSum value_on_grid(ExactValue x, int grid_exponent, int *fits)
 {
-    /* The value is significand * 2^shift units, below 2^(shift + 24). */
-    int shift = ulp_exponent(float_bits(x)) - grid_exponent;
+    /* The value is significand * 2^shift units, below 2^(shift + width). */
+    int shift = x.exponent - grid_exponent;
     FixedSum v;
     v.lo = 0;
     v.hi = 0;
-    if ((float_bits(x) & 0x7fffffffu) == 0) /* +-0 lies on every grid */
+    if (x.significand == 0) /* +-0 lies on every grid */
         return v;
-    if (shift < -23 || shift + 24 > EST_SUM_BITS - 1) {
+    if (shift < -(x.width - 1) || shift + x.width > EST_SUM_BITS - 1) {
         *fits = 0;
         return v;
     }
     int inexact = 0;
-    v = fixed_from_float(x, grid_exponent, &inexact);
+    v = fixed_from_exact(x, grid_exponent, &inexact);
     *fits &= !inexact;
     return v;
 }
 
-/* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
- * EST_ADD_EXACT, EST_ADD_ROUNDED (added, but not exactly: see above) or
- * EST_ADD_NONFINITE (not added; it still counts as a sample, as 0). The
- * common case, every value on the pixel's grid, is one 128-bit addend a
- * channel; the rest (a new pixel, a finer or much larger value) is
- * accumulate_sample_in_general, with the same result. */
-KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
-                                uint32_t set, float r, float g, float b)
+/* Adds finite values (one a channel) to `set` of `pixel` (set_count sets);
+ * see accumulate_sample. The common case, every value on the pixel's grid,
+ * is one 128-bit addend a channel; the rest (a new pixel, a finer or much
+ * larger value) is accumulate_exact_in_general, with the same result. */
+KERNEL_FN int accumulate_exact(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                               uint32_t set, const ExactValue *x)
 {
-    if (!sample_is_finite(r, g, b))
-        return EST_ADD_NONFINITE;
     uint64_t grid = accumulators[grid_index(pixel)];
     int exponent = grid_exponent(grid), fits = grid != 0;
     FixedSum values[EST_CHANNELS];
-    values[0] = value_on_grid(r, exponent, &fits);
-    values[1] = value_on_grid(g, exponent, &fits);
-    values[2] = value_on_grid(b, exponent, &fits);
+    values[0] = value_on_grid(x[0], exponent, &fits);
+    values[1] = value_on_grid(x[1], exponent, &fits);
+    values[2] = value_on_grid(x[2], exponent, &fits);
     if (!fits)
-        return accumulate_sample_in_general(accumulators, pixel, pixel_count, set_count, set, r, g, b);
+        return accumulate_exact_in_general(accumulators, pixel, pixel_count, set_count, set, x);
     int too_wide = 0;
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
         uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
@@ -430,6 +464,35 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
     accumulators[grid_index(pixel)] = grid + 1;
     return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
+/* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
+ * EST_ADD_EXACT, EST_ADD_ROUNDED (added, but not exactly: see above) or
+ * EST_ADD_NONFINITE (not added; it still counts as a sample, as 0). */
+KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                                uint32_t set, float r, float g, float b)
+{
+    if (!sample_is_finite(r, g, b))
+        return EST_ADD_NONFINITE;
+    ExactValue x[EST_CHANNELS];
+    x[0] = exact_of_float(r);
+    x[1] = exact_of_float(g);
+    x[2] = exact_of_float(b);
+    return accumulate_exact(accumulators, pixel, pixel_count, set_count, set, x);
+}
+
+/* Adds the squares (r^2, g^2, b^2) of one RGB sample exactly, as
+ * accumulate_sample adds the sample. */
+KERNEL_FN int accumulate_square(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                                uint32_t set, float r, float g, float b)
+{
+    if (!sample_is_finite(r, g, b))
+        return EST_ADD_NONFINITE;
+    ExactValue x[EST_CHANNELS];
+    x[0] = exact_square_of_float(r);
+    x[1] = exact_square_of_float(g);
+    x[2] = exact_square_of_float(b);
+    return accumulate_exact(accumulators, pixel, pixel_count, set_count, set, x);
 }
 
 /* Puts a pixel's sums in their canonical form: its grid moved up by the

@@ -47,7 +47,8 @@
     PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)                                                              \
     PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE)                                                                        \
     PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)                                                                      \
-    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE)
+    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE)                                                                        \
+    PASS(MEAN_OR_MON, "mean-or-mon", PASS_FLOAT, PASS_SAMPLE)
 
 #define PASS_ENUM_(id, name, type, kind) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };

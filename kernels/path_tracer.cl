@@ -273,6 +273,8 @@ __kernel void render_samples(__global const SceneConstants *constants,
             sample.indirect[2] = indirect.z;
         }
         sample.weight = GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f;
+        sample.set = set_of_sample(sample_index, EST_SETS);
+        sample.set_count = EST_SETS;
 #endif
         if (GMON_HAS_PIXEL_FILTER)
             L = v_scale(L, camera.weight); /* after the clamp of the per-sample passes, as pbrt-v4 weighs samples */

@@ -4,10 +4,10 @@
  * Build options: -DEST_SAMPLE_PASSES=<mask of PASS_BIT> (the requested
  * per-sample passes), -DEST_CLAMP_LEVEL_COUNT=L and
  * -DEST_CLAMP_LEVEL_VALUES=<L floats, comma-separated> (clamp's levels);
- * with abmm or gabmm -DSAMPLE_PASSES_DOUBLE (the device needs cl_khr_fp64),
- * with gabmm -DEST_SETS=M (it reads the set sums); with zirr
- * -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b -DEST_ZIRR_KAPPA=kappa
- * -DEST_ZIRR_EMIN=emin. */
+ * with abmm, gabmm or mean-or-mon -DSAMPLE_PASSES_DOUBLE (the device needs
+ * cl_khr_fp64), with gabmm or mean-or-mon -DEST_SETS=M (they read the set
+ * sums); with zirr -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b
+ * -DEST_ZIRR_KAPPA=kappa -DEST_ZIRR_EMIN=emin. */
 #ifdef SAMPLE_PASSES_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
@@ -27,8 +27,8 @@
 #endif
 
 /* Output: one buffer of RGB images, pixel-interleaved, in the order of
- * sample_image_slot. accumulators: the render's set sums (read by gabmm
- * only), of sets starting at sample first_sample. */
+ * sample_pixel_image_slot. accumulators: the render's set sums (read by gabmm
+ * and mean-or-mon only), of sets starting at sample first_sample. */
 __kernel void estimate_sample_passes(__global const ulong *state, __global const ulong *accumulators, ulong pixel_count,
                                      ulong sample_count, ulong first_sample, __global float *images)
 {
@@ -44,6 +44,11 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
                 sample_sum_estimate(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, sample_count,
                                     pass, i, rgb);
 #ifdef SAMPLE_PASSES_DOUBLE
+#ifdef EST_SETS
+            else if (pass == PASS_MEAN_OR_MON)
+                mean_or_mon_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
+                                     EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, rgb);
+#endif
             else
                 moment_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
 #ifdef EST_SETS
@@ -53,7 +58,7 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
 #endif
                                 first_sample, sample_count, pass, rgb);
 #endif
-            ulong slot = (ulong)sample_image_slot(EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, pass, i);
+            ulong slot = (ulong)sample_pixel_image_slot(EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, pass, i);
             for (int c = 0; c < EST_CHANNELS; ++c)
                 images[(slot * pixel_count + pixel) * EST_CHANNELS + c] = rgb[c];
         }
@@ -77,9 +82,10 @@ __kernel void estimate_zirr(__global const ulong *cascades, uint width, uint hei
 
 /* Drives the per-sample accumulation from a stream (tests): work item p
  * adds parts[p][i] (SampleParts as 10 floats: film RGB, direct RGB,
- * indirect RGB, weight) to pixel p. */
+ * indirect RGB, weight) to pixel p, as sample first_sample + i (its set,
+ * with -DEST_SETS=M, for mean-or-mon). */
 __kernel void accumulate_sample_stream(__global const float *parts, ulong stream_length, __global ulong *state,
-                                       ulong pixel_count, float direct_limit, float indirect_limit)
+                                       ulong pixel_count, float direct_limit, float indirect_limit, ulong first_sample)
 {
     ulong pixel = get_global_id(0);
     if (pixel >= pixel_count)
@@ -98,6 +104,14 @@ __kernel void accumulate_sample_stream(__global const float *parts, ulong stream
             s.indirect[c] = p[6 + c];
         }
         s.weight = p[9];
+#ifdef EST_SETS
+        s.set = set_of_sample(first_sample + i, EST_SETS);
+        s.set_count = EST_SETS;
+#else
+        s.set = 0;
+        s.set_count = 1;
+        (void)first_sample;
+#endif
         sample_passes_add(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, levels, direct_limit,
                           indirect_limit, EST_ZIRR_COUNT, EST_ZIRR_BASE, &s);
     }

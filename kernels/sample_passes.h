@@ -9,6 +9,10 @@
  *              is scaled by L / that sum, with L = clamp-sum.direct for
  *              its direct light and clamp-sum.indirect for the rest (0: no
  *              clamping); one sum
+ *   abmm, gabmm   from the pixel's moments (below)
+ *   mean-or-mon   the mean where its 95 % confidence half-width is no
+ *              larger than the median set's, else MoN: the exact sum of
+ *              x^2 of each set beside the set sums
  * Both clamp the film's response to the radiance before the pixel filter's
  * weight multiplies it, as pbrt-v4 does.
  *   zirr       Zirr, Hanika and Dachsbacher's reweighting of framebuffer
@@ -54,6 +58,14 @@
 #define SAMPLE_MOMENT_PASSES (PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM))
 #define SHIFT_SET 0x100000000ul
 
+/* mean-or-mon's sums of x^2 follow the blocks above: an accumulator of M
+ * sums (the render's sets, sample s in set s mod M, as its set sums), so
+ * their planes depend on M, which the blocks above do not. */
+KERNEL_FN uint32_t sample_square_planes(uint32_t passes, uint32_t set_count)
+{
+    return (passes & PASS_BIT(PASS_MEAN_OR_MON)) ? accumulator_planes(set_count) : 0u;
+}
+
 /* Planes of a block; cascade_count (zirr's K) matters for zirr's only. */
 KERNEL_FN uint32_t sample_block_planes(uint32_t passes, int level_count, int cascade_count, int block)
 {
@@ -97,6 +109,14 @@ KERNEL_FN int sample_image_slot(uint32_t passes, int level_count, int pass, int 
     for (int q = PASS_CLAMP; q < pass; ++q)
         slot += sample_pass_images(passes, level_count, q);
     return slot;
+}
+
+/* The slot of image `index` of a pass among the images
+ * estimate_sample_passes writes, pixel by pixel: every per-sample image but
+ * zirr's (estimate_zirr's, over the whole image). */
+KERNEL_FN int sample_pixel_image_slot(uint32_t passes, int level_count, int pass, int index)
+{
+    return sample_image_slot(passes & ~PASS_BIT(PASS_ZIRR), level_count, pass, index);
 }
 
 /* pbrt-v4's rule: (r, g, b) scaled by V / max(r, g, b) when that exceeds V
@@ -181,13 +201,26 @@ KERNEL_FN ZirrSplit zirr_split(float luminance, int cascade_count, float base)
 
 /* One sample: its film response `film` (clamp's input) and that of its
  * direct and indirect parts (clamp-sum's), each multiplied by the pixel
- * filter's `weight` after clamping. */
+ * filter's `weight` after clamping; its set among the render's set_count
+ * (set_of_sample: mean-or-mon's sums are per set). */
 typedef struct {
     float film[EST_CHANNELS];
     float direct[EST_CHANNELS];
     float indirect[EST_CHANNELS];
     float weight;
+    uint32_t set;
+    uint32_t set_count;
 } SampleParts;
+
+/* The sample as the sets see it (film response times weight); a
+ * non-finite one counts as 0, as there. */
+KERNEL_FN void sample_as_in_sets(const SampleParts *s, float *x)
+{
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        x[c] = s->film[c] * s->weight;
+    if (!sample_is_finite(x[0], x[1], x[2]))
+        x[0] = x[1] = x[2] = 0.0f;
+}
 
 /* Adds one sample to the per-sample state of `pixel`. Returns EST_ADD_*
  * (the worst of its sums: non-finite samples are added to none). */
@@ -226,13 +259,8 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
     if (passes & SAMPLE_MOMENT_PASSES) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
-        /* The sample as the sets see it; a non-finite one counts as 0, as
-         * there. */
         float x[EST_CHANNELS], d[3][EST_CHANNELS];
-        for (int c = 0; c < EST_CHANNELS; ++c)
-            x[c] = s->film[c] * s->weight;
-        if (!sample_is_finite(x[0], x[1], x[2]))
-            x[0] = x[1] = x[2] = 0.0f;
+        sample_as_in_sets(s, x);
         for (int c = 0; c < EST_CHANNELS; ++c) {
             /* The pixel's first sample is its shift: the moments about it do
              * not cancel as raw moments would (a pixel of 1e6 +- 1e3). */
@@ -270,6 +298,14 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
                                   x[0] * weights[k], x[1] * weights[k], x[2] * weights[k]);
             result = added > result ? added : result;
         }
+    }
+    if (passes & PASS_BIT(PASS_MEAN_OR_MON)) {
+        GLOBAL uint64_t *squares =
+            state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+        float x[EST_CHANNELS];
+        sample_as_in_sets(s, x);
+        int added = accumulate_square(squares, pixel, pixel_count, s->set_count, s->set, x[0], x[1], x[2]);
+        result = added > result ? added : result;
     }
     return result;
 }
@@ -382,14 +418,22 @@ KERNEL_FN double double_power_of_two(int e)
 #endif
 }
 
-/* An accumulator of one sum (block of accumulator_planes(1) planes):
- * channel c's value as a double (two roundings: deterministic). */
-KERNEL_FN double moment_sum(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, int c)
+/* Set `set`, channel c of an accumulator as a double (two roundings:
+ * deterministic). */
+KERNEL_FN double accumulator_sum(GLOBAL const uint64_t *block, uint32_t set, uint64_t pixel, uint64_t pixel_count,
+                                 int c)
 {
-    uint64_t lo = block[accumulator_index(0, (uint32_t)c, 0, pixel, pixel_count)];
-    uint64_t hi = block[accumulator_index(0, (uint32_t)c, 1, pixel, pixel_count)];
+    uint64_t lo = block[accumulator_index(set, (uint32_t)c, 0, pixel, pixel_count)];
+    uint64_t hi = block[accumulator_index(set, (uint32_t)c, 1, pixel, pixel_count)];
     double value = (double)(int64_t)hi * 18446744073709551616.0 + (double)lo;
     return value * double_power_of_two(grid_exponent(block[grid_index(pixel)]));
+}
+
+/* An accumulator of one sum (block of accumulator_planes(1) planes):
+ * channel c's value as a double. */
+KERNEL_FN double moment_sum(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, int c)
+{
+    return accumulator_sum(block, 0, pixel, pixel_count, c);
 }
 
 typedef struct {
@@ -479,6 +523,133 @@ KERNEL_FN void moment_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64
     for (int c = 0; c < EST_CHANNELS; ++c)
         rgb[c] = abmm_of_moments(sample_moments(state, pixel, pixel_count, passes, level_count, n, c), n, alpha);
 }
+
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+/* ------------------------------------------------------------------------
+ * mean-or-mon (the authors' MeanOrMON): per channel the 95 % confidence
+ * half-widths 1.96 s / sqrt(n) of the mean (s from every sample of the
+ * pixel) and of the median set's mean (s and n of that set; even m: the
+ * middle pair's averaged), each averaged over the channels; the pixel is
+ * the mean where the mean's is no larger, else MoN. s^2 is the sample
+ * variance (1/(n - 1)), from the exact sums of x and x^2 in double:
+ * (Q - S^2 / n) / (n - 1), which loses to cancellation about log2(mean^2 /
+ * s^2) of double's 53 bits (1e6 with s = 1e3: 20 bits lost, 1e-10
+ * relative left).
+ * ---------------------------------------------------------------------- */
+
+/* sqrt(x) for double x >= 0 without library sqrt: x = 4^h f with f in
+ * [1, 4), the float root of f refined by two Newton steps (each doubling
+ * the correct bits, from float's 23 past double's 53); the same bits
+ * everywhere. Values below 2^-1000 (never a variance of float samples'
+ * sums, whose squares lie above 2^-300) give 0. */
+KERNEL_FN double double_root(double x)
+{
+    if (!(x >= 0x1p-1000))
+        return 0.0;
+#ifdef __OPENCL_C_VERSION__
+    int e = (int)((as_ulong(x) >> 52) & 0x7ffu) - 1023;
+#else
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    int e = (int)((bits >> 52) & 0x7ffu) - 1023;
+#endif
+    int h = (e - (e < 0 ? 1 : 0)) / 2; /* floor(e / 2) */
+    double f = x * double_power_of_two(-2 * h);
+    double y = (double)root_of((float)f, 0);
+    y = 0.5 * (y + f / y);
+    y = 0.5 * (y + f / y);
+    return y * double_power_of_two(h);
+}
+
+/* 1.96 s / sqrt(n) from a sum S and sum of squares Q of n >= 2 values
+ * (0 where cancellation leaves Q - S^2 / n below 0). */
+KERNEL_FN double confidence_half_width(double sum, double squares, uint64_t n)
+{
+    const double count = (double)n;
+    double variance = (squares - sum * sum / count) / (count - 1.0);
+    return 1.96 * double_root((variance > 0.0 ? variance : 0.0) / count);
+}
+
+/* The channel-averaged half-widths of the mean and of the median set of
+ * `pixel` after n samples (sets as in sets_mean_gini); returns 0, leaving
+ * them 0, while a set holds fewer than 2 samples (n < 2M: a set's s is
+ * unknown). */
+KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
+                                      uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
+                                      uint32_t set_count, uint64_t first_sample, uint64_t n, double *mean_width,
+                                      double *mon_width)
+{
+    *mean_width = *mon_width = 0.0;
+    if (n < 2u * set_count)
+        return 0;
+    GLOBAL const uint64_t *squares =
+        state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+    const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
+    const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        double sums[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
+        float means[EST_CAPACITY];
+        uint64_t counts[EST_CAPACITY];
+        for (uint32_t j = 0; j < set_count; ++j) {
+            counts[j] = n / set_count + ((j + set_count - first_set) % set_count < extra ? 1u : 0u);
+            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
+            /* Ranked as MoN ranks them: the float set means. */
+            means[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)counts[j];
+            sums[j] = accumulator_sum(accumulators, j, pixel, pixel_count, c);
+            sum += sums[j];
+            sum_squares += accumulator_sum(squares, j, pixel, pixel_count, c);
+        }
+        *mean_width += confidence_half_width(sum, sum_squares, n);
+        /* The median set(s): rank = the sets below, ties by set index. */
+        double median_width = 0.0;
+        for (uint32_t j = 0; j < set_count; ++j) {
+            uint32_t rank = 0;
+            for (uint32_t i = 0; i < set_count; ++i)
+                rank += means[i] < means[j] || (means[i] == means[j] && i < j) ? 1u : 0u;
+            if (rank == low_rank || rank == high_rank)
+                median_width +=
+                    confidence_half_width(sums[j], accumulator_sum(squares, j, pixel, pixel_count, c), counts[j]) /
+                    (low_rank == high_rank ? 1.0 : 2.0);
+        }
+        *mon_width += median_width;
+    }
+    *mean_width /= 3.0;
+    *mon_width /= 3.0;
+    return 1;
+}
+
+/* mean-or-mon of a pixel: the set-based mean and MoN (estimators.h, per
+ * channel, the same bits as the `mean` and `mon` passes), the mean where
+ * its half-width is no larger than MoN's (so where both are 0, and while
+ * they are unknown), else MoN. */
+KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
+                                    uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
+                                    uint32_t set_count, uint64_t first_sample, uint64_t n, float *rgb)
+{
+    const uint32_t first_set = (uint32_t)(first_sample % set_count);
+    const int m = n < set_count ? (int)n : (int)set_count;
+    LaneEstimates e;
+    clear_estimates(&e);
+    if (m > 0) {
+        const SetCounts k = est_set_counts(n, (int)set_count, m);
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            float sums[EST_CAPACITY];
+            for (uint32_t j = 0; j < set_count; ++j) { /* in the order the samples filled them */
+                uint64_t i = accumulator_index((j + first_set) % set_count, (uint32_t)c, 0, pixel, pixel_count);
+                sums[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]);
+            }
+            estimate_channel_alone(&k, sums, 1, &e, c);
+        }
+    }
+    double mean_width, mon_width;
+    mean_or_mon_half_widths(state, accumulators, pixel, pixel_count, passes, level_count, cascade_count, set_count,
+                            first_sample, n, &mean_width, &mon_width);
+    const int pass = mean_width <= mon_width ? PASS_MEAN : PASS_MON;
+    const int exponent = grid_exponent(accumulators[grid_index(pixel)]);
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        rgb[c] = scale_by_grid(e.value[pass][c], exponent);
+}
+#endif
 
 #endif /* SAMPLE_PASSES_DOUBLE */
 

@@ -8,7 +8,10 @@
  * maxdepth 1 sees; abmm's moments do not cancel (a pixel of 1e6 with
  * relative variance 1e-6), abmm and gabmm match an independent long-double
  * implementation (tests/support/moment_reference.c), and gabmm goes
- * negative on a single firefly, as the spec says. */
+ * negative on a single firefly, as the spec says; mean-or-mon's sums of
+ * x^2 are exact past float's range, its half-widths and choice match the
+ * reference (the mean without outliers, MoN with one firefly), and it is
+ * bit for bit the set-based mean or MoN it chose. */
 #include "film/film_sample.h"
 #include "film/film_sample_cl.h"
 #include "render/renderer.h"
@@ -67,7 +70,15 @@ static EstimatorSettings sample_settings(uint32_t passes, const float *levels, i
 static SampleParts parts_of(float fr, float fg, float fb, float dr, float dg, float db, float ir, float ig, float ib,
                             float weight)
 {
-    SampleParts p = {{fr, fg, fb}, {dr, dg, db}, {ir, ig, ib}, weight};
+    SampleParts p = {{fr, fg, fb}, {dr, dg, db}, {ir, ig, ib}, weight, 0, 1};
+    return p;
+}
+
+/* parts_of for sample index `sample` of a render of `sets` sets. */
+static SampleParts parts_in_set(SampleParts p, uint64_t sample, int sets)
+{
+    p.set = set_of_sample(sample, (uint32_t)sets);
+    p.set_count = (uint32_t)sets;
     return p;
 }
 
@@ -222,7 +233,8 @@ static void add_grey_stream(const EstimatorSettings *s, const float *x, size_t n
                             uint64_t *accumulators, size_t pixel, size_t pixel_count)
 {
     for (size_t i = 0; i < n; ++i) {
-        SampleParts p = parts_of(x[i], x[i], x[i], 0, 0, 0, 0, 0, 0, 1.0f);
+        SampleParts p =
+            parts_in_set(parts_of(x[i], x[i], x[i], 0, 0, 0, 0, 0, 0, 1.0f), s->first_sample + i, s->set_count);
         film_sample_add(s, state, pixel, pixel_count, &p);
         if (accumulators)
             accumulate_sample(accumulators, pixel, pixel_count, (uint32_t)s->set_count,
@@ -311,7 +323,8 @@ static void test_moments_kernel_equals_host(void **state)
 {
     (void)state;
     REQUIRE_TEST_DEVICE();
-    EstimatorSettings s = sample_settings(PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_CLAMP), NULL, 0);
+    EstimatorSettings s = sample_settings(
+        PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_MEAN_OR_MON), NULL, 0);
     s.params.clamp_level_count = 1;
     s.params.clamp_levels[0] = 2.0f;
     s.set_count = 7;
@@ -322,7 +335,9 @@ static void test_moments_kernel_equals_host(void **state)
     for (int i = 0; i < PIXELS * LENGTH; ++i) {
         float *p = parts + i * 10;
         for (int c = 0; c < 3; ++c) {
-            p[c] = (float)(i % PIXELS + 1) * (uniform(&seed) < 0.03f ? 1e4f : 1.0f) * uniform(&seed);
+            /* fireflies in odd pixels only: mean-or-mon takes MoN there, the mean in most even ones */
+            const float firefly = (i % PIXELS) % 2 && uniform(&seed) < 0.03f ? 1e4f : 1.0f;
+            p[c] = (float)(i % PIXELS + 1) * firefly * uniform(&seed);
             p[3 + c] = p[6 + c] = 0.0f;
         }
         p[9] = uniform(&seed) < 0.1f ? -0.5f : 1.0f;
@@ -333,21 +348,24 @@ static void test_moments_kernel_equals_host(void **state)
     for (int pixel = 0; pixel < PIXELS; ++pixel)
         for (int i = 0; i < LENGTH; ++i) {
             const float *p = parts + ((size_t)pixel * LENGTH + (size_t)i) * 10;
-            SampleParts sp = parts_of(p[0], p[1], p[2], 0, 0, 0, 0, 0, 0, p[9]);
+            SampleParts sp = parts_in_set(parts_of(p[0], p[1], p[2], 0, 0, 0, 0, 0, 0, p[9]), 3 + (uint64_t)i, 7);
             film_sample_add(&s, host, (size_t)pixel, PIXELS, &sp);
             accumulate_sample(acc, (size_t)pixel, PIXELS, 7, set_of_sample(3 + (uint64_t)i, 7), p[0] * p[9],
                               p[1] * p[9], p[2] * p[9]);
         }
     float hc[PIXELS][3], ha[PIXELS][3], hg[PIXELS][3], dc[PIXELS][3], da[PIXELS][3], dg[PIXELS][3];
+    float hm[PIXELS][3], dm[PIXELS][3];
     EstimatorImages hi, di;
     memset(&hi, 0, sizeof hi);
     memset(&di, 0, sizeof di);
     hi.pass[PASS_CLAMP] = hc;
     hi.pass[PASS_ABMM] = ha;
     hi.pass[PASS_GABMM] = hg;
+    hi.pass[PASS_MEAN_OR_MON] = hm;
     di.pass[PASS_CLAMP] = dc;
     di.pass[PASS_ABMM] = da;
     di.pass[PASS_GABMM] = dg;
+    di.pass[PASS_MEAN_OR_MON] = dm;
     hi.length = di.length = PIXELS * 3;
     assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, acc, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
     SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
@@ -357,15 +375,133 @@ static void test_moments_kernel_equals_host(void **state)
     assert_memory_equal(hc, dc, sizeof hc);
     assert_memory_equal(ha, da, sizeof ha);
     assert_memory_equal(hg, dg, sizeof hg);
+    assert_memory_equal(hm, dm, sizeof hm);
     int differ = 0;
     for (int p = 0; p < PIXELS; ++p)
         differ |= ha[p][0] != hg[p][0];
     assert_true(differ);
+    /* mean-or-mon is the set-based mean or MoN of each pixel, and both
+     * choices occur (the fireflies). */
+    float mean[PIXELS][3], mon[PIXELS][3];
+    EstimatorSettings set_based = s;
+    set_based.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON);
+    EstimatorImages si;
+    memset(&si, 0, sizeof si);
+    si.pass[PASS_MEAN] = mean;
+    si.pass[PASS_MON] = mon;
+    si.length = PIXELS * 3;
+    assert_int_equal(estimator_from_accumulators(&set_based, acc, sets * PIXELS, PIXELS, LENGTH, &si, NULL, 0),
+                     ESTIMATOR_OK);
+    int chose_mean = 0, chose_mon = 0;
+    for (int p = 0; p < PIXELS; ++p) {
+        const int is_mean = memcmp(hm[p], mean[p], sizeof hm[p]) == 0,
+                  is_mon = memcmp(hm[p], mon[p], sizeof hm[p]) == 0;
+        assert_true(is_mean || is_mon);
+        chose_mean += is_mean && !is_mon;
+        chose_mon += is_mon && !is_mean;
+    }
+    printf("  mean-or-mon: %d pixels the mean, %d MoN\n", chose_mean, chose_mon);
+    assert_true(chose_mean > 0 && chose_mon > 0);
     sample_estimator_destroy(program);
     free(parts);
     free(host);
     free(device);
     free(acc);
+}
+
+/* mean-or-mon's sums of x^2 are exact beyond float's range: (2^100)^2 +
+ * (-3 2^40)^2 = 2^80 (2^120 + 9), with a non-finite sample as 0. */
+static void test_squares_exact(void **state)
+{
+    (void)state;
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_MEAN_OR_MON), NULL, 0);
+    s.set_count = 3;
+    const float x[] = {ldexpf(1.0f, 100), NAN, -3.0f * ldexpf(1.0f, 40)};
+    const size_t planes = film_sample_planes(&s);
+    assert_int_equal(planes, accumulator_planes(3));
+    /* With 1 in channel b the pixel's squares span 2^0 .. 2^200, more than
+     * the 126 bits of a sum: reported rounded, as the sets would. */
+    uint64_t *st = calloc(planes, sizeof(uint64_t));
+    SampleParts wide = parts_in_set(parts_of(x[0], x[0], 1.0f, 0, 0, 0, 0, 0, 0, 1.0f), 0, 3);
+    assert_int_equal(film_sample_add(&s, st, 0, 1, &wide), EST_ADD_ROUNDED);
+    /* Without it, r and g are exact (the NaN sample counts as 0): */
+    uint64_t *alone = calloc(planes, sizeof(uint64_t));
+    for (int i = 0; i < 3; ++i) {
+        SampleParts p = parts_in_set(parts_of(x[i], x[i], 0.0f, 0, 0, 0, 0, 0, 0, 1.0f), 0, 3); /* all in set 0 */
+        assert_int_equal(film_sample_add(&s, alone, 0, 1, &p), EST_ADD_EXACT);
+    }
+    accumulators_normalize(alone, 0, 1, 3);
+    assert_int_equal(grid_exponent(alone[grid_index(0)]), 80);
+    for (uint32_t c = 0; c < 2; ++c) {
+        assert_true(alone[accumulator_index(0, c, 0, 0, 1)] == 9u);
+        assert_true(alone[accumulator_index(0, c, 1, 0, 1)] == (uint64_t)1 << 56);
+    }
+    assert_true(alone[accumulator_index(0, 2, 0, 0, 1)] == 0u && alone[accumulator_index(1, 0, 0, 0, 1)] == 0u);
+    free(st);
+    free(alone);
+}
+
+/* mean-or-mon on grey streams against the long-double reference, for odd
+ * and even M: no outlier (the mean), one firefly of 5e4 (MoN), and a pixel
+ * of 1e6 with relative variance 1e-6 (the mean, its half-widths not lost to
+ * cancellation); each image is bit for bit the set-based estimate chosen. */
+static void test_mean_or_mon_against_reference(void **state)
+{
+    (void)state;
+    enum { N = 1000, STREAMS = 3 };
+    float *x = malloc(sizeof(float) * STREAMS * N);
+    uint32_t seed = 41;
+    for (int i = 0; i < N; ++i) {
+        x[i] = 0.4f + 0.2f * uniform(&seed);
+        x[N + i] = i == 617 ? 5e4f : 0.4f + 0.2f * uniform(&seed);
+        x[2 * N + i] = 1e6f + 1732.0508f * (2.0f * uniform(&seed) - 1.0f);
+    }
+    const int set_counts[] = {21, 20};
+    const int want_mean[STREAMS] = {1, 0, 1};
+    for (int k = 0; k < 2; ++k) {
+        EstimatorSettings s = sample_settings(PASS_BIT(PASS_MEAN_OR_MON), NULL, 0);
+        s.set_count = set_counts[k];
+        s.first_sample = 5;
+        const size_t planes = film_sample_planes(&s), sets = accumulator_planes((uint32_t)s.set_count);
+        uint64_t *st = calloc(planes * STREAMS, sizeof(uint64_t)), *acc = calloc(sets * STREAMS, sizeof(uint64_t));
+        for (int p = 0; p < STREAMS; ++p)
+            add_grey_stream(&s, x + p * N, N, st, acc, (size_t)p, STREAMS);
+        float chosen[STREAMS][3], mean[STREAMS][3], mon[STREAMS][3];
+        EstimatorImages images, set_images;
+        memset(&images, 0, sizeof images);
+        memset(&set_images, 0, sizeof set_images);
+        images.pass[PASS_MEAN_OR_MON] = chosen;
+        set_images.pass[PASS_MEAN] = mean;
+        set_images.pass[PASS_MON] = mon;
+        images.length = set_images.length = STREAMS * 3;
+        assert_int_equal(film_sample_estimate(&s, st, planes * STREAMS, acc, STREAMS, N, &images, NULL, 0),
+                         ESTIMATOR_OK);
+        EstimatorSettings set_based = s;
+        set_based.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON);
+        set_based.params.clamp_level_count = 1; /* the defaults' count, which sample_settings cleared */
+        assert_int_equal(estimator_from_accumulators(&set_based, acc, sets * STREAMS, STREAMS, N, &set_images, NULL, 0),
+                         ESTIMATOR_OK);
+        for (int p = 0; p < STREAMS; ++p) {
+            ReferenceMeanOrMon r = reference_mean_or_mon(x + p * N, N, s.set_count, s.first_sample);
+            double mean_width, mon_width;
+            assert_true(mean_or_mon_half_widths(st, acc, (uint64_t)p, STREAMS, film_sample_passes(&s), 0,
+                                                s.params.zirr_k, (uint32_t)s.set_count, s.first_sample, N, &mean_width,
+                                                &mon_width));
+            printf("  M %d, stream %d: half-widths mean %.12g (reference %.12Lg), MoN %.12g (%.12Lg); %s %.9g "
+                   "(reference %.9Lg)\n",
+                   s.set_count, p, mean_width, r.mean_width, mon_width, r.mon_width, r.chose_mean ? "mean" : "MoN",
+                   chosen[p][0], r.value);
+            assert_int_equal(r.chose_mean, want_mean[p]);
+            assert_int_equal(mean_width <= mon_width, want_mean[p]);
+            assert_true(fabsl(mean_width - r.mean_width) <= 1e-9L * r.mean_width);
+            assert_true(fabsl(mon_width - r.mon_width) <= 1e-9L * r.mon_width);
+            assert_true(fabsl(chosen[p][0] - r.value) <= 1e-6L * fabsl(r.value));
+            assert_memory_equal(chosen[p], want_mean[p] ? mean[p] : mon[p], sizeof chosen[p]);
+        }
+        free(st);
+        free(acc);
+    }
+    free(x);
 }
 
 static RenderSettings glass_settings(uint32_t passes)
@@ -447,6 +583,16 @@ static void test_sets_unchanged_and_batching(void **state)
     assert_memory_equal(b.pass[PASS_CLAMP], c.pass[PASS_CLAMP], 3 * pixels * 3 * sizeof(float));
     for (int p = PASS_CLAMP_SUM; p < PASS_COUNT; ++p)
         assert_memory_equal(b.pass[p], c.pass[p], pixels * 3 * sizeof(float));
+    /* mean-or-mon is, pixel by pixel, the render's mean or its MoN. */
+    int chose_mon = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+        const float *chosen = (const float *)b.pass[PASS_MEAN_OR_MON] + 3 * i;
+        const int is_mean = memcmp(chosen, (const float *)b.pass[PASS_MEAN] + 3 * i, 3 * sizeof(float)) == 0;
+        const int is_mon = memcmp(chosen, (const float *)b.pass[PASS_MON] + 3 * i, 3 * sizeof(float)) == 0;
+        assert_true(is_mean || is_mon);
+        chose_mon += !is_mean;
+    }
+    printf("  mean-or-mon in the render: MoN in %d of %zu pixels\n", chose_mon, pixels);
     render_output_free(&a);
     render_output_free(&b);
     render_output_free(&c);
@@ -786,6 +932,8 @@ int main(void)
         cmocka_unit_test(test_zirr_kernel_equals_host),
         cmocka_unit_test(test_zirr_memory_summary),
         cmocka_unit_test(test_zirr_render),
+        cmocka_unit_test(test_squares_exact),
+        cmocka_unit_test(test_mean_or_mon_against_reference),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

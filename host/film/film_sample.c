@@ -12,7 +12,9 @@ uint32_t film_sample_passes(const EstimatorSettings *s)
 
 size_t film_sample_planes(const EstimatorSettings *s)
 {
-    return sample_state_planes(film_sample_passes(s), s->params.clamp_level_count, s->params.zirr_k);
+    const uint32_t passes = film_sample_passes(s);
+    return sample_state_planes(passes, s->params.clamp_level_count, s->params.zirr_k) +
+           sample_square_planes(passes, (uint32_t)s->set_count);
 }
 
 int film_sample_pass_images(const EstimatorSettings *s, int pass)
@@ -70,12 +72,12 @@ void film_sample_build_options(const EstimatorSettings *s, char *options, size_t
 
 int film_sample_needs_double(const EstimatorSettings *s)
 {
-    return (s->passes & SAMPLE_MOMENT_PASSES) != 0;
+    return (s->passes & (SAMPLE_MOMENT_PASSES | PASS_BIT(PASS_MEAN_OR_MON))) != 0;
 }
 
 int film_sample_needs_sets(const EstimatorSettings *s)
 {
-    return (s->passes & PASS_BIT(PASS_GABMM)) != 0;
+    return (s->passes & (PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_MEAN_OR_MON))) != 0;
 }
 
 void film_sample_estimator_options(const EstimatorSettings *s, char *options, size_t size)
@@ -144,6 +146,10 @@ void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t s
             used +=
                 (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", block_names[block], bytes);
     }
+    size_t squares = sample_square_planes(passes, (uint32_t)s->set_count) * sizeof(uint64_t);
+    if (squares && used < size)
+        snprintf(line + used, size - used, "%smean-or-mon (sums of x^2, %d sets) %zu B", used ? ", " : "", s->set_count,
+                 squares);
 }
 
 EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
@@ -168,6 +174,9 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
                 if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
                     sample_sum_estimate(state, p, pixel_count, passes, s->params.clamp_level_count, sample_count, pass,
                                         i, rgb);
+                else if (pass == PASS_MEAN_OR_MON)
+                    mean_or_mon_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
+                                         s->params.zirr_k, (uint32_t)s->set_count, s->first_sample, sample_count, rgb);
                 else
                     moment_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
                                     (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);

@@ -11,7 +11,7 @@
 #define HOST_FILM_FILM_SAMPLE_H
 
 #include "film/film.h"
-#define SAMPLE_PASSES_DOUBLE /* abmm and gabmm: their moments in double */
+#define SAMPLE_PASSES_DOUBLE /* abmm, gabmm, mean-or-mon: their moments in double */
 #include "sample_passes.h"   /* kernels/ */
 
 #include <stddef.h>
@@ -35,14 +35,15 @@ int film_sample_images(const EstimatorSettings *settings);
 void film_sample_build_options(const EstimatorSettings *settings, char *options, size_t size);
 
 /* The sample estimator's build options: film_sample_build_options, and
- * for abmm/gabmm -DSAMPLE_PASSES_DOUBLE, for gabmm -DEST_SETS=M. */
+ * for abmm/gabmm/mean-or-mon -DSAMPLE_PASSES_DOUBLE, for gabmm and
+ * mean-or-mon -DEST_SETS=M. */
 void film_sample_estimator_options(const EstimatorSettings *settings, char *options, size_t size);
 
 /* Whether the passes need double precision on the device (cl_khr_fp64). */
 int film_sample_needs_double(const EstimatorSettings *settings);
 
-/* Whether the passes read the set sums (gabmm's Gbar): the render keeps M
- * sets for them. */
+/* Whether the passes read the set sums (gabmm's Gbar, mean-or-mon's sets):
+ * the render keeps M sets for them. */
 int film_sample_needs_sets(const EstimatorSettings *settings);
 
 /* The EXR layer of image `index` of `pass`: clamp-<V> (V as the shortest
@@ -60,8 +61,9 @@ int film_sample_select_film_clamp(EstimatorSettings *settings, float max_compone
 
 /* Estimates every requested per-sample image but zirr's from the state
  * (length >= film_sample_planes * pixel_count) into images->pass[...]
- * (those not NULL); gabmm also reads the set sums `accumulators` (settings'
- * M and first sample; NULL when gabmm is not requested). */
+ * (those not NULL); gabmm and mean-or-mon also read the set sums
+ * `accumulators` (settings' M and first sample; NULL when neither is
+ * requested). */
 EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
                                      const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
                                      EstimatorImages *images, char *message, size_t message_size);
@@ -80,7 +82,8 @@ EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *settings, con
                                           char *message, size_t message_size);
 
 /* Adds one sample to pixel `pixel`'s state on the host (tests, the
- * reference of the kernels' accumulation). */
+ * reference of the kernels' accumulation); mean-or-mon reads its set and
+ * set_count. */
 int film_sample_add(const EstimatorSettings *settings, uint64_t *state, size_t pixel, size_t pixel_count,
                     const SampleParts *sample);
 

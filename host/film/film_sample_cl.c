@@ -30,7 +30,8 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
         clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
         if (!strstr(extensions, "cl_khr_fp64")) {
             fprintf(stderr,
-                    "sample estimator: abmm and gabmm compute their moments in double precision, which device '%s' "
+                    "sample estimator: abmm, gabmm and mean-or-mon compute their moments in double precision, which "
+                    "device '%s' "
                     "lacks (no cl_khr_fp64): render them on another device\n",
                     device->info.name);
             goto fail;
@@ -71,12 +72,12 @@ void sample_estimator_destroy(SampleEstimatorProgram *p)
     free(p);
 }
 
-/* The images estimate_sample_passes writes: all but zirr's (the last slot;
- * sample_estimator_zirr's, over the whole image). */
+/* The images estimate_sample_passes writes: all but zirr's
+ * (sample_estimator_zirr's, over the whole image). */
 static int image_count(const SampleEstimatorProgram *p)
 {
     const uint32_t passes = film_sample_passes(&p->settings);
-    return sample_image_slot(passes, p->settings.params.clamp_level_count, PASS_ZIRR, 0);
+    return sample_pixel_image_slot(passes, p->settings.params.clamp_level_count, PASS_COUNT, 0);
 }
 
 size_t sample_estimator_image_bytes(const SampleEstimatorProgram *p, size_t pixel_count)
@@ -114,8 +115,8 @@ cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t fi
         for (int i = 0; i < sample_pass_images(passes, levels, pass); ++i) {
             char *target = (char *)host->pass[pass] + ((size_t)i * image_pixels + first) * EST_CHANNELS * sizeof(float);
             cl_int err = clEnqueueReadBuffer(p->device->queue, images, CL_TRUE,
-                                             (size_t)sample_image_slot(passes, levels, pass, i) * plane, plane, target,
-                                             0, NULL, NULL);
+                                             (size_t)sample_pixel_image_slot(passes, levels, pass, i) * plane, plane,
+                                             target, 0, NULL, NULL);
             if (err != CL_SUCCESS) {
                 cl_report_error("clEnqueueReadBuffer", err, __FILE__, __LINE__);
                 return err;
@@ -158,6 +159,8 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     CL_CHECK(clSetKernelArg(p->accumulate, 3, sizeof pixels, &pixels), done);
     CL_CHECK(clSetKernelArg(p->accumulate, 4, sizeof direct, &direct), done);
     CL_CHECK(clSetKernelArg(p->accumulate, 5, sizeof indirect, &indirect), done);
+    cl_ulong first = p->settings.first_sample;
+    CL_CHECK(clSetKernelArg(p->accumulate, 6, sizeof first, &first), done);
     size_t global = pixel_count;
     CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);

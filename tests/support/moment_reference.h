@@ -1,5 +1,5 @@
 /* An independent long-double implementation of the moment-based estimators
- * (ESTIMATORS.md, "Needing more per-pixel state": abmm, gabmm), written from
+ * (ESTIMATORS.md, "Needing more per-pixel state": abmm, gabmm, mean-or-mon), written from
  * the spec, not from kernels/sample_passes.h: two-pass central moments and
  * the paper's Gini of the set means. */
 #ifndef TESTS_SUPPORT_MOMENT_REFERENCE_H
@@ -25,5 +25,20 @@ long double reference_gini(const long double *values, int m);
  * first_sample + i, in set index mod sets); non-empty sets only. Returns
  * their number. */
 int reference_set_means(const float *x, size_t n, int sets, uint64_t first_sample, long double *means);
+
+/* mean-or-mon on a grey stream (sample i in set (first_sample + i) mod
+ * sets, every set holding >= 2 samples): the 95 % half-widths 1.96 s /
+ * sqrt(n) of the mean and of the median set (even sets: the middle pair's
+ * averaged), s the two-pass sample standard deviation (1/(n - 1)); the
+ * mean where its half-width is no larger, else the median of the set
+ * means. */
+typedef struct {
+    long double mean_width, mon_width;
+    long double mean, mon;
+    int chose_mean;
+    long double value;
+} ReferenceMeanOrMon;
+
+ReferenceMeanOrMon reference_mean_or_mon(const float *x, size_t n, int sets, uint64_t first_sample);
 
 #endif
