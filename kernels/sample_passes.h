@@ -232,7 +232,11 @@ KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel,
 }
 
 #ifdef SAMPLE_PASSES_DOUBLE
+/* Only gabmm and mean-or-mon use it; in a kernel it needs -DEST_SETS
+ * (abmm alone has none). */
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
 #include "estimators.h"
+#endif
 
 /* ------------------------------------------------------------------------
  * abmm and gabmm: the moments in double (a kernel needs cl_khr_fp64), with
