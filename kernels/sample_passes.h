@@ -398,7 +398,11 @@ KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *block, uint32_t x, uint32_t 
 }
 
 #ifdef SAMPLE_PASSES_DOUBLE
+/* Only gabmm and mean-or-mon use it; in a kernel it needs -DEST_SETS
+ * (abmm alone has none). */
+#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
 #include "estimators.h"
+#endif
 
 /* ------------------------------------------------------------------------
  * abmm and gabmm: the moments in double (a kernel needs cl_khr_fp64), with

@@ -368,6 +368,11 @@ static void test_moments_kernel_equals_host(void **state)
     di.pass[PASS_MEAN_OR_MON] = dm;
     hi.length = di.length = PIXELS * 3;
     assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, acc, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
+    /* abmm alone (no -DEST_SETS) builds too. */
+    EstimatorSettings alone = sample_settings(PASS_BIT(PASS_ABMM), NULL, 0);
+    SampleEstimatorProgram *abmm_alone = sample_estimator_new(&test_device, &alone, NULL);
+    assert_non_null(abmm_alone);
+    sample_estimator_destroy(abmm_alone);
     SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
     assert_non_null(program);
     assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, acc, device, &di), 0);
