@@ -258,12 +258,43 @@ static void test_materials_convert(void **state)
     render_scene_destroy(&scene);
 }
 
+/* Integrator "rrthreshold" reaches the kernel's IntegratorData, at most 1
+ * (above 1 pbrt-v4's roulette never terminates a path); 1 by default. */
+static void test_roulette_threshold_converts(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        float expected;
+    } cases[] = {{"", 1.0f},
+                 {"Integrator \"volpath\" \"float rrthreshold\" 0\n", 0.0f},
+                 {"Integrator \"path\" \"float rrthreshold\" 0.5\n", 0.5f},
+                 {"Integrator \"path\" \"float rrthreshold\" 3\n", 1.0f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char text[512];
+        snprintf(text, sizeof text, "%s" CAMERA "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\nShape \"sphere\"\n",
+                 cases[i].text);
+        const char *path = write_scene("roulette.pbrt", text);
+        RenderScene scene;
+        int result = convert(path, &scene);
+        remove(path);
+        if (result)
+            fail_msg("%s", error);
+        assert_true(scene.constants.integrator.rr_threshold == cases[i].expected);
+        render_scene_destroy(&scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_repository_scenes),         cmocka_unit_test(test_overflowing_emitters_are_errors),
-        cmocka_unit_test(test_area_light_power),          cmocka_unit_test(test_geometry_at_the_limits_converts),
-        cmocka_unit_test(test_interface_changes_nothing), cmocka_unit_test(test_materials_convert),
+        cmocka_unit_test(test_repository_scenes),
+        cmocka_unit_test(test_overflowing_emitters_are_errors),
+        cmocka_unit_test(test_area_light_power),
+        cmocka_unit_test(test_geometry_at_the_limits_converts),
+        cmocka_unit_test(test_interface_changes_nothing),
+        cmocka_unit_test(test_materials_convert),
+        cmocka_unit_test(test_roulette_threshold_converts),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

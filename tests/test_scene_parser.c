@@ -46,6 +46,7 @@ static void test_defaults(void **state)
     assert_int_equal(s.spp, 16);
     assert_int_equal(s.max_depth, 5);
     assert_int_equal(s.regularize, 0);
+    assert_near(s.rr_threshold, 1, 0);
     assert_near(s.camera.fov, 90, 0);
     assert_vec3(s.camera.position, 0, 0, 0);
     assert_vec3(s.camera.forward, 0, 0, 1);
@@ -373,6 +374,16 @@ static void test_integrators(void **state)
     }
     load_fails("Integrator \"path\" \"string lightsampler\" \"spatial\"\n" WORLD, 1,
                "\"lightsampler\" \"spatial\" is not bvh, power or uniform");
+
+    /* rrthreshold: path and volpath (transparent-machines sets 0). */
+    load_ok("Integrator \"volpath\" \"float rrthreshold\" 0\n" WORLD, &s);
+    assert_near(s.rr_threshold, 0, 0);
+    scene_destroy(&s);
+    load_ok("Integrator \"path\" \"float rrthreshold\" 0.25\n" WORLD, &s);
+    assert_near(s.rr_threshold, 0.25, 0);
+    scene_destroy(&s);
+    load_fails("Integrator \"path\" \"float rrthreshold\" -1\n" WORLD, 1, "rrthreshold -1 must not be negative");
+    load_fails("Integrator \"bdpt\" \"float rrthreshold\" 0\n" WORLD, 1, "rrthreshold");
 }
 
 /* ----------------------------------------------------------- transforms */
@@ -1955,6 +1966,13 @@ static void test_film_sensor(void **state)
     assert_near(s.film_diagonal, 50, 0);
     scene_destroy(&s);
 
+    /* The film's "scale" (zero-day's 3) multiplies the imaging ratio. */
+    load_ok("Film \"rgb\" \"float scale\" 3 \"float iso\" 50\n" WORLD, &s);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            assert_near(s.film_from_radiance[r][c], r == c ? 1.5 : 0.0, 1e-6);
+    scene_destroy(&s);
+
     /* White balance for 3000 K makes a blackbody neutral: below 4000 K
      * pbrt-v4 balances for a blackbody at 3000 * 1.4388 / 1.4380 K. */
     load_ok("Film \"rgb\" \"float whitebalance\" 3000\n" WORLD
@@ -1987,6 +2005,7 @@ static void test_film_sensor(void **state)
     load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1,
                "unknown sensor \"canon_eos_999d\" (cie1931, canon_eos_100d");
     load_fails("Film \"rgb\" \"float iso\" 0\n" WORLD, 1, "iso");
+    load_fails("Film \"rgb\" \"float scale\" 0\n" WORLD, 1, "scale 0 must be positive");
     load_fails("Film \"rgb\" \"float whitebalance\" -5\n" WORLD, 1, "whitebalance");
     load_fails("Film \"rgb\" \"float maxcomponentvalue\" 0\n" WORLD, 1, "maxcomponentvalue");
     load_fails("Film \"rgb\" \"float diagonal\" -1\n" WORLD, 1, "diagonal");

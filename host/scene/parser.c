@@ -97,7 +97,7 @@ typedef struct {
     int camera_line;
     /* The film's sensor settings and the camera's shutter, combined into
      * the film matrix at the end (Film may come before or after Camera). */
-    float film_iso, film_white_balance, shutter_open, shutter_close;
+    float film_iso, film_scale, film_white_balance, shutter_open, shutter_close;
     char film_sensor[64];
 } Parser;
 
@@ -1417,10 +1417,11 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
     }
     int width = (int)s->width, height = (int)s->height, save_fp16 = s->save_fp16;
     const char *filename = NULL, *sensor = "cie1931";
-    float iso = 100.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
+    float iso = 100.0f, scale = 1.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
     if (result == 0 &&
         (params_get_int(&params, "xresolution", &width) < 0 || params_get_int(&params, "yresolution", &height) < 0 ||
          params_get_string(&params, "filename", &filename) < 0 || params_get_float(&params, "iso", &iso) < 0 ||
+         params_get_float(&params, "scale", &scale) < 0 ||
          params_get_float(&params, "whitebalance", &white_balance) < 0 ||
          params_get_string(&params, "sensor", &sensor) < 0 ||
          params_get_float(&params, "maxcomponentvalue", &max_component) < 0 ||
@@ -1430,6 +1431,8 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         result = scene_error(&p->diag, lex->path, d->line, "Film: resolution %d x %d is out of range", width, height);
     if (result == 0 && !(iso > 0.0f))
         result = scene_error(&p->diag, lex->path, d->line, "Film: iso %g must be positive", (double)iso);
+    if (result == 0 && !(scale > 0.0f && scale < INFINITY))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: scale %g must be positive and finite", (double)scale);
     if (result == 0 && (white_balance < 0.0f || white_balance > 1e5f))
         result = scene_error(&p->diag, lex->path, d->line,
                              "Film: whitebalance %g K is not 0 (none) or a temperature up to 100000 K",
@@ -1458,6 +1461,7 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         s->save_fp16 = save_fp16;
         s->film_diagonal = diagonal;
         p->film_iso = iso;
+        p->film_scale = scale;
         p->film_white_balance = white_balance;
         snprintf(p->film_sensor, sizeof p->film_sensor, "%s", sensor);
     }
@@ -1465,7 +1469,9 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
-/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter. */
+/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter;
+ * the film's "scale" multiplies it (the scale of pbrt-v3's image film,
+ * which the scenes that set it carried over). */
 static int finish_film(Parser *p)
 {
     double exposure = (double)p->shutter_close - (double)p->shutter_open;
@@ -1474,8 +1480,8 @@ static int finish_film(Parser *p)
                            "Camera: shutterclose %g must be after shutteropen %g (the film's exposure time)",
                            (double)p->shutter_close, (double)p->shutter_open);
     /* on_film accepted only known sensors */
-    return spectrum_film_from_radiance(p->film_sensor, exposure * p->film_iso / 100.0, p->film_white_balance,
-                                       p->scene->film_from_radiance);
+    return spectrum_film_from_radiance(p->film_sensor, exposure * p->film_iso / 100.0 * p->film_scale,
+                                       p->film_white_balance, p->scene->film_from_radiance);
 }
 
 static int on_sampler(Parser *p, Lexer *lex, const Token *d)
@@ -1593,18 +1599,26 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
     if (result == 0)
         result = choose_integrator(p, lex, d, &type, &params);
     int max_depth = p->scene->max_depth, regularize = 0;
+    float rr_threshold = p->scene->rr_threshold;
+    /* pbrt-v4's path and volpath integrators take "rrthreshold". */
+    int has_roulette_threshold = token_is(&type, "path") || token_is(&type, "volpath");
     if (result == 0 && (params_get_int(&params, "maxdepth", &max_depth) < 0 ||
-                        params_get_bool(&params, "regularize", &regularize) < 0))
+                        params_get_bool(&params, "regularize", &regularize) < 0 ||
+                        (has_roulette_threshold && params_get_float(&params, "rrthreshold", &rr_threshold) < 0)))
         result = -1;
     if (result == 0)
         result = read_light_sampler(p, lex, d, &params);
     if (result == 0 && max_depth < 0)
         result = scene_error(&p->diag, lex->path, d->line, "Integrator: maxdepth must not be negative");
+    if (result == 0 && !(rr_threshold >= 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Integrator: rrthreshold %g must not be negative",
+                             (double)rr_threshold);
     if (result == 0)
         result = params_check_unused(&params);
     if (result == 0) {
         p->scene->max_depth = max_depth;
         p->scene->regularize = regularize;
+        p->scene->rr_threshold = rr_threshold;
     }
     params_free(&params);
     return result;
@@ -2597,6 +2611,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->height = 720;
     scene->spp = 16;
     scene->max_depth = 5;
+    scene->rr_threshold = 1.0f;
     scene->camera.fov = 90.0f;
     scene->camera.focal_distance = 1e6f;
     scene->filter = default_filter(DEFAULT_FILTER);
@@ -2605,6 +2620,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->save_fp16 = 1;
     scene->film_diagonal = 35.0f;
     p.film_iso = 100.0f;
+    p.film_scale = 1.0f;
     strcpy(p.film_sensor, "cie1931");
     p.shutter_close = 1.0f;
     scene->sampler = scene_strndup("zsobol", 6);

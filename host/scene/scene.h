@@ -333,6 +333,7 @@ typedef struct {
     unsigned spp;              /* Sampler pixelsamples */
     int max_depth;             /* Integrator maxdepth */
     int regularize;            /* Integrator "regularize": recorded, not applied */
+    float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
 
     SceneMaterial *materials;
