@@ -1571,6 +1571,40 @@ static void test_paths_resolve_as_pbrt(void **state)
         fail_msg("error \"%s\"; expected \"%s\"", error, expected);
 }
 
+/* pbrt-v4 binds NamedMaterial names after the whole scene is read:
+ * contemporary-bathroom names "light" before the Include that defines it. */
+static void test_named_material_before_definition(void **state)
+{
+    (void)state;
+    Scene s;
+    write_text("named/materials.pbrt", "MakeNamedMaterial \"light\" \"string type\" \"conductor\"\n"
+                                       "MakeNamedMaterial \"wall\" \"string type\" \"diffuse\" "
+                                       "\"rgb reflectance\" [ 0.1 0.2 0.3 ]\n");
+    const char *main_path =
+        write_text("named/main.pbrt", WORLD "NamedMaterial \"light\"\n" TRIANGLE "NamedMaterial \"wall\"\n" TRIANGLE
+                                            "Include \"materials.pbrt\"\n"
+                                            "NamedMaterial \"light\"\n" TRIANGLE);
+    SceneLoadOptions options = {0};
+    if (scene_load(main_path, &options, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.shape_count, 3);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_CONDUCTOR);
+    assert_int_equal(material_of_shape(&s, 1)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_vec3(material_of_shape(&s, 1)->reflectance, 0.1, 0.2, 0.3);
+    assert_int_equal(s.shapes[2].material, s.shapes[0].material); /* one material, bound once */
+    assert_int_equal(s.material_count, 2);
+    scene_destroy(&s);
+
+    /* A name the whole scene never defines: an error at its NamedMaterial. */
+    load_fails(WORLD TRIANGLE "NamedMaterial \"nowhere\"\n" TRIANGLE
+                              "MakeNamedMaterial \"elsewhere\" \"string type\" \"diffuse\"\n",
+               3, "NamedMaterial: no material named \"nowhere\" is defined (MakeNamedMaterial) in the scene");
+    /* Defined twice stays an error, also after an early use. */
+    load_fails(WORLD "NamedMaterial \"m\"\n" TRIANGLE "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n"
+                     "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n",
+               5, "\"m\" is defined twice");
+}
+
 /* A file included twice says the same warning twice: it is kept once. */
 static void test_warnings_once(void **state)
 {
@@ -2061,6 +2095,7 @@ int main(void)
         cmocka_unit_test(test_gzip_files),
         cmocka_unit_test(test_include_and_import),
         cmocka_unit_test(test_paths_resolve_as_pbrt),
+        cmocka_unit_test(test_named_material_before_definition),
         cmocka_unit_test(test_warnings_once),
         cmocka_unit_test(test_check_mode),
         cmocka_unit_test(test_error_in_included_file),

@@ -56,6 +56,17 @@ typedef struct {
     int material;
 } NamedMaterial;
 
+/* A NamedMaterial whose name no MakeNamedMaterial had defined yet: pbrt-v4
+ * binds names once the whole scene is read, so the shapes get a slot in
+ * Scene.materials that the definition fills in later. */
+typedef struct {
+    char *name;
+    const char *file;
+    int line;
+    int material;
+    int defined;
+} PendingNamedMaterial;
+
 /* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
 typedef struct {
     char *name;
@@ -83,6 +94,8 @@ typedef struct {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
+    PendingNamedMaterial *pending_named;
+    size_t pending_named_count, pending_named_capacity;
     NamedTransform *coordinate_systems;
     size_t coordinate_system_count, coordinate_system_capacity;
     int motion_warned; /* one warning for all animated transforms */
@@ -1785,7 +1798,18 @@ static int on_make_named_material(Parser *p, Lexer *lex, const Token *d)
     SceneMaterial m;
     if (result == 0)
         result = parse_material(p, type, &params, d->line, &m);
-    int index = result == 0 ? add_material(p, &m) : -1;
+    PendingNamedMaterial *pending = NULL;
+    for (size_t i = 0; result == 0 && i < p->pending_named_count && !pending; ++i)
+        if (strcmp(p->pending_named[i].name, name_copy) == 0)
+            pending = &p->pending_named[i];
+    int index = -1;
+    if (result == 0 && pending) {
+        index = pending->material;
+        p->scene->materials[index] = m;
+        pending->defined = 1;
+    } else if (result == 0) {
+        index = add_material(p, &m);
+    }
     if (result == 0 &&
         (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named)))
         result = out_of_memory(p, lex->path, d->line);
@@ -1809,9 +1833,42 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
             p->state.material = p->named[i].material;
             return 0;
         }
-    char shown[64];
-    token_describe(&name, shown, sizeof shown);
-    return scene_error(&p->diag, lex->path, d->line, "NamedMaterial: no material named %s", shown);
+    for (size_t i = 0; i < p->pending_named_count; ++i)
+        if (token_is(&name, p->pending_named[i].name)) {
+            p->state.material = p->pending_named[i].material;
+            return 0;
+        }
+    /* Not defined yet: a slot for the definition to come (finish_named_materials). */
+    SceneMaterial placeholder;
+    default_material(&placeholder);
+    char *name_copy = scene_strndup(name.text, name.length);
+    int index = name_copy ? add_material(p, &placeholder) : -1;
+    if (index < 0 || scene_reserve((void **)&p->pending_named, &p->pending_named_capacity, p->pending_named_count + 1,
+                                   sizeof *p->pending_named)) {
+        free(name_copy);
+        return out_of_memory(p, lex->path, d->line);
+    }
+    p->pending_named[p->pending_named_count++] = (PendingNamedMaterial){name_copy, lex->path, d->line, index, 0};
+    p->state.material = index;
+    return 0;
+}
+
+/* A NamedMaterial whose name the whole scene never defines is an error at
+ * its line, as in pbrt-v4; in check mode with files missing the name may
+ * be defined in one of them, so it is not. */
+static int finish_named_materials(Parser *p)
+{
+    const Scene *s = p->scene;
+    if (p->diag.check)
+        for (size_t i = 0; i < s->diagnostic_count; ++i)
+            if (s->diagnostics[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE)
+                return 0;
+    for (size_t i = 0; i < p->pending_named_count; ++i)
+        if (!p->pending_named[i].defined)
+            return scene_error(&p->diag, p->pending_named[i].file, p->pending_named[i].line,
+                               "NamedMaterial: no material named \"%s\" is defined (MakeNamedMaterial) in the scene",
+                               p->pending_named[i].name);
+    return 0;
 }
 
 /* A light's radiance (L * scale, in double) must fit a float. */
@@ -2639,10 +2696,15 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = check_precision(&p);
     if (result == 0)
         result = finish_instances(&p);
+    if (result == 0)
+        result = finish_named_materials(&p);
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
+    for (size_t i = 0; i < p.pending_named_count; ++i)
+        free(p.pending_named[i].name);
+    free(p.pending_named);
     for (size_t i = 0; i < p.coordinate_system_count; ++i)
         free(p.coordinate_systems[i].name);
     free(p.coordinate_systems);
