@@ -2715,7 +2715,23 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     for (size_t i = 0; i < p.path_count; ++i)
         free(p.paths[i]);
     free(p.paths);
-    if (result)
+    if (result) {
+        /* Check mode reports what it found before the error as well. */
+        Scene kept;
+        memset(&kept, 0, sizeof kept);
+        if (p.diag.check) {
+            kept.warnings = scene->warnings;
+            kept.warning_count = scene->warning_count;
+            kept.notes = scene->notes;
+            kept.note_count = scene->note_count;
+            kept.diagnostics = scene->diagnostics;
+            kept.diagnostic_count = scene->diagnostic_count;
+            scene->warnings = scene->notes = NULL;
+            scene->diagnostics = NULL;
+            scene->warning_count = scene->note_count = scene->diagnostic_count = 0;
+        }
         scene_destroy(scene);
+        *scene = kept;
+    }
     return result;
 }

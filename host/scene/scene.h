@@ -371,8 +371,10 @@ typedef struct {
 } Scene;
 
 /* Reads `path` (and the files it includes) into *scene. Returns 0, or -1 with
- * a one-line "file:line: ..." message in `error` and *scene empty. options may
- * be NULL (everything unsupported is an error). */
+ * a one-line "file:line: ..." message in `error` and *scene empty, except in
+ * check mode, where it keeps the warnings, notes and diagnostics found before
+ * the error (scene_destroy frees them). options may be NULL (everything
+ * unsupported is an error). */
 int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, char *error, size_t error_size);
 
 /* Frees everything the scene owns and empties it; safe on an empty scene. */
