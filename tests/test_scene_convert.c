@@ -154,28 +154,35 @@ static void test_geometry_at_the_limits_converts(void **state)
     render_scene_destroy(&scene);
 }
 
-/* "power" P on an area light: radiance P / (pi * sides * the shape's area),
- * the area summed over the shape's triangles (a 2 x 2 quad: 4). */
+/* "power" P on an area light: radiance P / (pi * sides * the area of each
+ * of pbrt-v4's shapes, which each get their own light): a triangle of a
+ * trianglemesh (a 2 x 2 quad of two: 2 each, so the quad emits 2 P), a
+ * bilinear patch (the same quad as one patch: 4), a sphere (radius 0.5:
+ * pi), a disk (radius 1: pi, over all its triangles). */
 static void test_area_light_power(void **state)
 {
     (void)state;
     const char *path = write_scene(
         "power.pbrt", CAMERA "AttributeBegin\n  AreaLightSource \"diffuse\" \"float power\" 100 \"float scale\" 2\n"
                              "  Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
-                             "    \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd\n"
+                             "    \"integer indices\" [ 0 1 2  0 2 3 ]\n"
+                             "  Shape \"bilinearmesh\" \"point3 P\" [ -1 -1 1  1 -1 1  -1 1 1  1 1 1 ]\nAttributeEnd\n"
                              "AreaLightSource \"diffuse\" \"float power\" 100 \"bool twosided\" true\n"
-                             "Shape \"sphere\" \"float radius\" 0.5\n");
+                             "Shape \"sphere\" \"float radius\" 0.5\n"
+                             "Translate 0 0 2\nShape \"disk\"\n");
     RenderScene scene;
     int result = convert(path, &scene);
     remove(path);
     if (result)
         fail_msg("%s", error);
-    assert_int_equal(scene.light_count, 3);
     const double pi = 3.14159265358979323846;
+    const double expected[] = {2.0 * 100.0 / (pi * 2.0), 2.0 * 100.0 / (pi * 2.0), 2.0 * 100.0 / (pi * 4.0),
+                               2.0 * 100.0 / (pi * 4.0), 100.0 / (pi * 2.0 * pi)};
+    assert_true(scene.light_count > 5); /* the disk's triangles after the sphere */
     for (int i = 0; i < scene.light_count; ++i) {
-        const Light *light = &scene.lights[i];
-        double expected = light->two_sided ? 100.0 / (pi * 2.0 * pi) : 2.0 * 100.0 / (pi * 4.0);
-        assert_true(fabs(light->radiance[1] - expected) < 1e-5 * expected);
+        double e = i < 5 ? expected[i] : 100.0 / (pi * 2.0 * pi);
+        if (!(fabs(scene.lights[i].radiance[1] - e) < 1e-5 * e))
+            fail_msg("light %d: radiance %g, expected %g", i, (double)scene.lights[i].radiance[1], e);
     }
     render_scene_destroy(&scene);
 }

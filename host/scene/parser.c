@@ -437,7 +437,7 @@ static int reserve_vertices(Parser *p, size_t needed, int want_normals, int want
  * warning). normals and uvs may be NULL. `owner` names the shape in messages. */
 static int add_mesh(Parser *p, const char *file, int line, const char *owner, const float *positions,
                     size_t vertex_count, const uint32_t *indices, size_t index_count, const float *normals,
-                    const float *uvs)
+                    const float *uvs, const uint32_t *parts, int one_part)
 {
     Scene *s = p->scene;
     if (vertex_count == 0)
@@ -457,7 +457,7 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
         if (!isfinite(uvs[i]))
             return scene_error(&p->diag, file, line, "%s: vertex %zu has a non-finite texture coordinate", owner,
                                i / 2);
-    if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX)
+    if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX - index_count / 3)
         return scene_error(&p->diag, file, line, "%s: too many vertices in the scene", owner);
 
     size_t base = s->vertex_count;
@@ -506,6 +506,13 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     size_t triangles = index_count / 3, kept = 0, rounded_away = 0, first = s->triangle_count;
     if (scene_reserve((void **)&s->triangles, &p->triangle_capacity, first + triangles, sizeof *s->triangles))
         return out_of_memory(p, file, line);
+    /* pbrt-v4 makes an area light for each of the mesh's shapes (a triangle,
+     * a patch), with "power" each one's: such a mesh becomes a shape a part,
+     * kept_parts the part of each kept triangle. */
+    int split = p->state.has_area_light && p->object < 0 && p->state.area_power > 0.0f && !one_part;
+    uint32_t *kept_parts = split ? malloc(triangles * sizeof *kept_parts + 1) : NULL;
+    if (split && !kept_parts)
+        return out_of_memory(p, file, line);
     for (size_t t = 0; t < triangles; ++t) {
         const uint32_t *tri = indices + 3 * t;
         double e1[3], e2[3], normal[3];
@@ -520,11 +527,15 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
             continue;
         }
         double product = sqrt(dot_d(e1, e1)) * sqrt(dot_d(e2, e2));
-        if (product > SCENE_MAX_EDGE_PRODUCT)
+        if (product > SCENE_MAX_EDGE_PRODUCT) {
+            free(kept_parts);
             return scene_error(&p->diag, file, line,
                                "%s: triangle %zu is too large for single precision: its edges from its first vertex "
                                "are %g and %g long, a product over %g",
                                owner, t, sqrt(dot_d(e1, e1)), sqrt(dot_d(e2, e2)), SCENE_MAX_EDGE_PRODUCT);
+        }
+        if (split)
+            kept_parts[kept] = parts ? parts[t] : (uint32_t)t;
         SceneTriangle *out = &s->triangles[first + kept++];
         for (int k = 0; k < 3; ++k)
             out->vertex[k] = (uint32_t)(base + tri[k]);
@@ -538,17 +549,32 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
                      "up to %g floats are %g apart): move the shape nearer the origin",
                      rounded_away, (double)farthest, (double)(nextafterf(farthest, INFINITY) - farthest));
         if (scene_warn(&p->diag, file, line, "%s: skipped %zu degenerate (zero-area) triangle%s of %zu%s", owner,
-                       triangles - kept, triangles - kept == 1 ? "" : "s", triangles, why))
+                       triangles - kept, triangles - kept == 1 ? "" : "s", triangles, why)) {
+            free(kept_parts);
             return -1;
+        }
     }
-    if (kept == 0)
+    if (kept == 0) {
+        free(kept_parts);
         return 0; /* nothing left to draw: no vertices, no shape */
+    }
     s->vertex_count += vertex_count;
     s->triangle_count += kept;
-    int swaps_handedness = det3(p->state.ctm) < 0.0;
-    if (add_shape(p, SCENE_SHAPE_TRIANGLES, p->state.reverse_orientation ^ swaps_handedness, first, kept))
-        return out_of_memory(p, file, line);
-    s->shapes[s->shape_count - 1].has_uvs = uvs != NULL;
+    int flip = p->state.reverse_orientation ^ (det3(p->state.ctm) < 0.0);
+    size_t start = 0;
+    for (size_t i = 1; i <= kept; ++i) {
+        if (i < kept && (!split || kept_parts[i] == kept_parts[start]))
+            continue;
+        for (size_t j = start; j < i; ++j)
+            s->triangles[first + j].shape = (uint32_t)s->shape_count;
+        if (add_shape(p, SCENE_SHAPE_TRIANGLES, flip, first + start, i - start)) {
+            free(kept_parts);
+            return out_of_memory(p, file, line);
+        }
+        s->shapes[s->shape_count - 1].has_uvs = uvs != NULL;
+        start = i;
+    }
+    free(kept_parts);
     return 0;
 }
 
@@ -2233,8 +2259,8 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     for (uint32_t i = 0; result == 0 && !indices && i < 3; ++i)
         index[i] = i;
     if (result == 0)
-        result =
-            add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals, uvs);
+        result = add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals,
+                          uvs, NULL, 0);
     free(positions);
     free(normals);
     free(uvs);
@@ -2274,7 +2300,7 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
         result = scene_error(&p->diag, lex->path, d->line, "%s: %s", owner, message);
     else
         result = add_mesh(p, lex->path, d->line, owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          mesh.index_count, mesh.normals, mesh.uvs);
+                          mesh.index_count, mesh.normals, mesh.uvs, mesh.parts, 0);
     shape_mesh_free(&mesh);
     free(path);
     return result;
@@ -2289,7 +2315,7 @@ static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *p
     int result = params_check_unused(params);
     if (result == 0)
         result = add_mesh(p, lex->path, d->line, params->owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          mesh.index_count, mesh.normals, mesh.uvs);
+                          mesh.index_count, mesh.normals, mesh.uvs, mesh.parts, mesh.one_part);
     shape_mesh_free(&mesh);
     return result;
 }

@@ -272,7 +272,9 @@ typedef struct {
 
 /* AreaLightSource "diffuse" on one shape: radiance = L * scale, or with
  * "power" P, L * scale * P / (pi * sides * the shape's area), pbrt-v4's
- * rule, applied by the renderer's conversion (it knows the area). */
+ * rule, applied by the renderer's conversion (it knows the area). pbrt-v4
+ * gives each triangle of a mesh (each bilinear patch, PLY face) a light of
+ * its own, so with "power" the parser makes each one a shape. */
 typedef struct {
     float radiance[3];
     int two_sided;
