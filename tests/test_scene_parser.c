@@ -721,6 +721,15 @@ static void test_layered_mix_and_transmission_materials(void **state)
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
     assert_true(has_warning(&s, "Material \"subsurface\" is not supported; a diffuse of its \"reflectance\""));
     scene_destroy(&s);
+    /* ... also a textured one. */
+    assert_int_equal(load_text("subst-texture.pbrt",
+                               WORLD "Texture \"skin\" \"spectrum\" \"constant\" \"rgb value\" [ 0.3 0.2 0.1 ]\n"
+                                     "Material \"subsurface\" \"texture reflectance\" \"skin\"\n" TRIANGLE,
+                               &s, 1),
+                     0);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_int_equal(material_of_shape(&s, 0)->textures[SCENE_SLOT_REFLECTANCE], 0);
+    scene_destroy(&s);
 }
 
 static void test_named_materials(void **state)

@@ -828,7 +828,8 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         if (scene_unsupported(&p->diag, params->file, line, "a diffuse of its \"reflectance\" (default 0.5) is used",
                               "Material \"%s\" is not supported", type))
             return -1;
-        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
+        if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
+                               NULL))
             return -1;
         return 0; /* its other parameters mean nothing to the substitute */
     } else {
