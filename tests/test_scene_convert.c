@@ -187,6 +187,34 @@ static void test_area_light_power(void **state)
     render_scene_destroy(&scene);
 }
 
+/* A PLY file's faces are pbrt-v4's shapes: a quad (two triangles here) is
+ * one light of its own area, 4, a triangle beside it another, of area 2. */
+static void test_area_light_power_on_ply_faces(void **state)
+{
+    (void)state;
+    const char *ply = write_scene("faces.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                               "property float y\nproperty float z\nelement face 2\n"
+                                               "property list uchar int vertex_indices\nend_header\n"
+                                               "-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n-3 0 0\n4 0 1 2 3\n3 0 3 4\n");
+    char ply_path[256];
+    snprintf(ply_path, sizeof ply_path, "%s", ply);
+    const char *path = write_scene("ply-power.pbrt", CAMERA "AreaLightSource \"diffuse\" \"float power\" 100\n"
+                                                            "Shape \"plymesh\" \"string filename\" \"faces.ply\"\n");
+    RenderScene scene;
+    int result = convert(path, &scene);
+    remove(path);
+    remove(ply_path);
+    if (result)
+        fail_msg("%s", error);
+    const double pi = 3.14159265358979323846;
+    const double expected[3] = {100.0 / (pi * 4.0), 100.0 / (pi * 4.0), 100.0 / (pi * 2.0)};
+    assert_int_equal(scene.light_count, 3);
+    for (int i = 0; i < 3; ++i)
+        if (!(fabs(scene.lights[i].radiance[1] - expected[i]) < 1e-5 * expected[i]))
+            fail_msg("light %d: radiance %g, expected %g", i, (double)scene.lights[i].radiance[1], expected[i]);
+    render_scene_destroy(&scene);
+}
+
 /* An "interface" shape is a medium's boundary, which changes nothing
  * without media: the converted scene is the scene without it, bit for bit. */
 static void test_interface_changes_nothing(void **state)
@@ -302,6 +330,7 @@ int main(void)
         cmocka_unit_test(test_interface_changes_nothing),
         cmocka_unit_test(test_materials_convert),
         cmocka_unit_test(test_roulette_threshold_converts),
+        cmocka_unit_test(test_area_light_power_on_ply_faces),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }
