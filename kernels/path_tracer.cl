@@ -202,9 +202,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         origin = offset_origin(p, n, direction);
 
         /* Russian roulette on the throughput without the radiance scaling
-         * of refraction, after the first bounces. */
+         * of refraction, after the first bounces (IntegratorData). */
         float q = v_max_component(throughput) * eta_scale;
-        if (depth >= 1 && q < 1.0f) {
+        if (depth >= 1 && q < integrator->rr_threshold) {
             float survive = fmax(q, 0.05f);
             if (rng_uniform(key, dim + 6) >= survive)
                 break;

@@ -355,11 +355,17 @@ typedef struct {
 #define RENDER_NEE 1u      /* next-event estimation with MIS; else BSDF sampling only */
 #define RENDER_TEXTURES 2u /* the scene has texture programs (a kernel with every feature must know) */
 
+/* rr_threshold is pbrt-v4's "rrthreshold": Russian roulette applies where
+ * the path's throughput (times the squared eta ratio) has its largest
+ * component below it, from the second bounce on; at most 1 (the host clamps
+ * it: above 1 pbrt-v4's roulette never terminates a path), 0 turns it off. */
 typedef struct {
     uint32_t max_depth;
     uint32_t flags;
     uint32_t light_count;
     uint32_t seed;
+    float rr_threshold;
+    uint32_t pad[3];
 } IntegratorData;
 
 /* The infinite lights: lights[0, infinite_count) of the light array. */
@@ -416,7 +422,7 @@ _Static_assert(sizeof(MaterialTextures) == 80, "MaterialTextures must match the 
 _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout");
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
-_Static_assert(sizeof(SceneConstants) == 224, "SceneConstants must match the kernel's layout");
+_Static_assert(sizeof(SceneConstants) == 240, "SceneConstants must match the kernel's layout");
 #endif
 
 #endif

@@ -97,6 +97,53 @@ static void test_closed_emitting_sphere(void **state)
     closed_sphere(0, 60);
 }
 
+/* Inside the closed emitting sphere, BSDF sampling of a diffuse surface
+ * multiplies the throughput by exactly rho a bounce, so without Russian
+ * roulette (rrthreshold 0) every sample is the closed form; with pbrt-v4's
+ * default threshold 1 roulette makes the samples differ (and, unbiased, the
+ * mean stays the closed form: test_closed_emitting_sphere). Returns the
+ * largest distance of a pixel's mean from the closed form. */
+static double closed_sphere_spread(float rr_threshold)
+{
+    const double rho = 0.5;
+    const unsigned max_depth = 8;
+    RenderScene scene;
+    render_scene_init(&scene);
+    Material m = diffuse((float)rho);
+    int material = render_scene_add_material(&scene, &m);
+    const float centre[3] = {0, 0, 0}, emission[3] = {1, 1, 1};
+    assert_int_equal(render_scene_add_sphere(&scene, centre, 1.0f, material, emission, 1, 0), 0);
+    look_along_z(&scene, 0.0f, 1.0f);
+    scene.constants.integrator.max_depth = max_depth;
+    scene.constants.integrator.flags = 0u;
+    scene.constants.integrator.rr_threshold = rr_threshold;
+    char error[256];
+    assert_int_equal(render_scene_finalize(&scene, error, sizeof error), 0);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 4;
+    settings.seed = 11;
+    RenderOutput out;
+    if (renderer_run(&test_device, 1, &scene, &settings, &out, error, sizeof error) != 0)
+        fail_msg("%s", error);
+    double expected = (1.0 - pow(rho, max_depth + 1)) / (1.0 - rho), spread = 0.0;
+    const float *mean = (const float *)out.pass[PASS_MEAN];
+    for (size_t i = 0; i < (size_t)out.width * out.height * 3; ++i)
+        spread = fmax(spread, fabs(mean[i] - expected));
+    printf("  rrthreshold %g: largest pixel distance from %.6f: %.3g\n", (double)rr_threshold, expected, spread);
+    render_output_free(&out);
+    render_scene_destroy(&scene);
+    return spread;
+}
+
+static void test_roulette_threshold(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    assert_true(closed_sphere_spread(0.0f) < 1e-5);
+    assert_true(closed_sphere_spread(1.0f) > 0.05);
+}
+
 /* A convex diffuse object under a constant environment reflects rho * L. */
 static void test_diffuse_sphere_in_environment(void **state)
 {
@@ -143,6 +190,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_closed_emitting_sphere),
+        cmocka_unit_test(test_roulette_threshold),
         cmocka_unit_test(test_diffuse_sphere_in_environment),
         cmocka_unit_test(test_glass_sphere_in_environment),
     };

@@ -154,29 +154,64 @@ static void test_geometry_at_the_limits_converts(void **state)
     render_scene_destroy(&scene);
 }
 
-/* "power" P on an area light: radiance P / (pi * sides * the shape's area),
- * the area summed over the shape's triangles (a 2 x 2 quad: 4). */
+/* "power" P on an area light: radiance P / (pi * sides * the area of each
+ * of pbrt-v4's shapes, which each get their own light): a triangle of a
+ * trianglemesh (a 2 x 2 quad of two: 2 each, so the quad emits 2 P), a
+ * bilinear patch (the same quad as one patch: 4), a sphere (radius 0.5:
+ * pi), a disk (radius 1: pi, over all its triangles). */
 static void test_area_light_power(void **state)
 {
     (void)state;
     const char *path = write_scene(
         "power.pbrt", CAMERA "AttributeBegin\n  AreaLightSource \"diffuse\" \"float power\" 100 \"float scale\" 2\n"
                              "  Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
-                             "    \"integer indices\" [ 0 1 2  0 2 3 ]\nAttributeEnd\n"
+                             "    \"integer indices\" [ 0 1 2  0 2 3 ]\n"
+                             "  Shape \"bilinearmesh\" \"point3 P\" [ -1 -1 1  1 -1 1  -1 1 1  1 1 1 ]\nAttributeEnd\n"
                              "AreaLightSource \"diffuse\" \"float power\" 100 \"bool twosided\" true\n"
-                             "Shape \"sphere\" \"float radius\" 0.5\n");
+                             "Shape \"sphere\" \"float radius\" 0.5\n"
+                             "Translate 0 0 2\nShape \"disk\"\n");
     RenderScene scene;
     int result = convert(path, &scene);
     remove(path);
     if (result)
         fail_msg("%s", error);
-    assert_int_equal(scene.light_count, 3);
     const double pi = 3.14159265358979323846;
+    const double expected[] = {2.0 * 100.0 / (pi * 2.0), 2.0 * 100.0 / (pi * 2.0), 2.0 * 100.0 / (pi * 4.0),
+                               2.0 * 100.0 / (pi * 4.0), 100.0 / (pi * 2.0 * pi)};
+    assert_true(scene.light_count > 5); /* the disk's triangles after the sphere */
     for (int i = 0; i < scene.light_count; ++i) {
-        const Light *light = &scene.lights[i];
-        double expected = light->two_sided ? 100.0 / (pi * 2.0 * pi) : 2.0 * 100.0 / (pi * 4.0);
-        assert_true(fabs(light->radiance[1] - expected) < 1e-5 * expected);
+        double e = i < 5 ? expected[i] : 100.0 / (pi * 2.0 * pi);
+        if (!(fabs(scene.lights[i].radiance[1] - e) < 1e-5 * e))
+            fail_msg("light %d: radiance %g, expected %g", i, (double)scene.lights[i].radiance[1], e);
     }
+    render_scene_destroy(&scene);
+}
+
+/* A PLY file's faces are pbrt-v4's shapes: a quad (two triangles here) is
+ * one light of its own area, 4, a triangle beside it another, of area 2. */
+static void test_area_light_power_on_ply_faces(void **state)
+{
+    (void)state;
+    const char *ply = write_scene("faces.ply", "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\n"
+                                               "property float y\nproperty float z\nelement face 2\n"
+                                               "property list uchar int vertex_indices\nend_header\n"
+                                               "-1 -1 0\n1 -1 0\n1 1 0\n-1 1 0\n-3 0 0\n4 0 1 2 3\n3 0 3 4\n");
+    char ply_path[256];
+    snprintf(ply_path, sizeof ply_path, "%s", ply);
+    const char *path = write_scene("ply-power.pbrt", CAMERA "AreaLightSource \"diffuse\" \"float power\" 100\n"
+                                                            "Shape \"plymesh\" \"string filename\" \"faces.ply\"\n");
+    RenderScene scene;
+    int result = convert(path, &scene);
+    remove(path);
+    remove(ply_path);
+    if (result)
+        fail_msg("%s", error);
+    const double pi = 3.14159265358979323846;
+    const double expected[3] = {100.0 / (pi * 4.0), 100.0 / (pi * 4.0), 100.0 / (pi * 2.0)};
+    assert_int_equal(scene.light_count, 3);
+    for (int i = 0; i < 3; ++i)
+        if (!(fabs(scene.lights[i].radiance[1] - expected[i]) < 1e-5 * expected[i]))
+            fail_msg("light %d: radiance %g, expected %g", i, (double)scene.lights[i].radiance[1], expected[i]);
     render_scene_destroy(&scene);
 }
 
@@ -258,12 +293,44 @@ static void test_materials_convert(void **state)
     render_scene_destroy(&scene);
 }
 
+/* Integrator "rrthreshold" reaches the kernel's IntegratorData, at most 1
+ * (above 1 pbrt-v4's roulette never terminates a path); 1 by default. */
+static void test_roulette_threshold_converts(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text;
+        float expected;
+    } cases[] = {{"", 1.0f},
+                 {"Integrator \"volpath\" \"float rrthreshold\" 0\n", 0.0f},
+                 {"Integrator \"path\" \"float rrthreshold\" 0.5\n", 0.5f},
+                 {"Integrator \"path\" \"float rrthreshold\" 3\n", 1.0f}};
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        char text[512];
+        snprintf(text, sizeof text, "%s" CAMERA "LightSource \"point\" \"rgb I\" [ 1 1 1 ]\nShape \"sphere\"\n",
+                 cases[i].text);
+        const char *path = write_scene("roulette.pbrt", text);
+        RenderScene scene;
+        int result = convert(path, &scene);
+        remove(path);
+        if (result)
+            fail_msg("%s", error);
+        assert_true(scene.constants.integrator.rr_threshold == cases[i].expected);
+        render_scene_destroy(&scene);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_repository_scenes),         cmocka_unit_test(test_overflowing_emitters_are_errors),
-        cmocka_unit_test(test_area_light_power),          cmocka_unit_test(test_geometry_at_the_limits_converts),
-        cmocka_unit_test(test_interface_changes_nothing), cmocka_unit_test(test_materials_convert),
+        cmocka_unit_test(test_repository_scenes),
+        cmocka_unit_test(test_overflowing_emitters_are_errors),
+        cmocka_unit_test(test_area_light_power),
+        cmocka_unit_test(test_geometry_at_the_limits_converts),
+        cmocka_unit_test(test_interface_changes_nothing),
+        cmocka_unit_test(test_materials_convert),
+        cmocka_unit_test(test_roulette_threshold_converts),
+        cmocka_unit_test(test_area_light_power_on_ply_faces),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

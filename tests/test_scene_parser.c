@@ -46,6 +46,7 @@ static void test_defaults(void **state)
     assert_int_equal(s.spp, 16);
     assert_int_equal(s.max_depth, 5);
     assert_int_equal(s.regularize, 0);
+    assert_near(s.rr_threshold, 1, 0);
     assert_near(s.camera.fov, 90, 0);
     assert_vec3(s.camera.position, 0, 0, 0);
     assert_vec3(s.camera.forward, 0, 0, 1);
@@ -373,6 +374,16 @@ static void test_integrators(void **state)
     }
     load_fails("Integrator \"path\" \"string lightsampler\" \"spatial\"\n" WORLD, 1,
                "\"lightsampler\" \"spatial\" is not bvh, power or uniform");
+
+    /* rrthreshold: path and volpath (transparent-machines sets 0). */
+    load_ok("Integrator \"volpath\" \"float rrthreshold\" 0\n" WORLD, &s);
+    assert_near(s.rr_threshold, 0, 0);
+    scene_destroy(&s);
+    load_ok("Integrator \"path\" \"float rrthreshold\" 0.25\n" WORLD, &s);
+    assert_near(s.rr_threshold, 0.25, 0);
+    scene_destroy(&s);
+    load_fails("Integrator \"path\" \"float rrthreshold\" -1\n" WORLD, 1, "rrthreshold -1 must not be negative");
+    load_fails("Integrator \"bdpt\" \"float rrthreshold\" 0\n" WORLD, 1, "rrthreshold");
 }
 
 /* ----------------------------------------------------------- transforms */
@@ -709,6 +720,15 @@ static void test_layered_mix_and_transmission_materials(void **state)
     assert_vec3(material_of_shape(&s, 0)->reflectance, 0.2, 0.4, 0.6);
     assert_vec3(material_of_shape(&s, 1)->reflectance, 0.5, 0.5, 0.5);
     assert_true(has_warning(&s, "Material \"subsurface\" is not supported; a diffuse of its \"reflectance\""));
+    scene_destroy(&s);
+    /* ... also a textured one. */
+    assert_int_equal(load_text("subst-texture.pbrt",
+                               WORLD "Texture \"skin\" \"spectrum\" \"constant\" \"rgb value\" [ 0.3 0.2 0.1 ]\n"
+                                     "Material \"subsurface\" \"texture reflectance\" \"skin\"\n" TRIANGLE,
+                               &s, 1),
+                     0);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_int_equal(material_of_shape(&s, 0)->textures[SCENE_SLOT_REFLECTANCE], 0);
     scene_destroy(&s);
 }
 
@@ -1560,6 +1580,40 @@ static void test_paths_resolve_as_pbrt(void **state)
         fail_msg("error \"%s\"; expected \"%s\"", error, expected);
 }
 
+/* pbrt-v4 binds NamedMaterial names after the whole scene is read:
+ * contemporary-bathroom names "light" before the Include that defines it. */
+static void test_named_material_before_definition(void **state)
+{
+    (void)state;
+    Scene s;
+    write_text("named/materials.pbrt", "MakeNamedMaterial \"light\" \"string type\" \"conductor\"\n"
+                                       "MakeNamedMaterial \"wall\" \"string type\" \"diffuse\" "
+                                       "\"rgb reflectance\" [ 0.1 0.2 0.3 ]\n");
+    const char *main_path =
+        write_text("named/main.pbrt", WORLD "NamedMaterial \"light\"\n" TRIANGLE "NamedMaterial \"wall\"\n" TRIANGLE
+                                            "Include \"materials.pbrt\"\n"
+                                            "NamedMaterial \"light\"\n" TRIANGLE);
+    SceneLoadOptions options = {0};
+    if (scene_load(main_path, &options, &s, error, sizeof error))
+        fail_msg("%s", error);
+    assert_int_equal(s.shape_count, 3);
+    assert_int_equal(material_of_shape(&s, 0)->type, SCENE_MATERIAL_CONDUCTOR);
+    assert_int_equal(material_of_shape(&s, 1)->type, SCENE_MATERIAL_DIFFUSE);
+    assert_vec3(material_of_shape(&s, 1)->reflectance, 0.1, 0.2, 0.3);
+    assert_int_equal(s.shapes[2].material, s.shapes[0].material); /* one material, bound once */
+    assert_int_equal(s.material_count, 2);
+    scene_destroy(&s);
+
+    /* A name the whole scene never defines: an error at its NamedMaterial. */
+    load_fails(WORLD TRIANGLE "NamedMaterial \"nowhere\"\n" TRIANGLE
+                              "MakeNamedMaterial \"elsewhere\" \"string type\" \"diffuse\"\n",
+               3, "NamedMaterial: no material named \"nowhere\" is defined (MakeNamedMaterial) in the scene");
+    /* Defined twice stays an error, also after an early use. */
+    load_fails(WORLD "NamedMaterial \"m\"\n" TRIANGLE "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n"
+                     "MakeNamedMaterial \"m\" \"string type\" \"diffuse\"\n",
+               5, "\"m\" is defined twice");
+}
+
 /* A file included twice says the same warning twice: it is kept once. */
 static void test_warnings_once(void **state)
 {
@@ -1955,6 +2009,13 @@ static void test_film_sensor(void **state)
     assert_near(s.film_diagonal, 50, 0);
     scene_destroy(&s);
 
+    /* The film's "scale" (zero-day's 3) multiplies the imaging ratio. */
+    load_ok("Film \"rgb\" \"float scale\" 3 \"float iso\" 50\n" WORLD, &s);
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            assert_near(s.film_from_radiance[r][c], r == c ? 1.5 : 0.0, 1e-6);
+    scene_destroy(&s);
+
     /* White balance for 3000 K makes a blackbody neutral: below 4000 K
      * pbrt-v4 balances for a blackbody at 3000 * 1.4388 / 1.4380 K. */
     load_ok("Film \"rgb\" \"float whitebalance\" 3000\n" WORLD
@@ -1987,6 +2048,7 @@ static void test_film_sensor(void **state)
     load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1,
                "unknown sensor \"canon_eos_999d\" (cie1931, canon_eos_100d");
     load_fails("Film \"rgb\" \"float iso\" 0\n" WORLD, 1, "iso");
+    load_fails("Film \"rgb\" \"float scale\" 0\n" WORLD, 1, "scale 0 must be positive");
     load_fails("Film \"rgb\" \"float whitebalance\" -5\n" WORLD, 1, "whitebalance");
     load_fails("Film \"rgb\" \"float maxcomponentvalue\" 0\n" WORLD, 1, "maxcomponentvalue");
     load_fails("Film \"rgb\" \"float diagonal\" -1\n" WORLD, 1, "diagonal");
@@ -2042,6 +2104,7 @@ int main(void)
         cmocka_unit_test(test_gzip_files),
         cmocka_unit_test(test_include_and_import),
         cmocka_unit_test(test_paths_resolve_as_pbrt),
+        cmocka_unit_test(test_named_material_before_definition),
         cmocka_unit_test(test_warnings_once),
         cmocka_unit_test(test_check_mode),
         cmocka_unit_test(test_error_in_included_file),

@@ -33,22 +33,37 @@ static size_t print_diagnostics(const Scene *scene, SceneDiagnosticKind kind)
     return count;
 }
 
+/* The warnings, notes, unsupported features and missing files, in that
+ * order; returns how many unsupported features and missing files. */
+static void print_findings(const Scene *scene, size_t *unsupported, size_t *missing)
+{
+    for (size_t i = 0; i < scene->warning_count; ++i)
+        printf("%s\n", scene->warnings[i]);
+    for (size_t i = 0; i < scene->note_count; ++i)
+        printf("%s\n", scene->notes[i]);
+    *unsupported = print_diagnostics(scene, SCENE_DIAGNOSTIC_UNSUPPORTED);
+    *missing = print_diagnostics(scene, SCENE_DIAGNOSTIC_MISSING_FILE);
+    fflush(stdout); /* before what follows on stderr */
+}
+
 int check_command(const Options *o)
 {
     Scene scene;
     SceneLoadOptions load = {.check = 1};
     char error[2048];
+    size_t unsupported, missing;
     if (scene_load(o->input, &load, &scene, error, sizeof error)) {
+        /* What was found before the error, then the error: the scene was
+         * not read to its end, so the lists may be incomplete. */
+        print_findings(&scene, &unsupported, &missing);
+        scene_destroy(&scene);
+        printf("check stopped at an error: %zu unsupported feature%s, %zu missing file%s found before it\n",
+               unsupported, unsupported == 1 ? "" : "s", missing, missing == 1 ? "" : "s");
+        fflush(stdout);
         fprintf(stderr, "gmonrt: %s\n", error);
         return 1;
     }
-    for (size_t i = 0; i < scene.warning_count; ++i)
-        printf("%s\n", scene.warnings[i]);
-    for (size_t i = 0; i < scene.note_count; ++i)
-        printf("%s\n", scene.notes[i]);
-    size_t unsupported = print_diagnostics(&scene, SCENE_DIAGNOSTIC_UNSUPPORTED);
-    size_t missing = print_diagnostics(&scene, SCENE_DIAGNOSTIC_MISSING_FILE);
-    fflush(stdout); /* before the conversion's own warnings on stderr */
+    print_findings(&scene, &unsupported, &missing);
 
     /* Converted as for a render (BVH and light distribution included), so
      * that what fails there fails here. */

@@ -12,6 +12,7 @@ void render_scene_init(RenderScene *scene)
     scene->open_object = -1;
     scene->constants.integrator.max_depth = 5;
     scene->constants.integrator.flags = RENDER_NEE;
+    scene->constants.integrator.rr_threshold = 1.0f;
     for (int i = 0; i < 3; ++i)
         scene->constants.film.from_radiance[i][i] = 1.0f;
     scene->constants.film.max_component_value = INFINITY;

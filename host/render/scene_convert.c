@@ -632,6 +632,7 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         return -1;
     }
     out->constants.integrator.max_depth = scene.max_depth >= 0 ? (uint32_t)scene.max_depth : 5u;
+    out->constants.integrator.rr_threshold = fminf(scene.rr_threshold, 1.0f);
     FilmData *film = &out->constants.film;
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)

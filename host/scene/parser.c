@@ -56,6 +56,17 @@ typedef struct {
     int material;
 } NamedMaterial;
 
+/* A NamedMaterial whose name no MakeNamedMaterial had defined yet: pbrt-v4
+ * binds names once the whole scene is read, so the shapes get a slot in
+ * Scene.materials that the definition fills in later. */
+typedef struct {
+    char *name;
+    const char *file;
+    int line;
+    int material;
+    int defined;
+} PendingNamedMaterial;
+
 /* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
 typedef struct {
     char *name;
@@ -83,6 +94,8 @@ typedef struct {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
+    PendingNamedMaterial *pending_named;
+    size_t pending_named_count, pending_named_capacity;
     NamedTransform *coordinate_systems;
     size_t coordinate_system_count, coordinate_system_capacity;
     int motion_warned; /* one warning for all animated transforms */
@@ -97,7 +110,7 @@ typedef struct {
     int camera_line;
     /* The film's sensor settings and the camera's shutter, combined into
      * the film matrix at the end (Film may come before or after Camera). */
-    float film_iso, film_white_balance, shutter_open, shutter_close;
+    float film_iso, film_scale, film_white_balance, shutter_open, shutter_close;
     char film_sensor[64];
 } Parser;
 
@@ -424,7 +437,7 @@ static int reserve_vertices(Parser *p, size_t needed, int want_normals, int want
  * warning). normals and uvs may be NULL. `owner` names the shape in messages. */
 static int add_mesh(Parser *p, const char *file, int line, const char *owner, const float *positions,
                     size_t vertex_count, const uint32_t *indices, size_t index_count, const float *normals,
-                    const float *uvs)
+                    const float *uvs, const uint32_t *parts, int one_part)
 {
     Scene *s = p->scene;
     if (vertex_count == 0)
@@ -444,7 +457,7 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
         if (!isfinite(uvs[i]))
             return scene_error(&p->diag, file, line, "%s: vertex %zu has a non-finite texture coordinate", owner,
                                i / 2);
-    if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX)
+    if (vertex_count > UINT32_MAX - s->vertex_count || s->shape_count >= UINT32_MAX - index_count / 3)
         return scene_error(&p->diag, file, line, "%s: too many vertices in the scene", owner);
 
     size_t base = s->vertex_count;
@@ -493,6 +506,13 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     size_t triangles = index_count / 3, kept = 0, rounded_away = 0, first = s->triangle_count;
     if (scene_reserve((void **)&s->triangles, &p->triangle_capacity, first + triangles, sizeof *s->triangles))
         return out_of_memory(p, file, line);
+    /* pbrt-v4 makes an area light for each of the mesh's shapes (a triangle,
+     * a patch), with "power" each one's: such a mesh becomes a shape a part,
+     * kept_parts the part of each kept triangle. */
+    int split = p->state.has_area_light && p->object < 0 && p->state.area_power > 0.0f && !one_part;
+    uint32_t *kept_parts = split ? malloc(triangles * sizeof *kept_parts + 1) : NULL;
+    if (split && !kept_parts)
+        return out_of_memory(p, file, line);
     for (size_t t = 0; t < triangles; ++t) {
         const uint32_t *tri = indices + 3 * t;
         double e1[3], e2[3], normal[3];
@@ -507,11 +527,15 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
             continue;
         }
         double product = sqrt(dot_d(e1, e1)) * sqrt(dot_d(e2, e2));
-        if (product > SCENE_MAX_EDGE_PRODUCT)
+        if (product > SCENE_MAX_EDGE_PRODUCT) {
+            free(kept_parts);
             return scene_error(&p->diag, file, line,
                                "%s: triangle %zu is too large for single precision: its edges from its first vertex "
                                "are %g and %g long, a product over %g",
                                owner, t, sqrt(dot_d(e1, e1)), sqrt(dot_d(e2, e2)), SCENE_MAX_EDGE_PRODUCT);
+        }
+        if (split)
+            kept_parts[kept] = parts ? parts[t] : (uint32_t)t;
         SceneTriangle *out = &s->triangles[first + kept++];
         for (int k = 0; k < 3; ++k)
             out->vertex[k] = (uint32_t)(base + tri[k]);
@@ -525,17 +549,32 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
                      "up to %g floats are %g apart): move the shape nearer the origin",
                      rounded_away, (double)farthest, (double)(nextafterf(farthest, INFINITY) - farthest));
         if (scene_warn(&p->diag, file, line, "%s: skipped %zu degenerate (zero-area) triangle%s of %zu%s", owner,
-                       triangles - kept, triangles - kept == 1 ? "" : "s", triangles, why))
+                       triangles - kept, triangles - kept == 1 ? "" : "s", triangles, why)) {
+            free(kept_parts);
             return -1;
+        }
     }
-    if (kept == 0)
+    if (kept == 0) {
+        free(kept_parts);
         return 0; /* nothing left to draw: no vertices, no shape */
+    }
     s->vertex_count += vertex_count;
     s->triangle_count += kept;
-    int swaps_handedness = det3(p->state.ctm) < 0.0;
-    if (add_shape(p, SCENE_SHAPE_TRIANGLES, p->state.reverse_orientation ^ swaps_handedness, first, kept))
-        return out_of_memory(p, file, line);
-    s->shapes[s->shape_count - 1].has_uvs = uvs != NULL;
+    int flip = p->state.reverse_orientation ^ (det3(p->state.ctm) < 0.0);
+    size_t start = 0;
+    for (size_t i = 1; i <= kept; ++i) {
+        if (i < kept && (!split || kept_parts[i] == kept_parts[start]))
+            continue;
+        for (size_t j = start; j < i; ++j)
+            s->triangles[first + j].shape = (uint32_t)s->shape_count;
+        if (add_shape(p, SCENE_SHAPE_TRIANGLES, flip, first + start, i - start)) {
+            free(kept_parts);
+            return out_of_memory(p, file, line);
+        }
+        s->shapes[s->shape_count - 1].has_uvs = uvs != NULL;
+        start = i;
+    }
+    free(kept_parts);
     return 0;
 }
 
@@ -789,7 +828,8 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
         if (scene_unsupported(&p->diag, params->file, line, "a diffuse of its \"reflectance\" (default 0.5) is used",
                               "Material \"%s\" is not supported", type))
             return -1;
-        if (params_get_spectrum(params, "reflectance", SPECTRUM_ALBEDO, m->reflectance) < 0)
+        if (read_spectrum_slot(p, params, m, SCENE_SLOT_REFLECTANCE, "reflectance", SPECTRUM_ALBEDO, m->reflectance,
+                               NULL))
             return -1;
         return 0; /* its other parameters mean nothing to the substitute */
     } else {
@@ -1417,10 +1457,11 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
     }
     int width = (int)s->width, height = (int)s->height, save_fp16 = s->save_fp16;
     const char *filename = NULL, *sensor = "cie1931";
-    float iso = 100.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
+    float iso = 100.0f, scale = 1.0f, white_balance = 0.0f, max_component = INFINITY, diagonal = s->film_diagonal;
     if (result == 0 &&
         (params_get_int(&params, "xresolution", &width) < 0 || params_get_int(&params, "yresolution", &height) < 0 ||
          params_get_string(&params, "filename", &filename) < 0 || params_get_float(&params, "iso", &iso) < 0 ||
+         params_get_float(&params, "scale", &scale) < 0 ||
          params_get_float(&params, "whitebalance", &white_balance) < 0 ||
          params_get_string(&params, "sensor", &sensor) < 0 ||
          params_get_float(&params, "maxcomponentvalue", &max_component) < 0 ||
@@ -1430,6 +1471,8 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         result = scene_error(&p->diag, lex->path, d->line, "Film: resolution %d x %d is out of range", width, height);
     if (result == 0 && !(iso > 0.0f))
         result = scene_error(&p->diag, lex->path, d->line, "Film: iso %g must be positive", (double)iso);
+    if (result == 0 && !(scale > 0.0f && scale < INFINITY))
+        result = scene_error(&p->diag, lex->path, d->line, "Film: scale %g must be positive and finite", (double)scale);
     if (result == 0 && (white_balance < 0.0f || white_balance > 1e5f))
         result = scene_error(&p->diag, lex->path, d->line,
                              "Film: whitebalance %g K is not 0 (none) or a temperature up to 100000 K",
@@ -1458,6 +1501,7 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
         s->save_fp16 = save_fp16;
         s->film_diagonal = diagonal;
         p->film_iso = iso;
+        p->film_scale = scale;
         p->film_white_balance = white_balance;
         snprintf(p->film_sensor, sizeof p->film_sensor, "%s", sensor);
     }
@@ -1465,7 +1509,9 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
-/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter. */
+/* pbrt-v4's imaging ratio takes the exposure from the camera's shutter;
+ * the film's "scale" multiplies it (the scale of pbrt-v3's image film,
+ * which the scenes that set it carried over). */
 static int finish_film(Parser *p)
 {
     double exposure = (double)p->shutter_close - (double)p->shutter_open;
@@ -1474,8 +1520,8 @@ static int finish_film(Parser *p)
                            "Camera: shutterclose %g must be after shutteropen %g (the film's exposure time)",
                            (double)p->shutter_close, (double)p->shutter_open);
     /* on_film accepted only known sensors */
-    return spectrum_film_from_radiance(p->film_sensor, exposure * p->film_iso / 100.0, p->film_white_balance,
-                                       p->scene->film_from_radiance);
+    return spectrum_film_from_radiance(p->film_sensor, exposure * p->film_iso / 100.0 * p->film_scale,
+                                       p->film_white_balance, p->scene->film_from_radiance);
 }
 
 static int on_sampler(Parser *p, Lexer *lex, const Token *d)
@@ -1593,18 +1639,26 @@ static int on_integrator(Parser *p, Lexer *lex, const Token *d)
     if (result == 0)
         result = choose_integrator(p, lex, d, &type, &params);
     int max_depth = p->scene->max_depth, regularize = 0;
+    float rr_threshold = p->scene->rr_threshold;
+    /* pbrt-v4's path and volpath integrators take "rrthreshold". */
+    int has_roulette_threshold = token_is(&type, "path") || token_is(&type, "volpath");
     if (result == 0 && (params_get_int(&params, "maxdepth", &max_depth) < 0 ||
-                        params_get_bool(&params, "regularize", &regularize) < 0))
+                        params_get_bool(&params, "regularize", &regularize) < 0 ||
+                        (has_roulette_threshold && params_get_float(&params, "rrthreshold", &rr_threshold) < 0)))
         result = -1;
     if (result == 0)
         result = read_light_sampler(p, lex, d, &params);
     if (result == 0 && max_depth < 0)
         result = scene_error(&p->diag, lex->path, d->line, "Integrator: maxdepth must not be negative");
+    if (result == 0 && !(rr_threshold >= 0.0f))
+        result = scene_error(&p->diag, lex->path, d->line, "Integrator: rrthreshold %g must not be negative",
+                             (double)rr_threshold);
     if (result == 0)
         result = params_check_unused(&params);
     if (result == 0) {
         p->scene->max_depth = max_depth;
         p->scene->regularize = regularize;
+        p->scene->rr_threshold = rr_threshold;
     }
     params_free(&params);
     return result;
@@ -1771,7 +1825,18 @@ static int on_make_named_material(Parser *p, Lexer *lex, const Token *d)
     SceneMaterial m;
     if (result == 0)
         result = parse_material(p, type, &params, d->line, &m);
-    int index = result == 0 ? add_material(p, &m) : -1;
+    PendingNamedMaterial *pending = NULL;
+    for (size_t i = 0; result == 0 && i < p->pending_named_count && !pending; ++i)
+        if (strcmp(p->pending_named[i].name, name_copy) == 0)
+            pending = &p->pending_named[i];
+    int index = -1;
+    if (result == 0 && pending) {
+        index = pending->material;
+        p->scene->materials[index] = m;
+        pending->defined = 1;
+    } else if (result == 0) {
+        index = add_material(p, &m);
+    }
     if (result == 0 &&
         (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named)))
         result = out_of_memory(p, lex->path, d->line);
@@ -1795,9 +1860,42 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
             p->state.material = p->named[i].material;
             return 0;
         }
-    char shown[64];
-    token_describe(&name, shown, sizeof shown);
-    return scene_error(&p->diag, lex->path, d->line, "NamedMaterial: no material named %s", shown);
+    for (size_t i = 0; i < p->pending_named_count; ++i)
+        if (token_is(&name, p->pending_named[i].name)) {
+            p->state.material = p->pending_named[i].material;
+            return 0;
+        }
+    /* Not defined yet: a slot for the definition to come (finish_named_materials). */
+    SceneMaterial placeholder;
+    default_material(&placeholder);
+    char *name_copy = scene_strndup(name.text, name.length);
+    int index = name_copy ? add_material(p, &placeholder) : -1;
+    if (index < 0 || scene_reserve((void **)&p->pending_named, &p->pending_named_capacity, p->pending_named_count + 1,
+                                   sizeof *p->pending_named)) {
+        free(name_copy);
+        return out_of_memory(p, lex->path, d->line);
+    }
+    p->pending_named[p->pending_named_count++] = (PendingNamedMaterial){name_copy, lex->path, d->line, index, 0};
+    p->state.material = index;
+    return 0;
+}
+
+/* A NamedMaterial whose name the whole scene never defines is an error at
+ * its line, as in pbrt-v4; in check mode with files missing the name may
+ * be defined in one of them, so it is not. */
+static int finish_named_materials(Parser *p)
+{
+    const Scene *s = p->scene;
+    if (p->diag.check)
+        for (size_t i = 0; i < s->diagnostic_count; ++i)
+            if (s->diagnostics[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE)
+                return 0;
+    for (size_t i = 0; i < p->pending_named_count; ++i)
+        if (!p->pending_named[i].defined)
+            return scene_error(&p->diag, p->pending_named[i].file, p->pending_named[i].line,
+                               "NamedMaterial: no material named \"%s\" is defined (MakeNamedMaterial) in the scene",
+                               p->pending_named[i].name);
+    return 0;
 }
 
 /* A light's radiance (L * scale, in double) must fit a float. */
@@ -2162,8 +2260,8 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     for (uint32_t i = 0; result == 0 && !indices && i < 3; ++i)
         index[i] = i;
     if (result == 0)
-        result =
-            add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals, uvs);
+        result = add_mesh(p, lex->path, d->line, params->owner, positions, vertex_count, index, index_count, normals,
+                          uvs, NULL, 0);
     free(positions);
     free(normals);
     free(uvs);
@@ -2203,7 +2301,7 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
         result = scene_error(&p->diag, lex->path, d->line, "%s: %s", owner, message);
     else
         result = add_mesh(p, lex->path, d->line, owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          mesh.index_count, mesh.normals, mesh.uvs);
+                          mesh.index_count, mesh.normals, mesh.uvs, mesh.parts, 0);
     shape_mesh_free(&mesh);
     free(path);
     return result;
@@ -2218,7 +2316,7 @@ static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *p
     int result = params_check_unused(params);
     if (result == 0)
         result = add_mesh(p, lex->path, d->line, params->owner, mesh.positions, mesh.vertex_count, mesh.indices,
-                          mesh.index_count, mesh.normals, mesh.uvs);
+                          mesh.index_count, mesh.normals, mesh.uvs, mesh.parts, mesh.one_part);
     shape_mesh_free(&mesh);
     return result;
 }
@@ -2597,6 +2695,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->height = 720;
     scene->spp = 16;
     scene->max_depth = 5;
+    scene->rr_threshold = 1.0f;
     scene->camera.fov = 90.0f;
     scene->camera.focal_distance = 1e6f;
     scene->filter = default_filter(DEFAULT_FILTER);
@@ -2605,6 +2704,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->save_fp16 = 1;
     scene->film_diagonal = 35.0f;
     p.film_iso = 100.0f;
+    p.film_scale = 1.0f;
     strcpy(p.film_sensor, "cie1931");
     p.shutter_close = 1.0f;
     scene->sampler = scene_strndup("zsobol", 6);
@@ -2623,10 +2723,15 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = check_precision(&p);
     if (result == 0)
         result = finish_instances(&p);
+    if (result == 0)
+        result = finish_named_materials(&p);
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
+    for (size_t i = 0; i < p.pending_named_count; ++i)
+        free(p.pending_named[i].name);
+    free(p.pending_named);
     for (size_t i = 0; i < p.coordinate_system_count; ++i)
         free(p.coordinate_systems[i].name);
     free(p.coordinate_systems);
@@ -2637,7 +2742,23 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     for (size_t i = 0; i < p.path_count; ++i)
         free(p.paths[i]);
     free(p.paths);
-    if (result)
+    if (result) {
+        /* Check mode reports what it found before the error as well. */
+        Scene kept;
+        memset(&kept, 0, sizeof kept);
+        if (p.diag.check) {
+            kept.warnings = scene->warnings;
+            kept.warning_count = scene->warning_count;
+            kept.notes = scene->notes;
+            kept.note_count = scene->note_count;
+            kept.diagnostics = scene->diagnostics;
+            kept.diagnostic_count = scene->diagnostic_count;
+            scene->warnings = scene->notes = NULL;
+            scene->diagnostics = NULL;
+            scene->warning_count = scene->note_count = scene->diagnostic_count = 0;
+        }
         scene_destroy(scene);
+        *scene = kept;
+    }
     return result;
 }

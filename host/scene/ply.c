@@ -423,7 +423,8 @@ static int read_faces(PlyReader *r, const PlyElement *e, size_t vertex_count, Pl
     if (list < 0 || !e->properties[list].is_list || !type_is_integer(e->properties[list].type))
         return fail(r, "the face element lacks an integer list \"vertex_indices\"");
     mesh->indices = malloc((e->count ? e->count : 1) * 6 * sizeof *mesh->indices);
-    if (!mesh->indices)
+    mesh->parts = malloc((e->count ? e->count : 1) * 2 * sizeof *mesh->parts); /* a face is one shape */
+    if (!mesh->indices || !mesh->parts)
         return fail(r, "out of memory for %zu faces", e->count);
     for (size_t item = 0; item < e->count; ++item) {
         for (int i = 0; i < e->property_count; ++i) {
@@ -450,9 +451,11 @@ static int read_faces(PlyReader *r, const PlyElement *e, size_t vertex_count, Pl
             }
             uint32_t *out = mesh->indices + mesh->index_count;
             out[0] = v[0], out[1] = v[1], out[2] = v[2];
+            mesh->parts[mesh->index_count / 3] = (uint32_t)item;
             mesh->index_count += 3;
             if (count == 4) { /* split the quad along its 0-2 diagonal */
                 out[3] = v[0], out[4] = v[2], out[5] = v[3];
+                mesh->parts[mesh->index_count / 3] = (uint32_t)item;
                 mesh->index_count += 3;
             }
         }

@@ -272,7 +272,9 @@ typedef struct {
 
 /* AreaLightSource "diffuse" on one shape: radiance = L * scale, or with
  * "power" P, L * scale * P / (pi * sides * the shape's area), pbrt-v4's
- * rule, applied by the renderer's conversion (it knows the area). */
+ * rule, applied by the renderer's conversion (it knows the area). pbrt-v4
+ * gives each triangle of a mesh (each bilinear patch, PLY face) a light of
+ * its own, so with "power" the parser makes each one a shape. */
 typedef struct {
     float radiance[3];
     int two_sided;
@@ -333,6 +335,7 @@ typedef struct {
     unsigned spp;              /* Sampler pixelsamples */
     int max_depth;             /* Integrator maxdepth */
     int regularize;            /* Integrator "regularize": recorded, not applied */
+    float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
 
     SceneMaterial *materials;
@@ -370,8 +373,10 @@ typedef struct {
 } Scene;
 
 /* Reads `path` (and the files it includes) into *scene. Returns 0, or -1 with
- * a one-line "file:line: ..." message in `error` and *scene empty. options may
- * be NULL (everything unsupported is an error). */
+ * a one-line "file:line: ..." message in `error` and *scene empty, except in
+ * check mode, where it keeps the warnings, notes and diagnostics found before
+ * the error (scene_destroy frees them). options may be NULL (everything
+ * unsupported is an error). */
 int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, char *error, size_t error_size);
 
 /* Frees everything the scene owns and empties it; safe on an empty scene. */

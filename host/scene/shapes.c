@@ -48,6 +48,7 @@ void shape_mesh_free(ShapeMesh *mesh)
     free(mesh->normals);
     free(mesh->uvs);
     free(mesh->indices);
+    free(mesh->parts);
     memset(mesh, 0, sizeof *mesh);
 }
 
@@ -118,6 +119,7 @@ static int build_disk(ParamList *params, int line, ShapeMesh *mesh)
     int annulus = inner > 0.0f;
     if (mesh_alloc(mesh, 2 * (n + 1), annulus ? 2 * n : n, 0))
         return shape_fail(params, line, "out of memory");
+    mesh->one_part = 1;
     for (size_t k = 0; k <= n; ++k) {
         double phi = (double)k * step, c = cos(phi), s = sin(phi);
         double outer[3] = {scale * radius * c, scale * radius * s, height};
@@ -156,6 +158,7 @@ static int build_cylinder(ParamList *params, int line, ShapeMesh *mesh)
     double step = phi_max / (double)n, scale = (0.5 * step) / sin(0.5 * step);
     if (mesh_alloc(mesh, 2 * (n + 1), 2 * n, 1))
         return shape_fail(params, line, "out of memory");
+    mesh->one_part = 1;
     for (size_t k = 0; k <= n; ++k) {
         double phi = (double)k * step, c = cos(phi), s = sin(phi);
         double bottom[3] = {scale * radius * c, scale * radius * s, z_min};
@@ -306,6 +309,8 @@ static int build_bilinear_mesh(ParamList *params, int line, ShapeMesh *mesh)
                             SHAPE_MAX_TRIANGLES);
     if (result == 0 && mesh_alloc(mesh, vertices, triangles, smooth))
         result = shape_fail(params, line, "out of memory");
+    if (result == 0 && !(mesh->parts = malloc(triangles * sizeof *mesh->parts + 1)))
+        result = shape_fail(params, line, "out of memory");
     size_t first = 0, t = 0;
     for (size_t patch = 0; result == 0 && patch < patches; ++patch) {
         double p[4][3], n[4][3] = {{0}}, st[4][3] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
@@ -342,6 +347,7 @@ static int build_bilinear_mesh(ParamList *params, int line, ShapeMesh *mesh)
         for (size_t j = 0; j < s; ++j)
             for (size_t i = 0; i < s; ++i) {
                 size_t a = first + j * (s + 1) + i, b = a + 1, c = a + s + 2, d = a + s + 1;
+                mesh->parts[t] = mesh->parts[t + 1] = (uint32_t)patch;
                 set_triangle(mesh, t++, a, b, c);
                 set_triangle(mesh, t++, a, c, d);
             }

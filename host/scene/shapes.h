@@ -24,6 +24,13 @@ typedef struct {
     size_t vertex_count;
     uint32_t *indices; /* 3 per triangle; the front is cross(v1 - v0, v2 - v0) */
     size_t index_count;
+    /* Which of pbrt-v4's shapes each triangle belongs to (pbrt-v4 makes an
+     * area light per shape, and "power" is each one's): parts, one per
+     * triangle, non-decreasing (a bilinear patch, a PLY quad), or NULL; with
+     * parts NULL, one_part says the mesh is one shape (a disk, a cylinder),
+     * else each triangle is one (a triangle mesh, a subdivision surface). */
+    uint32_t *parts;
+    int one_part;
 } ShapeMesh;
 
 /* Builds a shape from its parameters (read and checked here; unknown ones
