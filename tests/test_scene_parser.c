@@ -1986,6 +1986,7 @@ static void test_film_sensor(void **state)
     scene_destroy(&s);
     load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1,
                "unknown sensor \"canon_eos_999d\" (cie1931, canon_eos_100d");
+    load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1, "sony_ilce_7rm3, sony_ilce_9)");
     load_fails("Film \"rgb\" \"float iso\" 0\n" WORLD, 1, "iso");
     load_fails("Film \"rgb\" \"float whitebalance\" -5\n" WORLD, 1, "whitebalance");
     load_fails("Film \"rgb\" \"float maxcomponentvalue\" 0\n" WORLD, 1, "maxcomponentvalue");

@@ -101,9 +101,12 @@ void spectrum_xyz_from_srgb(double m[3][3]);
 void spectrum_white_balance(const Spectrum *illuminant, double m[3][3]);
 
 /* Whether pbrt-v4 knows the sensor: "cie1931" or a camera with
- * <name>_r/_g/_b responses here (canon_eos_100d, canon_eos_5d_mkiv,
- * nikon_d850). */
+ * <name>_r/_g/_b responses here (every camera pbrt-v4 names). */
 int spectrum_sensor_known(const char *sensor);
+
+/* The known sensors as "cie1931, canon_eos_100d, ...", into buf
+ * (NUL-terminated, cut short when size is too small). */
+void spectrum_sensor_list(char *buf, size_t size);
 
 /* pbrt-v4's XYZFromSensorRGB for a camera sensor: the least-squares fit
  * from the sensor RGB of the 24 swatches under the daylight illuminant at
