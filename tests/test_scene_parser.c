@@ -1840,6 +1840,10 @@ static void test_spectral_emission(void **state)
     area_radiance(WORLD "AreaLightSource \"diffuse\" \"spectrum L\" \"stdillum-A\"\n" TRIANGLE, rgb);
     assert_near(rgb[0], 1.84512335, 4e-3);
     assert_near(rgb[2], 0.23338062, 1e-3);
+    area_radiance(WORLD "AreaLightSource \"diffuse\" \"spectrum L\" \"illum-acesD60\"\n" TRIANGLE, rgb);
+    assert_near(rgb[0], 1.04692328, 3e-3);
+    assert_near(rgb[1], 0.99465508, 3e-3);
+    assert_near(rgb[2], 0.91537806, 3e-3);
     /* RGB emission is used as given (pbrt-v4 normalises it by D65 alone),
      * and pbrt-v4's default L is its colour space's illuminant: white. */
     area_radiance(WORLD "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] \"float scale\" [ 20 ]\n" TRIANGLE, rgb);

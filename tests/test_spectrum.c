@@ -68,11 +68,31 @@ static void test_named_illuminants(void **state)
     assert_rgb(rgb, 1.84512335, 0.82623954, 0.23338062, 2e-3);
     named_rgb("stdillum-F11", SPECTRUM_ILLUMINANT, rgb);
     assert_rgb(rgb, 1.41213252, 0.92485017, 0.5315018, 2e-3);
+    named_rgb("illum-acesD60", SPECTRUM_ILLUMINANT, rgb);
+    assert_rgb(rgb, 1.04692328, 0.99465508, 0.91537806, 2e-3);
     /* pbrt-v4 scales its illuminants to luminance 1. */
     Spectrum a;
     assert_int_equal(spectrum_named("stdillum-A", &a), 0);
     spectrum_to_xyz(&a, xyz);
     assert_close(xyz[1], 1.0, 1e-9);
+    assert_int_equal(spectrum_named("illum-acesD60", &a), 0);
+    spectrum_to_xyz(&a, xyz);
+    assert_close(xyz[1], 1.0, 1e-9);
+    /* The ACES white's table, generated from the CIE D series, holds the
+     * numbers of pbrt-v4's ACES_Illum_D60 (src/pbrt/util/spectrum.cpp). */
+    const NamedSpectrumTable *aces = NULL;
+    for (size_t i = 0; i < spectrum_cie_illuminant_count; ++i)
+        if (strcmp(spectrum_cie_illuminants[i].name, "illum-acesD60") == 0)
+            aces = &spectrum_cie_illuminants[i];
+    assert_non_null(aces);
+    assert_int_equal(aces->count, 107);
+    static const double pbrt_aces[][2] = {{300, 0.02928},  {305, 1.28964}, {445, 101.72045}, {560, 100.0},
+                                          {715, 72.12575}, {825, 62.2491}, {830, 63.7793}};
+    for (size_t i = 0; i < sizeof pbrt_aces / sizeof pbrt_aces[0]; ++i) {
+        size_t k = (size_t)(pbrt_aces[i][0] - 300) / 5;
+        assert_true(aces->pairs[2 * k] == (float)pbrt_aces[i][0]);
+        assert_close(aces->pairs[2 * k + 1], pbrt_aces[i][1], 1e-6);
+    }
     assert_int_equal(spectrum_named("stdillum-D66", &a), -1);
     assert_int_equal(spectrum_named("metal-Xx-eta", &a), -1);
 }

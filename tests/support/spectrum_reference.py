@@ -52,6 +52,8 @@ for t in (2700.0, 5500.0, 6500.0):
 print("stdillum-A illuminant", illuminant_rgb(pbrt_table("stdillum-A")))
 print("stdillum-D65 illuminant", illuminant_rgb(d65))
 print("stdillum-F11 illuminant", illuminant_rgb(pbrt_table("stdillum-F11")))
+aces_d60 = colour.sd_CIE_illuminant_D_series(colour.temperature.CCT_to_xy_CIE_D(6000), M1_M2_rounding=True)
+print("illum-acesD60 illuminant", illuminant_rgb(np.interp(lam, aces_d60.wavelengths, aces_d60.values)))
 print("metal-Au-eta unbounded", unbounded(pbrt_table("Au.eta")))
 print("metal-Au-k unbounded", unbounded(pbrt_table("Au.k")))
 bk7 = np.array([300, 1.5527702635739, 322, 1.5458699289209, 344, 1.5404466868331, 366, 1.536090527917,
