@@ -7,6 +7,10 @@ building needs no Python. The data are the CIE's own tables as colour-science
 packages them: the CIE 1931 2-degree colour matching functions at 1 nm
 (360-830 nm, the same table pbrt-v4 uses), the standard illuminants A, D50,
 D65 and F1-F12 at 5 nm, and the daylight basis S0, S1, S2 (CIE 015:2018).
+Also pbrt-v4's `illum-acesD60`, the ACES white: the CIE D series at a
+nominal 6000 K (xy from CCT_to_xy_CIE_D, M1 and M2 rounded to 3 decimals
+as the CIE prescribes), 300-830 nm at 5 nm; pbrt-v4's ACES_Illum_D60 table
+holds the same values (to 1e-14).
 """
 import os
 import colour
@@ -37,6 +41,9 @@ for i, axis in enumerate("xyz"):
 names = [("A", "A"), ("D50", "D50"), ("D65", "D65")] + [("F%d" % i, "FL%d" % i) for i in range(1, 13)]
 for ours, theirs in names:
     out.append(table("illuminant_" + ours, colour.SDS_ILLUMINANTS[theirs]))
+aces_d60 = colour.sd_CIE_illuminant_D_series(colour.temperature.CCT_to_xy_CIE_D(6000), M1_M2_rounding=True)
+assert aces_d60.wavelengths[0] == 300 and aces_d60.wavelengths[-1] == 830 and aces_d60.shape.interval == 5
+out.append(table("illuminant_aces_D60", aces_d60))
 for s in ("S0", "S1", "S2"):
     out.append("const float spectrum_daylight_%s[SPECTRUM_DAYLIGHT_SAMPLES] = {%s};\n" %
                (s.lower(), floats(BASIS[s].values)))
@@ -45,6 +52,7 @@ out.append("\nconst NamedSpectrumTable spectrum_cie_illuminants[] = {\n")
 for ours, _ in names:
     out.append('    {"stdillum-%s", illuminant_%s, sizeof illuminant_%s / sizeof illuminant_%s[0] / 2},\n'
                % (ours, ours, ours, ours))
+out.append('    {"illum-acesD60", illuminant_aces_D60, sizeof illuminant_aces_D60 / sizeof illuminant_aces_D60[0] / 2},\n')
 out.append("};\nconst size_t spectrum_cie_illuminant_count = sizeof spectrum_cie_illuminants / "
            "sizeof spectrum_cie_illuminants[0];\n")
 path = os.path.join(os.path.dirname(__file__), "..", "host", "scene", "spectrum_cie_data.c")

@@ -1894,6 +1894,10 @@ static void test_spectral_emission(void **state)
     area_radiance(WORLD "AreaLightSource \"diffuse\" \"spectrum L\" \"stdillum-A\"\n" TRIANGLE, rgb);
     assert_near(rgb[0], 1.84512335, 4e-3);
     assert_near(rgb[2], 0.23338062, 1e-3);
+    area_radiance(WORLD "AreaLightSource \"diffuse\" \"spectrum L\" \"illum-acesD60\"\n" TRIANGLE, rgb);
+    assert_near(rgb[0], 1.04692328, 3e-3);
+    assert_near(rgb[1], 0.99465508, 3e-3);
+    assert_near(rgb[2], 0.91537806, 3e-3);
     /* RGB emission is used as given (pbrt-v4 normalises it by D65 alone),
      * and pbrt-v4's default L is its colour space's illuminant: white. */
     area_radiance(WORLD "AreaLightSource \"diffuse\" \"rgb L\" [ 1 1 1 ] \"float scale\" [ 20 ]\n" TRIANGLE, rgb);
@@ -2047,6 +2051,7 @@ static void test_film_sensor(void **state)
     scene_destroy(&s);
     load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1,
                "unknown sensor \"canon_eos_999d\" (cie1931, canon_eos_100d");
+    load_fails("Film \"rgb\" \"string sensor\" \"canon_eos_999d\"\n" WORLD, 1, "sony_ilce_7rm3, sony_ilce_9)");
     load_fails("Film \"rgb\" \"float iso\" 0\n" WORLD, 1, "iso");
     load_fails("Film \"rgb\" \"float scale\" 0\n" WORLD, 1, "scale 0 must be positive");
     load_fails("Film \"rgb\" \"float whitebalance\" -5\n" WORLD, 1, "whitebalance");

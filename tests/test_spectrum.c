@@ -68,11 +68,31 @@ static void test_named_illuminants(void **state)
     assert_rgb(rgb, 1.84512335, 0.82623954, 0.23338062, 2e-3);
     named_rgb("stdillum-F11", SPECTRUM_ILLUMINANT, rgb);
     assert_rgb(rgb, 1.41213252, 0.92485017, 0.5315018, 2e-3);
+    named_rgb("illum-acesD60", SPECTRUM_ILLUMINANT, rgb);
+    assert_rgb(rgb, 1.04692328, 0.99465508, 0.91537806, 2e-3);
     /* pbrt-v4 scales its illuminants to luminance 1. */
     Spectrum a;
     assert_int_equal(spectrum_named("stdillum-A", &a), 0);
     spectrum_to_xyz(&a, xyz);
     assert_close(xyz[1], 1.0, 1e-9);
+    assert_int_equal(spectrum_named("illum-acesD60", &a), 0);
+    spectrum_to_xyz(&a, xyz);
+    assert_close(xyz[1], 1.0, 1e-9);
+    /* The ACES white's table, generated from the CIE D series, holds the
+     * numbers of pbrt-v4's ACES_Illum_D60 (src/pbrt/util/spectrum.cpp). */
+    const NamedSpectrumTable *aces = NULL;
+    for (size_t i = 0; i < spectrum_cie_illuminant_count; ++i)
+        if (strcmp(spectrum_cie_illuminants[i].name, "illum-acesD60") == 0)
+            aces = &spectrum_cie_illuminants[i];
+    assert_non_null(aces);
+    assert_int_equal(aces->count, 107);
+    static const double pbrt_aces[][2] = {{300, 0.02928},  {305, 1.28964}, {445, 101.72045}, {560, 100.0},
+                                          {715, 72.12575}, {825, 62.2491}, {830, 63.7793}};
+    for (size_t i = 0; i < sizeof pbrt_aces / sizeof pbrt_aces[0]; ++i) {
+        size_t k = (size_t)(pbrt_aces[i][0] - 300) / 5;
+        assert_true(aces->pairs[2 * k] == (float)pbrt_aces[i][0]);
+        assert_close(aces->pairs[2 * k + 1], pbrt_aces[i][1], 1e-6);
+    }
     assert_int_equal(spectrum_named("stdillum-D66", &a), -1);
     assert_int_equal(spectrum_named("metal-Xx-eta", &a), -1);
 }
@@ -248,14 +268,70 @@ static void test_sensor_fit(void **state)
          3200,
          {{1.085182, 0.266739, 0.399516}, {0.227107, 1.296671, -0.405862}, {0.127748, -0.813326, 4.548713}},
          {{0.633161, -0.035746, -0.255275}, {0.014814, 1.189635, -0.084501}, {0.048211, 0.216423, 2.271084}}},
+        {"canon_eos_1dx_mkii",
+         6500,
+         {{1.721007, -0.031016, 0.246225}, {0.69256, 0.950766, -0.400178}, {0.159873, -0.500957, 2.115904}},
+         {{0.988932, 0.019064, -0.012814}, {0.030875, 1.012741, -0.052057}, {0.022927, -0.003044, 0.972106}}},
+        {"canon_eos_200d",
+         6500,
+         {{1.646165, -0.027173, 0.242184}, {0.661115, 0.978446, -0.454226}, {0.093732, -0.484832, 2.190976}},
+         {{0.970975, 0.042499, -0.020814}, {0.035597, 1.009099, -0.056242}, {0.018052, 0.003018, 0.97797}}},
+        {"canon_eos_200d_mkii",
+         6500,
+         {{1.748426, -0.06539, 0.264377}, {0.713827, 0.95623, -0.448857}, {0.1049, -0.488824, 2.171332}},
+         {{0.977388, 0.029101, -0.012196}, {0.036816, 1.010013, -0.057581}, {0.017126, -0.001561, 0.979683}}},
+        {"canon_eos_5d",
+         6500,
+         {{1.799185, 0.145784, 0.207708}, {0.735144, 1.023451, -0.263971}, {0.192651, -0.345344, 1.985889}},
+         {{0.970953, 0.052322, -0.042033}, {0.014114, 1.025352, -0.042857}, {0.025358, -0.012984, 0.969409}}},
+        {"canon_eos_5d_mkii",
+         6500,
+         {{2.067928, 0.028036, 0.258748}, {0.849435, 0.953336, -0.290404}, {0.204666, -0.346161, 2.079825}},
+         {{0.98333, 0.026901, -0.020844}, {0.025827, 1.016433, -0.048473}, {0.023615, -0.007692, 0.974614}}},
+        {"canon_eos_5d_mkiii",
+         6500,
+         {{1.923767, 0.035462, 0.257268}, {0.751511, 0.971582, -0.336004}, {0.196317, -0.471167, 2.252032}},
+         {{0.983079, 0.033863, -0.025569}, {0.023987, 1.012331, -0.042741}, {0.025097, -0.000518, 0.966196}}},
         {"canon_eos_5d_mkiv",
          6500,
          {{1.886376, -0.069046, 0.248102}, {0.744239, 0.967556, -0.400998}, {0.178473, -0.582058, 2.06636}},
          {{0.976129, 0.029324, -0.013347}, {0.032232, 1.015552, -0.054704}, {0.022281, -0.013334, 0.976105}}},
+        {"canon_eos_5ds",
+         6500,
+         {{1.971526, 0.032912, 0.23644}, {0.813705, 0.993002, -0.454835}, {0.174181, -0.461157, 2.301334}},
+         {{0.969106, 0.043308, -0.022537}, {0.034194, 1.015234, -0.057511}, {0.01904, -0.009217, 0.978171}}},
+        {"canon_eos_m",
+         6500,
+         {{1.761684, 0.093879, 0.183757}, {0.686367, 0.986108, -0.327909}, {0.135084, -0.378865, 1.94234}},
+         {{0.971671, 0.056384, -0.041118}, {0.027403, 1.009434, -0.045462}, {0.019606, 0.007131, 0.971244}}},
+        {"hasselblad_l1d_20c",
+         6500,
+         {{2.194616, 0.216781, 0.128978}, {0.807332, 1.042418, -0.403514}, {0.262495, -0.451958, 2.347002}},
+         {{1.047196, -0.007689, -0.054439}, {0.026866, 1.024083, -0.057215}, {0.02359, -0.014397, 0.975489}}},
+        {"nikon_d810",
+         6500,
+         {{1.769829, 0.208693, 0.051049}, {0.715959, 1.092009, -0.3773}, {0.185096, -0.39554, 1.769134}},
+         {{1.055267, -0.000772, -0.068648}, {0.010752, 1.015337, -0.02993}, {0.027079, -0.01035, 0.96851}}},
         {"nikon_d850",
          6500,
          {{1.618579, 0.262281, 0.164287}, {0.701496, 1.065577, -0.254194}, {0.190852, -0.437623, 1.994711}},
          {{1.033895, 0.010857, -0.060109}, {0.019578, 1.024509, -0.048799}, {0.030203, -0.014117, 0.966703}}},
+        {"sony_ilce_6400",
+         6500,
+         {{2.138371, 0.189403, 0.03947}, {0.745926, 1.032518, -0.469831}, {0.225891, -0.345462, 2.061254}},
+         {{1.056722, 0.001068, -0.067405}, {0.009285, 1.006103, -0.021987}, {0.027909, 0.013044, 0.961792}}},
+        {"sony_ilce_7m3",
+         6500,
+         {{2.19442, 0.182246, 0.027776}, {0.880506, 1.068269, -0.458796}, {0.192116, -0.367788, 2.010472}},
+         {{1.05333, -0.000289, -0.06296}, {0.010049, 1.010694, -0.027537}, {0.026159, 0.006912, 0.965556}}},
+        {"sony_ilce_7rm3",
+         6500,
+         {{2.240595, 0.189371, 0.050155}, {0.894852, 1.061475, -0.443343}, {0.199975, -0.352936, 1.999487}},
+         {{1.053172, -0.001483, -0.063182}, {0.00968, 1.012281, -0.027735}, {0.024943, 0.002352, 0.967645}}},
+        {"sony_ilce_9",
+         6500,
+         {{2.183933, 0.174292, 0.008612}, {0.873826, 1.067904, -0.448236}, {0.169053, -0.365522, 1.898594}},
+         {{1.058821, -0.002806, -0.061037}, {0.010013, 1.007414, -0.026903}, {0.028214, 0.019957, 0.961137}}},
     };
     for (size_t i = 0; i < sizeof expected / sizeof expected[0]; ++i) {
         double m[3][3], film[3][3];
@@ -275,8 +351,9 @@ static void test_sensor_fit(void **state)
     assert_int_equal(spectrum_film_from_radiance("canon_eos_100d", 1.0, 6500.0, at_6500), 0);
     assert_memory_equal(default_wb, at_6500, sizeof at_6500);
     /* White (a constant reflectance 1 under the white balance illuminant)
-     * comes out neutral grey, within the fit's own 1.3% (pbrt-v4's sensor
-     * matrix maps it to (0.984, 0.995, 0.983) for the D850). */
+     * comes out neutral grey of luminance 1, within the fit's own 1.9% and
+     * 1.2% (pbrt-v4's sensor matrix maps it to (0.995, 0.991, 1.009) for
+     * the sony_ilce_9, (0.993, 0.989, 0.999) for the canon_eos_200d). */
     Spectrum daylight;
     double rgb[3];
     spectrum_daylight(6500.0, &daylight);
@@ -287,9 +364,9 @@ static void test_sensor_fit(void **state)
         spectrum_film_from_radiance(expected[i].sensor, 1.0, 6500.0, f);
         for (int r = 0; r < 3; ++r)
             out[r] = f[r][0] * rgb[0] + f[r][1] * rgb[1] + f[r][2] * rgb[2];
-        assert_close(out[0], out[1], 0.013);
-        assert_close(out[2], out[1], 0.013);
-        assert_close(out[1], 1.0, 0.01);
+        assert_close(out[0], out[1], 0.02);
+        assert_close(out[2], out[1], 0.02);
+        assert_close(out[1], 1.0, 0.012);
     }
     /* The sensor responses are pbrt-v4's named spectra too. */
     Spectrum response;
@@ -302,6 +379,63 @@ static void test_sensor_fit(void **state)
     assert_int_equal(spectrum_sensor_xyz_from_sensor_rgb("canon_eos_999d", 6500.0, m), -1);
     assert_int_equal(spectrum_sensor_from_srgb("cie1931", m), -1);
     assert_int_equal(spectrum_film_from_radiance("canon_eos_999d", 1.0, 6500.0, f), -1);
+}
+
+/* Every camera sensor pbrt-v4 registers (its Spectra::Init in
+ * src/pbrt/util/spectrum.cpp), with spot values of the responses as that
+ * file writes them. */
+static void test_sensor_names(void **state)
+{
+    (void)state;
+    static const char *const pbrt_sensors[] = {
+        "canon_eos_100d",     "canon_eos_1dx_mkii", "canon_eos_200d",    "canon_eos_200d_mkii", "canon_eos_5d",
+        "canon_eos_5d_mkii",  "canon_eos_5d_mkiii", "canon_eos_5d_mkiv", "canon_eos_5ds",       "canon_eos_m",
+        "hasselblad_l1d_20c", "nikon_d810",         "nikon_d850",        "sony_ilce_6400",      "sony_ilce_7m3",
+        "sony_ilce_7rm3",     "sony_ilce_9"};
+    char expected_list[1024] = "cie1931";
+    for (size_t i = 0; i < sizeof pbrt_sensors / sizeof pbrt_sensors[0]; ++i) {
+        assert_true(spectrum_sensor_known(pbrt_sensors[i]));
+        strcat(expected_list, ", ");
+        strcat(expected_list, pbrt_sensors[i]);
+    }
+    char list[1024];
+    spectrum_sensor_list(list, sizeof list);
+    assert_string_equal(list, expected_list);
+    /* Cut short, the list stays a terminated prefix. */
+    char short_list[12];
+    spectrum_sensor_list(short_list, sizeof short_list);
+    assert_string_equal(short_list, "cie1931, ca");
+
+    static const struct {
+        const char *name;
+        int lambda;
+        double value;
+    } spots[] = {
+        {"canon_eos_1dx_mkii_r", 380, 0.0018162675000000048},
+        {"canon_eos_1dx_mkii_r", 390, 0.0008884440999999994},
+        {"canon_eos_1dx_mkii_r", 710, 0.001106305900000002},
+        {"canon_eos_1dx_mkii_r", 720, 0.0006460381},
+        {"canon_eos_200d_mkii_g", 380, 0.0014539171999999878},
+        {"canon_eos_200d_mkii_g", 510, 0.9909546398809526},
+        {"canon_eos_200d_mkii_g", 720, 0.0006469792000000007},
+        {"canon_eos_5d_b", 380, 0.000758327000000017},
+        {"canon_eos_5d_b", 390, 0.0012576842999999938},
+        {"canon_eos_5d_b", 710, 0.0002659898999999999},
+        {"canon_eos_5d_b", 720, 0.0039319256000000065},
+        {"hasselblad_l1d_20c_b", 380, 0.0006132656000000236},
+        {"hasselblad_l1d_20c_b", 720, 0.0014381367999999999},
+        {"nikon_d810_r", 590, 0.6552644580000002},
+        {"sony_ilce_9_g", 380, 0.001388401600000061},
+        {"sony_ilce_9_g", 390, 0.0009337119999999824},
+        {"sony_ilce_9_g", 510, 0.8385314691918212},
+        {"sony_ilce_9_g", 710, 0.0006264448999999995},
+        {"sony_ilce_9_g", 720, 0.0005996684000000017},
+    };
+    for (size_t i = 0; i < sizeof spots / sizeof spots[0]; ++i) {
+        Spectrum response;
+        assert_int_equal(spectrum_named(spots[i].name, &response), 0);
+        assert_close(response.value[spots[i].lambda - SPECTRUM_LAMBDA_MIN], spots[i].value, 1e-6);
+    }
 }
 
 /* pbrt-v4's pixel for an emitter seen directly (tests/support/
@@ -359,6 +493,7 @@ int main(void)
         cmocka_unit_test(test_film_matrix),
         cmocka_unit_test(test_conductor_fit),
         cmocka_unit_test(test_sensor_fit),
+        cmocka_unit_test(test_sensor_names),
         cmocka_unit_test(test_pbrt_emitter_chain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1482,10 +1482,11 @@ static int on_film(Parser *p, Lexer *lex, const Token *d)
                              (double)max_component);
     if (result == 0 && !(diagonal > 0.0f))
         result = scene_error(&p->diag, lex->path, d->line, "Film: diagonal %g must be positive", (double)diagonal);
-    if (result == 0 && (!spectrum_sensor_known(sensor) || strlen(sensor) >= sizeof p->film_sensor))
-        result =
-            scene_error(&p->diag, lex->path, d->line,
-                        "Film: unknown sensor \"%s\" (cie1931, canon_eos_100d, canon_eos_5d_mkiv, nikon_d850)", sensor);
+    if (result == 0 && (!spectrum_sensor_known(sensor) || strlen(sensor) >= sizeof p->film_sensor)) {
+        char known[1024];
+        spectrum_sensor_list(known, sizeof known);
+        result = scene_error(&p->diag, lex->path, d->line, "Film: unknown sensor \"%s\" (%s)", sensor, known);
+    }
     float crop[4] = {0.0f, 1.0f, 0.0f, 1.0f};
     if (result == 0)
         result = read_film_crop(p, lex, d, &params, width, height, crop);

@@ -374,6 +374,18 @@ int spectrum_sensor_known(const char *sensor)
     return strcmp(sensor, "cie1931") == 0 || sensor_responses(sensor, response) == 0;
 }
 
+void spectrum_sensor_list(char *buf, size_t size)
+{
+    size_t used = (size_t)snprintf(buf, size, "cie1931");
+    for (size_t i = 0; i < spectrum_sensor_table_count && used < size; ++i) {
+        /* Each camera has _r, _g and _b tables: name it once, by its _r. */
+        const char *name = spectrum_sensor_tables[i].name;
+        size_t length = strlen(name);
+        if (length > 2 && strcmp(name + length - 2, "_r") == 0)
+            used += (size_t)snprintf(buf + used, size - used, ", %.*s", (int)(length - 2), name);
+    }
+}
+
 static double inner_product(const Spectrum *a, const Spectrum *b)
 {
     double sum = 0.0;

@@ -38,7 +38,8 @@ typedef struct {
         name, pairs, sizeof pairs / sizeof pairs[0] / 2                                                                \
     }
 
-/* Data (spectrum_data.c, spectrum_cie_data.c). */
+/* Data (spectrum_data.c; spectrum_cie_data.c: the CMFs, the daylight basis
+ * and the illuminants, stdillum-* and illum-acesD60). */
 extern const float spectrum_cie_x[SPECTRUM_SAMPLES], spectrum_cie_y[SPECTRUM_SAMPLES], spectrum_cie_z[SPECTRUM_SAMPLES];
 extern const float spectrum_daylight_s0[SPECTRUM_DAYLIGHT_SAMPLES], spectrum_daylight_s1[SPECTRUM_DAYLIGHT_SAMPLES],
     spectrum_daylight_s2[SPECTRUM_DAYLIGHT_SAMPLES];
@@ -60,8 +61,8 @@ void spectrum_from_pairs(const double *lambda, const double *value, size_t count
 void spectrum_blackbody(double kelvin, Spectrum *out);
 
 /* pbrt-v4's built-in spectra by name (metal-Au-eta, glass-BK7,
- * stdillum-D65, canon_eos_100d_r, ...; stdillum-* normalised to luminance 1
- * as pbrt does).
+ * stdillum-D65, illum-acesD60, canon_eos_100d_r, ...; the illuminants
+ * stdillum-* and illum-acesD60 normalised to luminance 1 as pbrt does).
  * Returns 0, or -1 for an unknown name. */
 int spectrum_named(const char *name, Spectrum *out);
 
@@ -101,9 +102,12 @@ void spectrum_xyz_from_srgb(double m[3][3]);
 void spectrum_white_balance(const Spectrum *illuminant, double m[3][3]);
 
 /* Whether pbrt-v4 knows the sensor: "cie1931" or a camera with
- * <name>_r/_g/_b responses here (canon_eos_100d, canon_eos_5d_mkiv,
- * nikon_d850). */
+ * <name>_r/_g/_b responses here (every camera pbrt-v4 names). */
 int spectrum_sensor_known(const char *sensor);
+
+/* The known sensors as "cie1931, canon_eos_100d, ...", into buf
+ * (NUL-terminated, cut short when size is too small). */
+void spectrum_sensor_list(char *buf, size_t size);
 
 /* pbrt-v4's XYZFromSensorRGB for a camera sensor: the least-squares fit
  * from the sensor RGB of the 24 swatches under the daylight illuminant at

@@ -52,6 +52,8 @@ for t in (2700.0, 5500.0, 6500.0):
 print("stdillum-A illuminant", illuminant_rgb(pbrt_table("stdillum-A")))
 print("stdillum-D65 illuminant", illuminant_rgb(d65))
 print("stdillum-F11 illuminant", illuminant_rgb(pbrt_table("stdillum-F11")))
+aces_d60 = colour.sd_CIE_illuminant_D_series(colour.temperature.CCT_to_xy_CIE_D(6000), M1_M2_rounding=True)
+print("illum-acesD60 illuminant", illuminant_rgb(np.interp(lam, aces_d60.wavelengths, aces_d60.values)))
 print("metal-Au-eta unbounded", unbounded(pbrt_table("Au.eta")))
 print("metal-Au-k unbounded", unbounded(pbrt_table("Au.k")))
 bk7 = np.array([300, 1.5527702635739, 322, 1.5458699289209, 344, 1.5404466868331, 366, 1.536090527917,
@@ -138,8 +140,11 @@ swatches = [np.interp(lam, sd.wavelengths, sd.values)
             for sd in colour.SDS_COLOURCHECKERS["BabelColor Average"].values()]
 basis = colour.recovery.MSDS_BASIS_FUNCTIONS_sRGB_MALLETT2019
 basis = [np.interp(lam, basis.wavelengths, basis.values[:, c]) for c in range(3)]
-for sensor, wb in (("canon_eos_100d", 6500), ("canon_eos_100d", 3200), ("canon_eos_5d_mkiv", 6500),
-                   ("nikon_d850", 6500)):
+sensors = ("canon_eos_100d", "canon_eos_1dx_mkii", "canon_eos_200d", "canon_eos_200d_mkii", "canon_eos_5d",
+           "canon_eos_5d_mkii", "canon_eos_5d_mkiii", "canon_eos_5d_mkiv", "canon_eos_5ds", "canon_eos_m",
+           "hasselblad_l1d_20c", "nikon_d810", "nikon_d850", "sony_ilce_6400", "sony_ilce_7m3", "sony_ilce_7rm3",
+           "sony_ilce_9")
+for sensor, wb in [("canon_eos_100d", 3200)] + [(s, 6500) for s in sensors]:
     bar = np.array([c_array("host/scene/spectrum_sensor_data.c", sensor + s) for s in ("_r", "_g", "_b")])
     D = daylight(wb)
     camera = np.array([bar @ (s * D) / (bar[1] @ D) for s in swatches])
@@ -158,3 +163,6 @@ for sensor, wb in (("canon_eos_100d", 6500), ("canon_eos_100d", 3200), ("canon_e
               "relative to the swatch's largest channel: max %.1f%%, mean %.1f%%"
               % (error.max(), error.max(1).argmax() + 1, error.mean(),
                  100 * (error.max(1) / spectral.max(1)).max(), 100 * (error.max(1) / spectral.max(1)).mean()))
+        white = M @ xyz_from_sensor @ bar @ d65 / (cmfs[:, 1] @ d65)  # a reflectance 1 under D65
+        print("  white under D65: pbrt-v4's sensor %s, film matrix %s"
+              % (white.round(4).tolist(), (film @ illuminant_rgb(d65)).round(4).tolist()))
