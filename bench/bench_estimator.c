@@ -671,9 +671,10 @@ static int time_render(ClDevice *device, const Options *o, double *seconds)
     printf("render:     %s, %ldx%ld, %" PRIu64 " spp, maxdepth %u, M = %d, default estimators\n", RENDER_SCENE,
            o->width, o->height, out.sample_count, out.max_depth, out.set_count);
     printf("            %.2f s (passes and final estimate; program builds %.2f s not counted), %.3f Msamples/s,\n"
-           "            its own estimate (mean, MoN, G-MoN) %.1f ms\n",
+           "            its own estimate (mean, MoN, G-MoN) %.1f ms, the sums in %d slice(s) of the device's largest\n"
+           "            allocation\n",
            out.seconds, out.build_seconds, (double)out.sample_count * out.width * out.height / out.seconds * 1e-6,
-           out.devices[0].estimate_seconds * 1e3);
+           out.devices[0].estimate_seconds * 1e3, out.devices[0].slices);
     render_output_free(&out);
     status = 0;
 done:
@@ -875,8 +876,8 @@ int main(int argc, char **argv)
         if (time_render(&b.device, &o, &render_seconds) != 0)
             goto done;
         double fraction = family->timings.event_median / render_seconds;
-        printf("goal: all estimates with standard errors (%.1f ms) < %.0f%% of the render: %.2f%%: %s\n",
-               family->timings.event_median * 1e3, GOAL_RENDER_FRACTION * 100.0, fraction * 100.0,
+        printf("goal: all estimates with standard errors (%.1f ms) < %.0f%% of the render (%.2f s): %.2f%%: %s\n",
+               family->timings.event_median * 1e3, GOAL_RENDER_FRACTION * 100.0, render_seconds, fraction * 100.0,
                goal_word(fraction < GOAL_RENDER_FRACTION));
     } else {
         printf("goal: all estimates with standard errors < %.0f%% of the render: not measured (--no-render)\n",

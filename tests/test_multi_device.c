@@ -150,6 +150,32 @@ static void test_all_devices_equal_one_device(void **state)
     render_output_free(&all);
 }
 
+/* A device whose largest allocation holds only part of its pixels renders
+ * them in slices of their own buffers: the same render, bit for bit, as in
+ * one buffer each; a pixel too large for any slice is refused. */
+static void test_slices_equal_one_buffer_per_device(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    RenderSettings s = small_settings();
+    RenderOutput whole, sliced;
+    assert_int_equal(render_on(0, device_count, &s, &whole), RENDER_OK);
+    s.slice_bytes = 64 * 1024; /* the 40x30 pixels' accumulators alone are 290 KiB */
+    assert_int_equal(render_on(0, device_count, &s, &sliced), RENDER_OK);
+    assert_same_render(&whole, &sliced);
+    for (int i = 0; i < device_count; ++i) {
+        printf("  device %d: %d slice(s) of at most 64 KiB (%d without the limit)\n", i, sliced.devices[i].slices,
+               whole.devices[i].slices);
+        assert_int_equal(whole.devices[i].slices, 1);
+    }
+    assert_true(sliced.devices[0].slices > 1);
+    render_output_free(&whole);
+    render_output_free(&sliced);
+    RenderOutput refused;
+    s.slice_bytes = 8; /* under one pixel's set sums */
+    assert_int_equal(render_on(0, 1, &s, &refused), RENDER_FAILED);
+}
+
 /* Renders on every device with `fault` injected: the render succeeds without
  * device `failed`, and equals the render on device 0 alone. The output stays
  * in *rest (caller frees). */
@@ -382,6 +408,7 @@ int main(void)
         cmocka_set_test_filter(getenv("GMON_TEST_FILTER"));
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_all_devices_equal_one_device),
+        cmocka_unit_test(test_slices_equal_one_buffer_per_device),
         cmocka_unit_test(test_device_failing_mid_render_changes_nothing),
         cmocka_unit_test(test_device_failing_to_build_is_left_out),
         cmocka_unit_test(test_every_device_failing_keeps_saved_samples),

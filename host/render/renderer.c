@@ -64,6 +64,17 @@ typedef struct {
     uint64_t *samples; /* per-sample state (film_sample.h); NULL when none is requested */
 } HostState;
 
+/* Some of a worker's pixels, in buffers of their own: a share whose
+ * buffers would pass the device's largest allocation is cut into several
+ * slices, each launched on its own. */
+typedef struct {
+    cl_mem accumulators, rejected, rays, samples;
+    size_t first, count; /* its pixels */
+    cl_event pass;
+} Slice;
+
+#define RENDER_MAX_SLICES 64
+
 /* One device's part of the render. */
 typedef struct {
     ClDevice *device;
@@ -75,10 +86,10 @@ typedef struct {
     EstimatorProgram *estimator;              /* NULL when no set-based pass is requested */
     SampleEstimatorProgram *sample_estimator; /* NULL when no per-sample pass is */
     cl_mem scene[SCENE_BUFFERS];
-    cl_mem accumulators, rejected, rays, samples;
-    size_t first, count; /* its pixels */
+    Slice slices[RENDER_MAX_SLICES];
+    int slice_count;     /* 0: no state allocated */
+    size_t first, count; /* its pixels, its slices' in order */
     size_t scene_bytes;
-    cl_event pass;
     double pass_seconds;
     uint64_t unsaved_samples; /* pixel samples since the last host copy */
 } Worker;
@@ -118,12 +129,17 @@ static int live_workers(const Render *r)
 
 static void release_state(Worker *w)
 {
-    cl_mem *state[] = {&w->accumulators, &w->rejected, &w->rays, &w->samples};
-    for (int i = 0; i < 4; ++i)
-        if (*state[i]) {
-            clReleaseMemObject(*state[i]);
-            *state[i] = NULL;
-        }
+    for (int k = 0; k < w->slice_count; ++k) {
+        Slice *slice = &w->slices[k];
+        cl_mem *state[] = {&slice->accumulators, &slice->rejected, &slice->rays, &slice->samples};
+        for (int i = 0; i < 4; ++i)
+            if (*state[i])
+                clReleaseMemObject(*state[i]);
+        if (slice->pass)
+            clReleaseEvent(slice->pass);
+        memset(slice, 0, sizeof *slice);
+    }
+    w->slice_count = 0;
 }
 
 static void release_worker(Worker *w)
@@ -132,8 +148,6 @@ static void release_worker(Worker *w)
     for (int i = 0; i < SCENE_BUFFERS; ++i)
         if (w->scene[i])
             clReleaseMemObject(w->scene[i]);
-    if (w->pass)
-        clReleaseEvent(w->pass);
     estimator_program_destroy(w->estimator);
     sample_estimator_destroy(w->sample_estimator);
     w->sample_estimator = NULL;
@@ -142,7 +156,6 @@ static void release_worker(Worker *w)
     if (w->program)
         clReleaseProgram(w->program);
     memset(w->scene, 0, sizeof w->scene);
-    w->pass = NULL;
     w->estimator = NULL;
     w->kernel = NULL;
     w->program = NULL;
@@ -184,7 +197,7 @@ static size_t pixel_state_bytes(const Render *r)
 /* Device memory a worker holds now, plus `extra`. */
 static size_t worker_bytes(const Render *r, const Worker *w, size_t extra)
 {
-    size_t state = w->accumulators ? w->count * pixel_state_bytes(r) : 0;
+    size_t state = w->slice_count ? w->count * pixel_state_bytes(r) : 0;
     return w->scene_bytes + state + extra;
 }
 
@@ -258,23 +271,23 @@ static int start_worker(Render *r, Worker *w, const char *options)
     return 0;
 }
 
-/* Copies a worker's state to (write = 0) or from (write = 1) a host copy of
+/* Copies a slice's state to (write = 0) or from (write = 1) a host copy of
  * the whole image: rectangles of `count` values out of every plane. */
-static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *host)
+static cl_int transfer_slice(const Render *r, const Worker *w, const Slice *slice, int write, HostState *host)
 {
     struct {
         cl_mem buffer;
         void *host;
         size_t element, planes;
-    } parts[4] = {{w->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
-                  {w->rejected, host->rejected, sizeof(uint32_t), REJECTED_PLANES},
-                  {w->rays, host->rays, sizeof(uint64_t), 1},
-                  {w->samples, host->samples, sizeof(uint64_t), r->sample_planes}};
+    } parts[4] = {{slice->accumulators, host->accumulators, sizeof(uint64_t), r->planes},
+                  {slice->rejected, host->rejected, sizeof(uint32_t), REJECTED_PLANES},
+                  {slice->rays, host->rays, sizeof(uint64_t), 1},
+                  {slice->samples, host->samples, sizeof(uint64_t), r->sample_planes}};
     for (int i = 0; i < (r->sample_planes ? 4 : 3); ++i) {
         size_t element = parts[i].element;
-        size_t buffer_origin[3] = {0, 0, 0}, host_origin[3] = {w->first * element, 0, 0};
-        size_t region[3] = {w->count * element, parts[i].planes, 1};
-        size_t buffer_pitch = w->count * element, host_pitch = r->pixels * element;
+        size_t buffer_origin[3] = {0, 0, 0}, host_origin[3] = {slice->first * element, 0, 0};
+        size_t region[3] = {slice->count * element, parts[i].planes, 1};
+        size_t buffer_pitch = slice->count * element, host_pitch = r->pixels * element;
         cl_int err =
             write ? clEnqueueWriteBufferRect(w->device->queue, parts[i].buffer, CL_TRUE, buffer_origin, host_origin,
                                              region, buffer_pitch, 0, host_pitch, 0, parts[i].host, 0, NULL, NULL)
@@ -286,6 +299,54 @@ static cl_int transfer_state(const Render *r, Worker *w, int write, HostState *h
         }
     }
     return CL_SUCCESS;
+}
+
+/* transfer_slice for each of the worker's slices. */
+static cl_int transfer_state(const Render *r, const Worker *w, int write, HostState *host)
+{
+    for (int k = 0; k < w->slice_count; ++k) {
+        cl_int err = transfer_slice(r, w, &w->slices[k], write, host);
+        if (err != CL_SUCCESS)
+            return err;
+    }
+    return CL_SUCCESS;
+}
+
+/* The most pixels one slice of worker w may hold: its largest buffer (a
+ * plane set of the state, or the images of an estimate) within the
+ * device's largest allocation, or the settings' smaller limit. */
+static size_t slice_pixels(const Render *r, const Worker *w)
+{
+    size_t largest = r->planes * sizeof(uint64_t);
+    size_t others[] = {r->sample_planes * sizeof(uint64_t), REJECTED_PLANES * sizeof(uint32_t),
+                       w->estimator ? estimator_program_image_bytes(w->estimator, 1) : 0,
+                       w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, 1) : 0};
+    for (size_t i = 0; i < sizeof others / sizeof others[0]; ++i)
+        largest = others[i] > largest ? others[i] : largest;
+    uint64_t limit = w->device->info.max_allocation;
+    if (r->settings->slice_bytes > 0 && r->settings->slice_bytes < limit)
+        limit = r->settings->slice_bytes;
+    return (size_t)(limit / largest);
+}
+
+/* Allocates a slice's buffers for its pixels. */
+static cl_int allocate_slice(const Render *r, const Worker *w, Slice *slice)
+{
+    cl_int err = CL_SUCCESS;
+    cl_context context = w->device->context;
+    size_t count = slice->count;
+    slice->accumulators = clCreateBuffer(context, CL_MEM_READ_WRITE, count * r->planes * sizeof(uint64_t), NULL, &err);
+    if (err == CL_SUCCESS)
+        slice->rejected =
+            clCreateBuffer(context, CL_MEM_READ_WRITE, count * REJECTED_PLANES * sizeof(uint32_t), NULL, &err);
+    if (err == CL_SUCCESS)
+        slice->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
+    if (err == CL_SUCCESS && r->sample_planes)
+        slice->samples =
+            clCreateBuffer(context, CL_MEM_READ_WRITE, count * r->sample_planes * sizeof(uint64_t), NULL, &err);
+    if (err != CL_SUCCESS)
+        cl_report_error("clCreateBuffer", err, __FILE__, __LINE__);
+    return err;
 }
 
 /* Splits the image among the live workers in proportion to `weights` (each
@@ -314,34 +375,35 @@ static int assign_pixels(Render *r, const double *weights, int reload, char *err
         size_t most = r->pixels - (size_t)(live - seen); /* leave a pixel for each worker after */
         end = end < first + 1 ? first + 1 : (end > most ? most : end);
         size_t count = end - first;
-        int unchanged = !reload && w->accumulators && w->first == first && w->count == count;
+        int unchanged = !reload && w->slice_count && w->first == first && w->count == count;
         if (!unchanged) {
             release_state(w);
-            size_t accumulator_bytes = count * r->planes * sizeof(uint64_t);
-            if (accumulator_bytes > w->device->info.max_allocation) {
+            size_t most = slice_pixels(r, w);
+            size_t slices = most ? (count + most - 1) / most : 0;
+            if (slices == 0 || slices > RENDER_MAX_SLICES) {
                 snprintf(error, error_size,
-                         "the exact set sums of %zu pixels with M = %d need %.2f GiB in one buffer, but device '%s' "
-                         "allows %.2f GiB: lower the resolution or --sets, or add devices",
-                         count, r->sets, (double)accumulator_bytes / 1073741824.0, w->device->info.name,
+                         "the exact set sums of %zu pixels with M = %d need %.2f GiB; device '%s' holds them in at "
+                         "most %d buffers of %zu pixels (its largest allocation %.2f GiB): lower the resolution or "
+                         "--sets, or add devices",
+                         count, r->sets, (double)(count * r->planes * sizeof(uint64_t)) / 1073741824.0,
+                         w->device->info.name, RENDER_MAX_SLICES, most,
                          (double)w->device->info.max_allocation / 1073741824.0);
                 return -2;
             }
-            cl_int err = CL_SUCCESS;
-            cl_context context = w->device->context;
             w->first = first;
             w->count = count;
-            w->accumulators = clCreateBuffer(context, CL_MEM_READ_WRITE, accumulator_bytes, NULL, &err);
+            w->slice_count = (int)slices;
+            if (w->slice_count > w->report->slices)
+                w->report->slices = w->slice_count;
+            /* even slices, in pixel order */
+            cl_int err = CL_SUCCESS;
+            for (size_t k = 0; k < slices && err == CL_SUCCESS; ++k) {
+                Slice *slice = &w->slices[k];
+                slice->first = first + count * k / slices;
+                slice->count = first + count * (k + 1) / slices - slice->first;
+                err = allocate_slice(r, w, slice);
+            }
             if (err == CL_SUCCESS)
-                w->rejected =
-                    clCreateBuffer(context, CL_MEM_READ_WRITE, count * REJECTED_PLANES * sizeof(uint32_t), NULL, &err);
-            if (err == CL_SUCCESS)
-                w->rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
-            if (err == CL_SUCCESS && r->sample_planes)
-                w->samples =
-                    clCreateBuffer(context, CL_MEM_READ_WRITE, count * r->sample_planes * sizeof(uint64_t), NULL, &err);
-            if (err != CL_SUCCESS)
-                cl_report_error("clCreateBuffer", err, __FILE__, __LINE__);
-            else
                 err = transfer_state(r, w, 1, &r->saved);
             if (err != CL_SUCCESS) {
                 drop_on_cl_error(r, w, "allocating and filling the accumulators");
@@ -412,16 +474,22 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
             ++failures;
             continue;
         }
-        RenderPassArguments args = {w->accumulators, w->rejected, w->rays,  first_sample, count,
-                                    w->first,        w->count,    w->first, w->count,     w->samples};
-        /* A fixed work-group size (the kernel skips items past the end):
-         * PoCL compiles a kernel per work-group size, on first use, and a
-         * size of the runtime's choosing would follow every new share. */
-        size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
-        size_t global = (w->count + local - 1) / local * local;
-        CL_CHECK(scene_upload_bind_pass(w->kernel, &args), failed);
-        CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, &local, 0, NULL, &w->pass),
-                 failed);
+        for (int k = 0; k < w->slice_count; ++k) {
+            Slice *slice = &w->slices[k];
+            RenderPassArguments args = {
+                slice->accumulators, slice->rejected, slice->rays,  first_sample, count,
+                slice->first,        slice->count,    slice->first, slice->count, slice->samples};
+            /* A fixed work-group size (the kernel skips items past the
+             * end): PoCL compiles a kernel per work-group size, on first
+             * use, and a size of the runtime's choosing would follow every
+             * new share. */
+            size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
+            size_t global = (slice->count + local - 1) / local * local;
+            CL_CHECK(scene_upload_bind_pass(w->kernel, &args), failed);
+            CL_CHECK(
+                clEnqueueNDRangeKernel(w->device->queue, w->kernel, 1, NULL, &global, &local, 0, NULL, &slice->pass),
+                failed);
+        }
         CL_CHECK(clFlush(w->device->queue), failed);
         continue;
     failed:
@@ -430,25 +498,34 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
     }
     for (int i = 0; i < r->worker_count; ++i) {
         Worker *w = &r->workers[i];
-        if (!w->live || !w->pass)
+        if (!w->live || !w->slice_count || !w->slices[0].pass)
             continue;
-        cl_int status = CL_SUCCESS;
-        cl_int err = clWaitForEvents(1, &w->pass);
-        if (err == CL_SUCCESS)
-            err = clGetEventInfo(w->pass, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, NULL);
-        if (err == CL_SUCCESS && status < 0)
-            err = status;
+        cl_int err = CL_SUCCESS;
+        double seconds = 0.0;
+        for (int k = 0; k < w->slice_count && err == CL_SUCCESS; ++k) {
+            Slice *slice = &w->slices[k];
+            cl_int status = CL_SUCCESS;
+            err = clWaitForEvents(1, &slice->pass);
+            if (err == CL_SUCCESS)
+                err = clGetEventInfo(slice->pass, CL_EVENT_COMMAND_EXECUTION_STATUS, sizeof status, &status, NULL);
+            if (err == CL_SUCCESS && status < 0)
+                err = status;
+            if (err == CL_SUCCESS)
+                seconds += cl_event_seconds(slice->pass);
+        }
         if (err != CL_SUCCESS) {
             cl_report_error("the path tracer kernel", err, __FILE__, __LINE__);
             drop_on_cl_error(r, w, "a pass failed");
             ++failures;
             continue;
         }
-        w->pass_seconds = cl_event_seconds(w->pass);
+        w->pass_seconds = seconds;
         w->report->busy_seconds += w->pass_seconds;
         w->unsaved_samples += (uint64_t)count * w->count;
-        clReleaseEvent(w->pass);
-        w->pass = NULL;
+        for (int k = 0; k < w->slice_count; ++k) {
+            clReleaseEvent(w->slices[k].pass);
+            w->slices[k].pass = NULL;
+        }
     }
     return failures;
 }
@@ -473,7 +550,6 @@ static int allocate_images(RenderOutput *out, const EstimatorSettings *settings,
  * so it is estimated from every worker's cascades gathered on the host
  * (exact sums: the same whatever the split), by the first live worker's
  * kernel. Returns 0, or -1 after dropping a worker. */
-static int save_state(Render *r, uint64_t samples);
 static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *out)
 {
     if (!(r->estimator.passes & PASS_BIT(PASS_ZIRR)))
@@ -498,6 +574,52 @@ static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *ou
     return -1;
 }
 
+/* The estimates of one slice's pixels into the output's images. */
+static cl_int estimate_slice(const Render *r, Worker *w, const Slice *slice, uint64_t samples, EstimatorImages *host)
+{
+    cl_int err = CL_SUCCESS;
+    if (w->estimator) {
+        const size_t bytes = estimator_program_image_bytes(w->estimator, slice->count);
+        cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
+        cl_event done = NULL;
+        if (err == CL_SUCCESS) {
+            track_peak(r, w, bytes);
+            done = estimator_program_enqueue(w->estimator, slice->accumulators, 1, slice->count, samples, images);
+            err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+        }
+        if (err == CL_SUCCESS)
+            err = estimator_program_read(w->estimator, images, slice->first, slice->count, host);
+        if (done) {
+            w->report->estimate_seconds += cl_event_seconds(done);
+            clReleaseEvent(done);
+        }
+        if (images)
+            clReleaseMemObject(images);
+    }
+    const size_t sample_image_bytes =
+        w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, slice->count) : 0;
+    if (err == CL_SUCCESS && sample_image_bytes) { /* zirr alone: estimate_zirr_on_device's */
+        const size_t bytes = sample_image_bytes;
+        cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
+        cl_event done = NULL;
+        if (err == CL_SUCCESS) {
+            track_peak(r, w, bytes);
+            done = sample_estimator_enqueue(w->sample_estimator, slice->samples, slice->accumulators, slice->count,
+                                            samples, images);
+            err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
+        }
+        if (err == CL_SUCCESS)
+            err = sample_estimator_read(w->sample_estimator, images, slice->first, slice->count, r->pixels, host);
+        if (done) {
+            w->report->estimate_seconds += cl_event_seconds(done);
+            clReleaseEvent(done);
+        }
+        if (images)
+            clReleaseMemObject(images);
+    }
+    return err;
+}
+
 /* The estimates of `samples` samples per pixel, each worker on its pixels,
  * into the output's images. Returns 0, or -1 after dropping a worker. */
 static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
@@ -508,45 +630,8 @@ static int estimate_on_devices(Render *r, uint64_t samples, RenderOutput *out)
         if (!w->live)
             continue;
         cl_int err = CL_SUCCESS;
-        if (w->estimator) {
-            const size_t bytes = estimator_program_image_bytes(w->estimator, w->count);
-            cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
-            cl_event done = NULL;
-            if (err == CL_SUCCESS) {
-                track_peak(r, w, bytes);
-                done = estimator_program_enqueue(w->estimator, w->accumulators, 1, w->count, samples, images);
-                err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
-            }
-            if (err == CL_SUCCESS)
-                err = estimator_program_read(w->estimator, images, w->first, w->count, &host);
-            if (done) {
-                w->report->estimate_seconds += cl_event_seconds(done);
-                clReleaseEvent(done);
-            }
-            if (images)
-                clReleaseMemObject(images);
-        }
-        const size_t sample_image_bytes =
-            w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, w->count) : 0;
-        if (err == CL_SUCCESS && sample_image_bytes) { /* zirr alone: estimate_zirr_on_device's */
-            const size_t bytes = sample_image_bytes;
-            cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
-            cl_event done = NULL;
-            if (err == CL_SUCCESS) {
-                track_peak(r, w, bytes);
-                done = sample_estimator_enqueue(w->sample_estimator, w->samples, w->accumulators, w->count, samples,
-                                                images);
-                err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
-            }
-            if (err == CL_SUCCESS)
-                err = sample_estimator_read(w->sample_estimator, images, w->first, w->count, r->pixels, &host);
-            if (done) {
-                w->report->estimate_seconds += cl_event_seconds(done);
-                clReleaseEvent(done);
-            }
-            if (images)
-                clReleaseMemObject(images);
-        }
+        for (int k = 0; k < w->slice_count && err == CL_SUCCESS; ++k)
+            err = estimate_slice(r, w, &w->slices[k], samples, &host);
         if (err != CL_SUCCESS) {
             drop_on_cl_error(r, w, "the estimator failed");
             return -1;

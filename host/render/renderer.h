@@ -50,6 +50,10 @@ typedef struct {
     void *checkpoint_user;
     const char *dump_kernel; /* write the specialized path tracer source here; NULL: no */
     const char *kernel_dir;  /* NULL: embedded kernels */
+    /* The largest buffer a device gets (0: its maximum allocation): a
+     * device's pixels whose state or images would pass it are held and
+     * launched in several slices (tests set it to make slices). */
+    uint64_t slice_bytes;
 } RenderSettings;
 
 typedef struct {
@@ -61,6 +65,7 @@ typedef struct {
     double estimate_seconds; /* its estimator kernels' run time, every estimation */
     double build_seconds;    /* its program builds */
     size_t peak_bytes;       /* device memory allocated, at most */
+    int slices;              /* buffers of its state its pixels were cut into, at most (slice_bytes) */
 } RenderDeviceReport;
 
 struct RenderOutput {
