@@ -27,7 +27,7 @@
 #endif
 
 /* Output: one buffer of RGB images, pixel-interleaved, in the order of
- * sample_pixel_image_slot. accumulators: the render's set sums (read by gabmm
+ * sample_image_slot of SAMPLE_PIXEL_PASSES. accumulators: the render's set sums (read by gabmm
  * and mean-or-mon only), of sets starting at sample first_sample. */
 __kernel void estimate_sample_passes(__global const ulong *state, __global const ulong *accumulators, ulong pixel_count,
                                      ulong sample_count, ulong first_sample, __global float *images)
@@ -35,11 +35,10 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
     ulong pixel = get_global_id(0);
     if (pixel >= pixel_count)
         return;
+    const uint pixel_passes = SAMPLE_PIXEL_PASSES(EST_SAMPLE_PASSES);
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass)
-        for (int i = 0; i < sample_pass_images(EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, pass); ++i) {
+        for (int i = 0; i < sample_pass_images(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass); ++i) {
             float rgb[EST_CHANNELS];
-            if (pass == PASS_ZIRR)
-                continue; /* estimate_zirr's, over the whole image */
             if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
                 sample_sum_estimate(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, sample_count,
                                     pass, i, rgb);
@@ -58,7 +57,7 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
 #endif
                                 first_sample, sample_count, pass, rgb);
 #endif
-            ulong slot = (ulong)sample_pixel_image_slot(EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, pass, i);
+            ulong slot = (ulong)sample_image_slot(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass, i);
             for (int c = 0; c < EST_CHANNELS; ++c)
                 images[(slot * pixel_count + pixel) * EST_CHANNELS + c] = rgb[c];
         }

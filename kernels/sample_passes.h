@@ -111,13 +111,11 @@ KERNEL_FN int sample_image_slot(uint32_t passes, int level_count, int pass, int 
     return slot;
 }
 
-/* The slot of image `index` of a pass among the images
- * estimate_sample_passes writes, pixel by pixel: every per-sample image but
- * zirr's (estimate_zirr's, over the whole image). */
-KERNEL_FN int sample_pixel_image_slot(uint32_t passes, int level_count, int pass, int index)
-{
-    return sample_image_slot(passes & ~PASS_BIT(PASS_ZIRR), level_count, pass, index);
-}
+/* The per-sample passes estimated pixel by pixel (estimate_sample_passes):
+ * every one but zirr, whose 3x3 neighbourhoods need the whole image
+ * (estimate_zirr). Their images and slots: sample_pass_images and
+ * sample_image_slot of this mask. */
+#define SAMPLE_PIXEL_PASSES(passes) ((passes) & ~PASS_BIT(PASS_ZIRR))
 
 /* pbrt-v4's rule: (r, g, b) scaled by V / max(r, g, b) when that exceeds V
  * (V = INFINITY changes nothing). */
@@ -212,13 +210,19 @@ typedef struct {
     uint32_t set_count;
 } SampleParts;
 
-/* The sample as the sets see it (film response times weight); a
- * non-finite one counts as 0, as there. */
-KERNEL_FN void sample_as_in_sets(const SampleParts *s, float *x)
+/* The sample as the sets see it (film response times weight); returns
+ * whether it is finite. */
+KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)
 {
     for (int c = 0; c < EST_CHANNELS; ++c)
         x[c] = s->film[c] * s->weight;
-    if (!sample_is_finite(x[0], x[1], x[2]))
+    return sample_is_finite(x[0], x[1], x[2]);
+}
+
+/* The same, a non-finite one counted as 0, as the sets count it. */
+KERNEL_FN void sample_as_in_sets(const SampleParts *s, float *x)
+{
+    if (!sample_film_weighted(s, x))
         x[0] = x[1] = x[2] = 0.0f;
 }
 
@@ -283,9 +287,7 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
         float x[EST_CHANNELS];
-        for (int c = 0; c < EST_CHANNELS; ++c)
-            x[c] = s->film[c] * s->weight; /* the sample as the sets see it */
-        if (!sample_is_finite(x[0], x[1], x[2]))
+        if (!sample_film_weighted(s, x))
             return EST_ADD_NONFINITE > result ? EST_ADD_NONFINITE : result;
         /* One luminance splits all three channels: colours are kept. */
         ZirrSplit split = zirr_split(v_luminance(vec3(x[0], x[1], x[2])), cascade_count, cascade_base);
@@ -591,7 +593,7 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
     const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
     const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
     for (int c = 0; c < EST_CHANNELS; ++c) {
-        double sums[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
+        double sums[EST_CAPACITY], squares_of_set[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
         float means[EST_CAPACITY];
         uint64_t counts[EST_CAPACITY];
         for (uint32_t j = 0; j < set_count; ++j) {
@@ -601,7 +603,8 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
             means[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)counts[j];
             sums[j] = accumulator_sum(accumulators, j, pixel, pixel_count, c);
             sum += sums[j];
-            sum_squares += accumulator_sum(squares, j, pixel, pixel_count, c);
+            squares_of_set[j] = accumulator_sum(squares, j, pixel, pixel_count, c);
+            sum_squares += squares_of_set[j];
         }
         *mean_width += confidence_half_width(sum, sum_squares, n);
         /* The median set(s): rank = the sets below, ties by set index. */
@@ -612,8 +615,7 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
                 rank += means[i] < means[j] || (means[i] == means[j] && i < j) ? 1u : 0u;
             if (rank == low_rank || rank == high_rank)
                 median_width +=
-                    confidence_half_width(sums[j], accumulator_sum(squares, j, pixel, pixel_count, c), counts[j]) /
-                    (low_rank == high_rank ? 1.0 : 2.0);
+                    confidence_half_width(sums[j], squares_of_set[j], counts[j]) / (low_rank == high_rank ? 1.0 : 2.0);
         }
         *mon_width += median_width;
     }

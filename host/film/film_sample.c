@@ -166,9 +166,9 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
     }
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
         float *image = images->pass[pass];
-        if (!image || pass == PASS_ZIRR) /* film_sample_estimate_zirr's */
+        if (!image)
             continue;
-        for (int i = 0; i < sample_pass_images(passes, s->params.clamp_level_count, pass); ++i)
+        for (int i = 0; i < sample_pass_images(SAMPLE_PIXEL_PASSES(passes), s->params.clamp_level_count, pass); ++i)
             for (size_t p = 0; p < pixel_count; ++p) {
                 float *rgb = image + ((size_t)i * pixel_count + p) * EST_CHANNELS;
                 if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)

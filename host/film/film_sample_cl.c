@@ -76,8 +76,8 @@ void sample_estimator_destroy(SampleEstimatorProgram *p)
  * (sample_estimator_zirr's, over the whole image). */
 static int image_count(const SampleEstimatorProgram *p)
 {
-    const uint32_t passes = film_sample_passes(&p->settings);
-    return sample_pixel_image_slot(passes, p->settings.params.clamp_level_count, PASS_COUNT, 0);
+    const uint32_t pixel_passes = SAMPLE_PIXEL_PASSES(film_sample_passes(&p->settings));
+    return sample_image_slot(pixel_passes, p->settings.params.clamp_level_count, PASS_COUNT, 0);
 }
 
 size_t sample_estimator_image_bytes(const SampleEstimatorProgram *p, size_t pixel_count)
@@ -106,16 +106,16 @@ fail:
 cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t first, size_t pixel_count,
                              size_t image_pixels, EstimatorImages *host)
 {
-    const uint32_t passes = film_sample_passes(&p->settings);
+    const uint32_t pixel_passes = SAMPLE_PIXEL_PASSES(film_sample_passes(&p->settings));
     const int levels = p->settings.params.clamp_level_count;
     const size_t plane = pixel_count * EST_CHANNELS * sizeof(float);
     for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
-        if (!host->pass[pass] || pass == PASS_ZIRR) /* sample_estimator_zirr's */
+        if (!host->pass[pass])
             continue;
-        for (int i = 0; i < sample_pass_images(passes, levels, pass); ++i) {
+        for (int i = 0; i < sample_pass_images(pixel_passes, levels, pass); ++i) {
             char *target = (char *)host->pass[pass] + ((size_t)i * image_pixels + first) * EST_CHANNELS * sizeof(float);
             cl_int err = clEnqueueReadBuffer(p->device->queue, images, CL_TRUE,
-                                             (size_t)sample_pixel_image_slot(passes, levels, pass, i) * plane, plane,
+                                             (size_t)sample_image_slot(pixel_passes, levels, pass, i) * plane, plane,
                                              target, 0, NULL, NULL);
             if (err != CL_SUCCESS) {
                 cl_report_error("clEnqueueReadBuffer", err, __FILE__, __LINE__);
