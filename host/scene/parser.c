@@ -51,21 +51,17 @@ typedef struct {
     int line;
 } GraphicsState;
 
+/* A material name and its slot in Scene.materials. pbrt-v4 binds names
+ * once the whole scene is read, so a NamedMaterial before its
+ * MakeNamedMaterial gets a slot (not yet `defined`; file and line: that
+ * first use) that the definition fills in later. */
 typedef struct {
     char *name;
-    int material;
-} NamedMaterial;
-
-/* A NamedMaterial whose name no MakeNamedMaterial had defined yet: pbrt-v4
- * binds names once the whole scene is read, so the shapes get a slot in
- * Scene.materials that the definition fills in later. */
-typedef struct {
-    char *name;
-    const char *file;
-    int line;
     int material;
     int defined;
-} PendingNamedMaterial;
+    const char *file;
+    int line;
+} NamedMaterial;
 
 /* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
 typedef struct {
@@ -94,8 +90,6 @@ typedef struct {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
-    PendingNamedMaterial *pending_named;
-    size_t pending_named_count, pending_named_capacity;
     NamedTransform *coordinate_systems;
     size_t coordinate_system_count, coordinate_system_capacity;
     int motion_warned; /* one warning for all animated transforms */
@@ -730,7 +724,7 @@ static int read_mix(Parser *p, ParamList *params, int line, SceneMaterial *m)
     for (int i = 0; i < 2; ++i) {
         m->mix_materials[i] = -1;
         for (size_t j = 0; j < p->named_count && m->mix_materials[i] < 0; ++j)
-            if (strcmp(p->named[j].name, names->strings[i]) == 0)
+            if (p->named[j].defined && strcmp(p->named[j].name, names->strings[i]) == 0)
                 m->mix_materials[i] = p->named[j].material;
         if (m->mix_materials[i] < 0)
             return scene_error(&p->diag, params->file, line, "%s: no material named \"%s\"", params->owner,
@@ -1814,9 +1808,15 @@ static int on_make_named_material(Parser *p, Lexer *lex, const Token *d)
     char *name_copy = result == 0 ? scene_strndup(name.text, name.length) : NULL;
     if (result == 0 && !name_copy)
         result = out_of_memory(p, lex->path, d->line);
+    NamedMaterial *used_before = NULL; /* by a NamedMaterial before this definition */
     for (size_t i = 0; result == 0 && i < p->named_count; ++i)
-        if (strcmp(p->named[i].name, name_copy) == 0)
-            result = scene_error(&p->diag, lex->path, d->line, "MakeNamedMaterial: \"%s\" is defined twice", name_copy);
+        if (strcmp(p->named[i].name, name_copy) == 0) {
+            if (p->named[i].defined)
+                result =
+                    scene_error(&p->diag, lex->path, d->line, "MakeNamedMaterial: \"%s\" is defined twice", name_copy);
+            else
+                used_before = &p->named[i];
+        }
     const char *type = NULL;
     if (result == 0 && params_get_string(&params, "type", &type) < 0)
         result = -1;
@@ -1826,25 +1826,17 @@ static int on_make_named_material(Parser *p, Lexer *lex, const Token *d)
     SceneMaterial m;
     if (result == 0)
         result = parse_material(p, type, &params, d->line, &m);
-    PendingNamedMaterial *pending = NULL;
-    for (size_t i = 0; result == 0 && i < p->pending_named_count && !pending; ++i)
-        if (strcmp(p->pending_named[i].name, name_copy) == 0)
-            pending = &p->pending_named[i];
-    int index = -1;
-    if (result == 0 && pending) {
-        index = pending->material;
-        p->scene->materials[index] = m;
-        pending->defined = 1;
+    if (result == 0 && used_before) {
+        p->scene->materials[used_before->material] = m;
+        used_before->defined = 1;
     } else if (result == 0) {
-        index = add_material(p, &m);
-    }
-    if (result == 0 &&
-        (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named)))
-        result = out_of_memory(p, lex->path, d->line);
-    if (result == 0) {
-        p->named[p->named_count].name = name_copy;
-        p->named[p->named_count++].material = index;
-        name_copy = NULL;
+        int index = add_material(p, &m);
+        if (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named))
+            result = out_of_memory(p, lex->path, d->line);
+        else {
+            p->named[p->named_count++] = (NamedMaterial){name_copy, index, 1, lex->path, d->line};
+            name_copy = NULL;
+        }
     }
     free(name_copy);
     params_free(&params);
@@ -1861,22 +1853,16 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
             p->state.material = p->named[i].material;
             return 0;
         }
-    for (size_t i = 0; i < p->pending_named_count; ++i)
-        if (token_is(&name, p->pending_named[i].name)) {
-            p->state.material = p->pending_named[i].material;
-            return 0;
-        }
     /* Not defined yet: a slot for the definition to come (finish_named_materials). */
     SceneMaterial placeholder;
     default_material(&placeholder);
     char *name_copy = scene_strndup(name.text, name.length);
     int index = name_copy ? add_material(p, &placeholder) : -1;
-    if (index < 0 || scene_reserve((void **)&p->pending_named, &p->pending_named_capacity, p->pending_named_count + 1,
-                                   sizeof *p->pending_named)) {
+    if (index < 0 || scene_reserve((void **)&p->named, &p->named_capacity, p->named_count + 1, sizeof *p->named)) {
         free(name_copy);
         return out_of_memory(p, lex->path, d->line);
     }
-    p->pending_named[p->pending_named_count++] = (PendingNamedMaterial){name_copy, lex->path, d->line, index, 0};
+    p->named[p->named_count++] = (NamedMaterial){name_copy, index, 0, lex->path, d->line};
     p->state.material = index;
     return 0;
 }
@@ -1891,11 +1877,11 @@ static int finish_named_materials(Parser *p)
         for (size_t i = 0; i < s->diagnostic_count; ++i)
             if (s->diagnostics[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE)
                 return 0;
-    for (size_t i = 0; i < p->pending_named_count; ++i)
-        if (!p->pending_named[i].defined)
-            return scene_error(&p->diag, p->pending_named[i].file, p->pending_named[i].line,
+    for (size_t i = 0; i < p->named_count; ++i)
+        if (!p->named[i].defined)
+            return scene_error(&p->diag, p->named[i].file, p->named[i].line,
                                "NamedMaterial: no material named \"%s\" is defined (MakeNamedMaterial) in the scene",
-                               p->pending_named[i].name);
+                               p->named[i].name);
     return 0;
 }
 
@@ -2730,9 +2716,6 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
-    for (size_t i = 0; i < p.pending_named_count; ++i)
-        free(p.pending_named[i].name);
-    free(p.pending_named);
     for (size_t i = 0; i < p.coordinate_system_count; ++i)
         free(p.coordinate_systems[i].name);
     free(p.coordinate_systems);
