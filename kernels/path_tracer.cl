@@ -257,6 +257,7 @@ __kernel void render_samples(__global const SceneConstants *constants,
         Vec3 parts[2] = {vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 0.0f)};
         Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, camera.cone_width,
                                                             camera.cone_spread, key, &rays, parts));
+        const uint set = set_of_sample(sample_index, EST_SETS);
 #if SAMPLE_PASSES
         SampleParts sample;
         sample.film[0] = L.x;
@@ -273,13 +274,12 @@ __kernel void render_samples(__global const SceneConstants *constants,
             sample.indirect[2] = indirect.z;
         }
         sample.weight = GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f;
-        sample.set = set_of_sample(sample_index, EST_SETS);
+        sample.set = set;
         sample.set_count = EST_SETS;
 #endif
         if (GMON_HAS_PIXEL_FILTER)
             L = v_scale(L, camera.weight); /* after the clamp of the per-sample passes, as pbrt-v4 weighs samples */
-        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
-                                      set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS, set, L.x, L.y, L.z);
 #if SAMPLE_PASSES
         {
 #if EST_CLAMP_LEVEL_COUNT > 0
