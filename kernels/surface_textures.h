@@ -129,7 +129,9 @@ KERNEL_FN Vec3 normal_map_normal(const TextureArrays *a, int32_t normal_map, con
     Vec3 rgb = texture_evaluate(a, normal_map, c);
     Vec3 tangent_space = vec3(2.0f * rgb.x - 1.0f, 2.0f * rgb.y - 1.0f, 2.0f * rgb.z - 1.0f);
     float length2 = v_dot(tangent_space, tangent_space);
-    if (!(length2 > 0.0f))
+    /* (0, 0, z > 0) is ns exactly; tested apart because the render kernels'
+     * unsafe-math 1/sqrt(1) may be 1 - 2^-24 on some devices. */
+    if (!(length2 > 0.0f) || (tangent_space.x == 0.0f && tangent_space.y == 0.0f && tangent_space.z > 0.0f))
         return ns;
     tangent_space = v_scale(tangent_space, 1.0f / sqrt_float(length2));
     Vec3 x = v_sub(uv->dpdu, v_scale(ns, v_dot(ns, uv->dpdu))), y;
@@ -140,7 +142,7 @@ KERNEL_FN Vec3 normal_map_normal(const TextureArrays *a, int32_t normal_map, con
     } else {
         v_basis(ns, &x, &y);
     }
-    /* Unit as the frame is (not renormalised, so that (0, 0, 1) gives ns). */
+    /* Unit as the frame is (not renormalised). */
     return v_add(v_add(v_scale(x, tangent_space.x), v_scale(y, tangent_space.y)), v_scale(ns, tangent_space.z));
 }
 

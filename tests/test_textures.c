@@ -730,6 +730,55 @@ static int blocked_at(const RenderScene *scene, float x, float y, float *nearest
     return any;
 }
 
+/* pbrt-v4 binds the textures of materials and shapes once the whole
+ * scene is read: a Texture may follow the material that names it. */
+static void test_textures_bound_late(void **state)
+{
+    (void)state;
+    const char *checks = "Texture \"c\" \"spectrum\" \"checkerboard\" \"rgb tex1\" [ 1 0 0 ] \"float uscale\" 4\n";
+    const char *use = "MakeNamedMaterial \"m\" \"string type\" \"diffuse\" \"texture reflectance\" \"c\"\n"
+                      "NamedMaterial \"m\"\n";
+    RenderScene scene;
+    assert_int_equal(convert(quad_scene("late.pbrt", use, checks), &scene), 0);
+    assert_int_equal(scene.material_texture_count, 1);
+    int reflectance = scene.material_textures[0].reflectance;
+    assert_true(reflectance >= 0);
+    assert_int_equal(scene.textures[reflectance].type, TEXTURE_CHECKERBOARD);
+    assert_float_equal(scene.textures[reflectance].value[0][0], 1.0f, 0.0f);
+    assert_float_equal(scene.textures[reflectance].map_scale[0], 4.0f, 0.0f);
+    render_scene_destroy(&scene);
+
+    /* Two uses of the name before its Texture share it; a texture's own
+     * inputs are bound as read, as pbrt-v4 creates textures in order. */
+    char text[1024];
+    snprintf(text, sizeof text, "%sMaterial \"coateddiffuse\" \"texture reflectance\" \"c\"\n", use);
+    assert_int_equal(convert(quad_scene("late-twice.pbrt", text, checks), &scene), 0);
+    assert_int_equal(scene.texture_count, 1);
+    render_scene_destroy(&scene);
+    convert_fails("Texture \"s\" \"spectrum\" \"scale\" \"texture tex\" \"c\"\n", checks,
+                  "Texture \"s\": parameter \"texture tex\": no spectrum texture named \"c\"");
+
+    /* Never defined: an error at the use's line (line 6 of quad_scene's text). */
+    convert_fails("", "Material \"diffuse\" \"texture reflectance\" \"later\"\n",
+                  "bad.pbrt:6: Material \"diffuse\": parameter \"texture reflectance\": no spectrum texture named");
+    convert_fails("Material \"diffuse\" \"texture reflectance\" \"f\"\n",
+                  "Texture \"f\" \"float\" \"constant\" \"float value\" 0.5\n",
+                  "\"f\" is a float texture, \"reflectance\" takes a spectrum texture");
+
+    /* A shape's alpha texture after the shape: the checkerboard's cut-out. */
+    snprintf(text, sizeof text,
+             "Camera \"perspective\"\nWorldBegin\n"
+             "Shape \"trianglemesh\" \"point3 P\" [ -1 -1 0  1 -1 0  1 1 0  -1 1 0 ]\n"
+             "  \"integer indices\" [ 0 1 2  0 2 3 ] \"point2 uv\" [ 0 0  1 0  1 1  0 1 ]\n"
+             "  \"texture alpha\" \"a\"\n"
+             "Texture \"a\" \"float\" \"checkerboard\" \"float uscale\" 2 \"float vscale\" 2\n");
+    assert_int_equal(convert(write_file("alpha-late.pbrt", text, strlen(text)), &scene), 0);
+    float t;
+    assert_true(blocked_at(&scene, -0.5f, -0.5f, &t)); /* (u, v) = (0.25, 0.25): alpha 1 */
+    assert_false(blocked_at(&scene, 0.5f, -0.5f, &t)); /* (0.75, 0.25): alpha 0 */
+    render_scene_destroy(&scene);
+}
+
 /* "texture alpha" in the host's traversal: a 2 x 2 checkerboard of alpha
  * 1 and 0 on the quad [-1, 1]^2 at z = 0 stops rays over its squares of
  * alpha 1 only, and the second quad behind it (z = -1) is met through the
@@ -995,6 +1044,7 @@ int main(void)
         cmocka_unit_test(test_scene_textures),
         cmocka_unit_test(test_bad_textures),
         cmocka_unit_test(test_alpha_texture_rays),
+        cmocka_unit_test(test_textures_bound_late),
     };
     const struct CMUnitTest device[] = {
         cmocka_unit_test(test_constant_displacement_changes_nothing),

@@ -579,7 +579,8 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
 static int read_slot(Parser *p, ParamList *params, SceneMaterial *m, SceneMaterialSlot slot, const char *name,
                      int is_spectrum)
 {
-    return scene_texture_param(&p->diag, p->scene, params, name, is_spectrum, &m->textures[slot]);
+    return scene_texture_param_late(&p->diag, p->scene, &p->texture_capacity, params, name, is_spectrum,
+                                    &m->textures[slot]);
 }
 
 /* A spectrum parameter given by a texture or a constant. Returns 0 or -1. */
@@ -1867,16 +1868,25 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
     return 0;
 }
 
-/* A NamedMaterial whose name the whole scene never defines is an error at
- * its line, as in pbrt-v4; in check mode with files missing the name may
- * be defined in one of them, so it is not. */
-static int finish_named_materials(Parser *p)
+/* Whether check mode found files missing: a name the scene never defines
+ * (a material, a texture) may then be defined in one of them. */
+static int files_missing(const Parser *p)
 {
     const Scene *s = p->scene;
     if (p->diag.check)
         for (size_t i = 0; i < s->diagnostic_count; ++i)
             if (s->diagnostics[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE)
-                return 0;
+                return 1;
+    return 0;
+}
+
+/* A NamedMaterial whose name the whole scene never defines is an error at
+ * its line, as in pbrt-v4; in check mode with files missing the name may
+ * be defined in one of them, so it is not. */
+static int finish_named_materials(Parser *p)
+{
+    if (files_missing(p))
+        return 0;
     for (size_t i = 0; i < p->named_count; ++i)
         if (!p->named[i].defined)
             return scene_error(&p->diag, p->named[i].file, p->named[i].line,
@@ -2317,7 +2327,9 @@ static int shape_alpha(Parser *p, ParamList *params, float *alpha, int *texture)
         if (strcmp(param->name, "alpha") != 0)
             continue;
         if (param->type == PARAM_TEXTURE)
-            return scene_texture_param(&p->diag, p->scene, params, "alpha", 0, texture) < 0 ? -1 : 0;
+            return scene_texture_param_late(&p->diag, p->scene, &p->texture_capacity, params, "alpha", 0, texture) < 0
+                       ? -1
+                       : 0;
         if (params_get_float(params, "alpha", alpha) < 0)
             return -1;
         if (!isfinite(*alpha))
@@ -2712,6 +2724,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
         result = finish_instances(&p);
     if (result == 0)
         result = finish_named_materials(&p);
+    if (result == 0)
+        result = scene_texture_finish(&p.diag, scene, files_missing(&p));
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);

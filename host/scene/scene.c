@@ -25,6 +25,7 @@ void scene_destroy(Scene *scene)
         free(scene->textures[i].name);
         free(scene->textures[i].filename);
         free(scene->textures[i].origin);
+        free(scene->textures[i].use_parameter);
     }
     free(scene->textures);
     free(scene->shapes);

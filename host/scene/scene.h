@@ -218,6 +218,15 @@ typedef struct {
     int invert;
     int single_level; /* a normal map: bilinear on the image itself, as pbrt-v4 reads one */
     char *origin;     /* "file:line" of the directive, for messages */
+    /* A name a material or shape used before its Texture directive: pbrt-v4
+     * binds those once the whole scene is read, so it gets this placeholder,
+     * which the directive of that name and kind fills in. Until then origin
+     * is the first use's owner (`Material "diffuse"`), use_parameter its
+     * parameter, at use_file:use_line (valid while the scene is read). */
+    int placeholder;
+    char *use_parameter;
+    const char *use_file;
+    int use_line;
 } SceneTexture;
 
 typedef enum {

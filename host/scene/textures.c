@@ -13,14 +13,25 @@
 #include <string.h>
 #include <strings.h>
 
-/* The latest texture of that name and kind, or -1. */
-static int find_texture(const Scene *scene, const char *name, int is_spectrum)
+/* The latest texture of that name and kind, or -1; a placeholder
+ * (scene_texture_param_late) counts only with `placeholders`. */
+static int find_texture_or_placeholder(const Scene *scene, const char *name, int is_spectrum, int placeholders)
 {
     for (size_t i = scene->texture_count; i-- > 0;)
-        if (scene->textures[i].is_spectrum == is_spectrum && strcmp(scene->textures[i].name, name) == 0)
+        if (scene->textures[i].is_spectrum == is_spectrum && strcmp(scene->textures[i].name, name) == 0 &&
+            (placeholders || !scene->textures[i].placeholder))
             return (int)i;
     return -1;
 }
+
+/* The latest Texture directive of that name and kind, or -1. */
+static int find_texture(const Scene *scene, const char *name, int is_spectrum)
+{
+    return find_texture_or_placeholder(scene, name, is_spectrum, 0);
+}
+
+static int add_texture(Scene *scene, size_t *capacity, SceneTexture *t);
+static void free_texture(SceneTexture *t);
 
 /* The nodes a texture's program has: itself and its inputs' (repeated). */
 static int program_nodes(const Scene *scene, int texture)
@@ -32,8 +43,22 @@ static int program_nodes(const Scene *scene, int texture)
     return nodes;
 }
 
-int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
-                        int *texture)
+/* The error for a parameter of `owner` naming no texture of its kind. */
+static int undefined_texture(Diagnostics *diag, const Scene *scene, const char *file, int line, const char *owner,
+                             const char *parameter, const char *texture_name, int is_spectrum)
+{
+    const char *kind = is_spectrum ? "spectrum" : "float";
+    if (find_texture(scene, texture_name, !is_spectrum) >= 0)
+        return scene_error(diag, file, line,
+                           "%s: parameter \"texture %s\": \"%s\" is a %s texture, \"%s\" takes a %s texture", owner,
+                           parameter, texture_name, is_spectrum ? "float" : "spectrum", parameter, kind);
+    return scene_error(diag, file, line, "%s: parameter \"texture %s\": no %s texture named \"%s\"", owner, parameter,
+                       kind, texture_name);
+}
+
+/* scene_texture_param and, with a capacity, scene_texture_param_late. */
+static int texture_param(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
+                         int is_spectrum, int *texture)
 {
     int line = 0;
     for (size_t i = 0; i < params->count; ++i)
@@ -43,16 +68,57 @@ int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params
     int taken = params_take_texture(params, name, &texture_name);
     if (taken <= 0)
         return taken;
-    *texture = find_texture(scene, texture_name, is_spectrum);
+    *texture = find_texture_or_placeholder(scene, texture_name, is_spectrum, capacity != NULL);
     if (*texture >= 0)
         return 1;
-    const char *kind = is_spectrum ? "spectrum" : "float";
-    if (find_texture(scene, texture_name, !is_spectrum) >= 0)
-        return scene_error(diag, params->file, line,
-                           "%s: parameter \"texture %s\": \"%s\" is a %s texture, \"%s\" takes a %s texture",
-                           params->owner, name, texture_name, is_spectrum ? "float" : "spectrum", name, kind);
-    return scene_error(diag, params->file, line, "%s: parameter \"texture %s\": no %s texture named \"%s\"",
-                       params->owner, name, kind, texture_name);
+    if (!capacity)
+        return undefined_texture(diag, scene, params->file, line, params->owner, name, texture_name, is_spectrum);
+    SceneTexture t;
+    memset(&t, 0, sizeof t);
+    for (int i = 0; i < 3; ++i)
+        t.input[i].texture = -1;
+    t.is_spectrum = is_spectrum;
+    t.texture_class = SCENE_TEXTURE_CONSTANT; /* 0.5, should check mode leave it unfilled */
+    t.input[0].value[0] = t.input[0].value[1] = t.input[0].value[2] = 0.5f;
+    t.placeholder = 1;
+    t.use_file = params->file;
+    t.use_line = line;
+    t.name = scene_strndup(texture_name, strlen(texture_name));
+    t.origin = scene_strndup(params->owner, strlen(params->owner));
+    t.use_parameter = scene_strndup(name, strlen(name));
+    if (!t.name || !t.origin || !t.use_parameter || add_texture(scene, capacity, &t)) {
+        free_texture(&t);
+        return scene_error(diag, params->file, line, "out of memory");
+    }
+    *texture = (int)scene->texture_count - 1;
+    return 1;
+}
+
+int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
+                        int *texture)
+{
+    /* Without a capacity nothing is added: the scene is only read. */
+    return texture_param(diag, (Scene *)scene, NULL, params, name, is_spectrum, texture);
+}
+
+int scene_texture_param_late(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
+                             int is_spectrum, int *texture)
+{
+    return texture_param(diag, scene, capacity, params, name, is_spectrum, texture);
+}
+
+int scene_texture_finish(Diagnostics *diag, Scene *scene, int files_missing)
+{
+    for (size_t i = 0; i < scene->texture_count; ++i) {
+        SceneTexture *t = &scene->textures[i];
+        if (!t->placeholder)
+            continue;
+        if (!files_missing)
+            return undefined_texture(diag, scene, t->use_file, t->use_line, t->origin, t->use_parameter, t->name,
+                                     t->is_spectrum);
+        t->use_file = NULL; /* its file's name does not outlive the parse */
+    }
+    return 0;
 }
 
 /* An input of a texture: a texture, or a constant (float, or a spectrum
@@ -198,6 +264,7 @@ static void free_texture(SceneTexture *t)
     free(t->name);
     free(t->filename);
     free(t->origin);
+    free(t->use_parameter);
 }
 
 /* The texture's fields from its class's parameters. Returns 0 or -1. */
@@ -374,11 +441,17 @@ int scene_texture_parse(Diagnostics *diag, Scene *scene, size_t *capacity, const
         free_texture(&t);
         return -1;
     }
-    if (add_texture(scene, capacity, &t)) {
+    int index = find_texture_or_placeholder(scene, name, t.is_spectrum, 1);
+    if (index >= 0 && scene->textures[index].placeholder) { /* named by a material or shape before */
+        free_texture(&scene->textures[index]);
+        scene->textures[index] = t;
+    } else if (add_texture(scene, capacity, &t)) {
         free_texture(&t);
         return scene_error(diag, params->file, line, "out of memory");
+    } else {
+        index = (int)scene->texture_count - 1;
     }
-    if (program_nodes(scene, (int)scene->texture_count - 1) > SCENE_TEXTURE_MAX_NODES)
+    if (program_nodes(scene, index) > SCENE_TEXTURE_MAX_NODES)
         return scene_error(diag, params->file, line, "%s: reaches more than %d textures through its inputs",
                            params->owner, SCENE_TEXTURE_MAX_NODES);
     return 0;

@@ -22,6 +22,18 @@ int scene_texture_parse(Diagnostics *diag, Scene *scene, size_t *capacity, const
 int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
                         int *texture);
 
+/* scene_texture_param for a material's or a shape's parameter, which
+ * pbrt-v4 binds once the whole scene is read: a name no Texture has
+ * defined yet gets a placeholder (SceneTexture.placeholder) that its
+ * Texture directive fills in later. */
+int scene_texture_param_late(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
+                             int is_spectrum, int *texture);
+
+/* Once the whole scene is read: a placeholder no Texture filled in is an
+ * error at its first use (in check mode with files missing, where the
+ * Texture may be in one of them, it stays a constant). Returns 0 or -1. */
+int scene_texture_finish(Diagnostics *diag, Scene *scene, int files_missing);
+
 /* A material's "string normalmap": an image texture of tangent-space
  * normals added to the scene, *texture its index; 0 when absent, -1 error. */
 int scene_texture_normal_map(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, int line,
