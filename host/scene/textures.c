@@ -56,23 +56,43 @@ static int undefined_texture(Diagnostics *diag, const Scene *scene, const char *
                        kind, texture_name);
 }
 
-/* scene_texture_param and, with a capacity, scene_texture_param_late. */
-static int texture_param(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
-                         int is_spectrum, int *texture)
+/* The texture parameter `name`, consumed: 1 with its texture's name and
+ * its line, 0 when it is not a texture, -1 on error. */
+static int take_texture_name(ParamList *params, const char *name, const char **texture_name, int *line)
 {
-    int line = 0;
+    *line = 0;
     for (size_t i = 0; i < params->count; ++i)
         if (params->items[i].name && strcmp(params->items[i].name, name) == 0)
-            line = params->items[i].line;
-    const char *texture_name = NULL;
-    int taken = params_take_texture(params, name, &texture_name);
+            *line = params->items[i].line;
+    *texture_name = NULL;
+    return params_take_texture(params, name, texture_name);
+}
+
+/* A texture's input naming a texture: bound as read, as pbrt-v4 creates
+ * textures in order. Returns 1 taken, 0 not a texture, -1 error. */
+static int texture_input_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name,
+                               int is_spectrum, int *texture)
+{
+    const char *texture_name;
+    int line, taken = take_texture_name(params, name, &texture_name, &line);
     if (taken <= 0)
         return taken;
-    *texture = find_texture_or_placeholder(scene, texture_name, is_spectrum, capacity != NULL);
+    *texture = find_texture(scene, texture_name, is_spectrum);
     if (*texture >= 0)
         return 1;
-    if (!capacity)
-        return undefined_texture(diag, scene, params->file, line, params->owner, name, texture_name, is_spectrum);
+    return undefined_texture(diag, scene, params->file, line, params->owner, name, texture_name, is_spectrum);
+}
+
+int scene_texture_param_late(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
+                             int is_spectrum, int *texture)
+{
+    const char *texture_name;
+    int line, taken = take_texture_name(params, name, &texture_name, &line);
+    if (taken <= 0)
+        return taken;
+    *texture = find_texture_or_placeholder(scene, texture_name, is_spectrum, 1);
+    if (*texture >= 0)
+        return 1;
     SceneTexture t;
     memset(&t, 0, sizeof t);
     for (int i = 0; i < 3; ++i)
@@ -92,19 +112,6 @@ static int texture_param(Diagnostics *diag, Scene *scene, size_t *capacity, Para
     }
     *texture = (int)scene->texture_count - 1;
     return 1;
-}
-
-int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
-                        int *texture)
-{
-    /* Without a capacity nothing is added: the scene is only read. */
-    return texture_param(diag, (Scene *)scene, NULL, params, name, is_spectrum, texture);
-}
-
-int scene_texture_param_late(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
-                             int is_spectrum, int *texture)
-{
-    return texture_param(diag, scene, capacity, params, name, is_spectrum, texture);
 }
 
 int scene_texture_finish(Diagnostics *diag, Scene *scene, int files_missing)
@@ -128,7 +135,7 @@ static int read_input(Diagnostics *diag, const Scene *scene, ParamList *params, 
 {
     input->texture = -1;
     input->value[0] = input->value[1] = input->value[2] = fallback;
-    int taken = scene_texture_param(diag, scene, params, name, is_spectrum, &input->texture);
+    int taken = texture_input_param(diag, scene, params, name, is_spectrum, &input->texture);
     if (taken != 0)
         return taken < 0 ? -1 : 0;
     if (!is_spectrum) {

@@ -15,17 +15,13 @@
 int scene_texture_parse(Diagnostics *diag, Scene *scene, size_t *capacity, const char *name, const char *type,
                         const char *texture_class, ParamList *params, float world_from_texture[4][4], int line);
 
-/* A parameter that may name a texture ("texture name" "tex"): when it
- * does, *texture is its index (a float or, with is_spectrum, a spectrum
- * texture; anything else is an error) and the parameter is consumed.
- * Returns 1 taken, 0 not a texture (read the constant), -1 error. */
-int scene_texture_param(Diagnostics *diag, const Scene *scene, ParamList *params, const char *name, int is_spectrum,
-                        int *texture);
-
-/* scene_texture_param for a material's or a shape's parameter, which
- * pbrt-v4 binds once the whole scene is read: a name no Texture has
+/* A material's or a shape's parameter that may name a texture ("texture
+ * name" "tex"): when it does, *texture is its index (a float or, with
+ * is_spectrum, a spectrum texture) and the parameter is consumed. pbrt-v4
+ * binds these once the whole scene is read, so a name no Texture has
  * defined yet gets a placeholder (SceneTexture.placeholder) that its
- * Texture directive fills in later. */
+ * Texture directive fills in later. Returns 1 taken, 0 not a texture
+ * (read the constant), -1 error. */
 int scene_texture_param_late(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, const char *name,
                              int is_spectrum, int *texture);
 
