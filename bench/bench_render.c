@@ -142,8 +142,9 @@ int main(int argc, char **argv)
             seconds[r - 1] = out.seconds;
             samples_per_second[r - 1] = samples / out.seconds;
             rays_per_second[r - 1] = (double)out.rays / out.seconds;
-            printf("run %2lu:     %.3f s  %.3f Msamples/s  %.3f Mrays/s  (%.2f rays/sample)\n", r, out.seconds,
-                   samples_per_second[r - 1] * 1e-6, rays_per_second[r - 1] * 1e-6, (double)out.rays / samples);
+            printf("run %2lu:     %.3f s  %.3f Msamples/s  %.3f Mrays/s  (%.2f rays/sample, %.3f s estimating)\n", r,
+                   out.seconds, samples_per_second[r - 1] * 1e-6, rays_per_second[r - 1] * 1e-6,
+                   (double)out.rays / samples, out.devices[0].estimate_seconds);
         }
         render_output_free(&out);
     }

@@ -481,6 +481,56 @@ KERNEL_FN int accumulate_sample(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     return accumulate_exact(accumulators, pixel, pixel_count, set_count, set, x);
 }
 
+/* Adds two finite RGB values at once: a to sum `first`, b to sum `second`
+ * (the same sum or two) of `pixel`, with one grid check, as the two
+ * accumulate_sample calls would add them exactly (a sample's deviation
+ * from the sets, value - x; or x moved from one sum to another). Returns
+ * EST_ADD_EXACT or EST_ADD_ROUNDED. */
+KERNEL_FN int accumulate_two(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
+                             uint32_t first, const float *a, uint32_t second, const float *b)
+{
+    ExactValue x[2][EST_CHANNELS];
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        x[0][c] = exact_of_float(a[c]);
+        x[1][c] = exact_of_float(b[c]);
+    }
+    const uint64_t grid = accumulators[grid_index(pixel)];
+    const int exponent = grid_exponent(grid);
+    int fits = grid != 0;
+    FixedSum values[2][EST_CHANNELS];
+    for (int k = 0; k < 2; ++k)
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            values[k][c] = value_on_grid(x[k][c], exponent, &fits);
+    if (!fits) {
+        int added = accumulate_exact(accumulators, pixel, pixel_count, set_count, first, x[0]);
+        int more = accumulate_exact(accumulators, pixel, pixel_count, set_count, second, x[1]);
+        return added > more ? added : more;
+    }
+    int too_wide = 0;
+    for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
+        /* Each value lies below 2^(EST_SUM_BITS - 1): their sum, and a sum
+         * below 2^EST_SUM_BITS plus either, cannot wrap 128 bits. */
+        if (first == second) {
+            uint64_t i = accumulator_index(first, c, 0, pixel, pixel_count);
+            FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), fixed_add(values[0][c], values[1][c]));
+            store_sum(accumulators, i, pixel_count, sum);
+            too_wide |= fixed_too_wide(sum);
+        } else {
+            for (int k = 0; k < 2; ++k) {
+                uint64_t i = accumulator_index(k ? second : first, c, 0, pixel, pixel_count);
+                FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), values[k][c]);
+                store_sum(accumulators, i, pixel_count, sum);
+                too_wide |= fixed_too_wide(sum);
+            }
+        }
+    }
+    if (!too_wide)
+        return EST_ADD_EXACT;
+    int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
+    accumulators[grid_index(pixel)] = grid + 1;
+    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
 /* Adds the squares (r^2, g^2, b^2) of one RGB sample exactly, as
  * accumulate_sample adds the sample. */
 KERNEL_FN int accumulate_square(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,

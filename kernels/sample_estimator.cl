@@ -2,19 +2,19 @@
  * one work item per pixel, with the host's code (host/film/film_sample.c).
  *
  * Build options: -DEST_SAMPLE_PASSES=<mask of PASS_BIT> (the requested
- * per-sample passes), -DEST_CLAMP_LEVEL_COUNT=L and
- * -DEST_CLAMP_LEVEL_VALUES=<L floats, comma-separated> (clamp's levels);
- * with abmm, gabmm or mean-or-mon -DSAMPLE_PASSES_DOUBLE (the device needs
- * cl_khr_fp64), with gabmm or mean-or-mon -DEST_SETS=M (they read the set
- * sums); with zirr -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b
- * -DEST_ZIRR_KAPPA=kappa -DEST_ZIRR_EMIN=emin. */
+ * per-sample passes), -DEST_SETS=M (the render's sets: every pass reads the
+ * set sums), -DEST_CLAMP_LEVEL_COUNT=L and -DEST_CLAMP_LEVEL_VALUES=<L
+ * floats, comma-separated> (clamp's levels); with abmm, gabmm or
+ * mean-or-mon -DSAMPLE_PASSES_DOUBLE (the device needs cl_khr_fp64); with
+ * zirr -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b -DEST_ZIRR_KAPPA=kappa
+ * -DEST_ZIRR_EMIN=emin. */
 #ifdef SAMPLE_PASSES_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 #include "sample_passes.h"
 
-#ifndef EST_SAMPLE_PASSES
-#error "build with -DEST_SAMPLE_PASSES=<mask>"
+#if !defined(EST_SAMPLE_PASSES) || !defined(EST_SETS)
+#error "build with -DEST_SAMPLE_PASSES=<mask> -DEST_SETS=M"
 #endif
 #ifndef EST_CLAMP_LEVEL_COUNT
 #define EST_CLAMP_LEVEL_COUNT 0
@@ -27,8 +27,8 @@
 #endif
 
 /* Output: one buffer of RGB images, pixel-interleaved, in the order of
- * sample_image_slot of SAMPLE_PIXEL_PASSES. accumulators: the render's set sums (read by gabmm
- * and mean-or-mon only), of sets starting at sample first_sample. */
+ * sample_image_slot of SAMPLE_PIXEL_PASSES. accumulators: the render's set
+ * sums, of sets starting at sample first_sample. */
 __kernel void estimate_sample_passes(__global const ulong *state, __global const ulong *accumulators, ulong pixel_count,
                                      ulong sample_count, ulong first_sample, __global float *images)
 {
@@ -40,22 +40,15 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
         for (int i = 0; i < sample_pass_images(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass); ++i) {
             float rgb[EST_CHANNELS];
             if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
-                sample_sum_estimate(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, sample_count,
-                                    pass, i, rgb);
+                sample_sum_estimate(state, accumulators, EST_SETS, pixel, pixel_count, EST_SAMPLE_PASSES,
+                                    EST_CLAMP_LEVEL_COUNT, sample_count, pass, i, rgb);
 #ifdef SAMPLE_PASSES_DOUBLE
-#ifdef EST_SETS
             else if (pass == PASS_MEAN_OR_MON)
                 mean_or_mon_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
                                      EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, rgb);
-#endif
             else
                 moment_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
-#ifdef EST_SETS
-                                EST_SETS,
-#else
-                                1,
-#endif
-                                first_sample, sample_count, pass, rgb);
+                                EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, pass, rgb);
 #endif
             ulong slot = (ulong)sample_image_slot(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass, i);
             for (int c = 0; c < EST_CHANNELS; ++c)
@@ -63,28 +56,41 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
         }
 }
 
-/* zirr's image from the cascades (the state's zirr block) of a whole
- * width x height image (its neighbourhoods cross any split of the pixels
- * among devices), one work item a pixel; output pixel-interleaved RGB. */
-__kernel void estimate_zirr(__global const ulong *cascades, uint width, uint height, ulong sample_count,
+/* zirr's image from the cascades (the state's zirr block) and set sums of
+ * a whole width x height image (its neighbourhoods cross any split of the
+ * pixels among devices), in two steps, one work item a pixel each: the
+ * cascades' means (K RGB floats a pixel), then the image (RGB,
+ * pixel-interleaved). */
+__kernel void zirr_means(__global const ulong *cascades, __global const ulong *accumulators, ulong pixel_count,
+                         ulong sample_count, __global float *cascade_means)
+{
+    ulong pixel = get_global_id(0);
+    if (pixel >= pixel_count)
+        return;
+    zirr_pixel_means(cascades, accumulators, EST_SETS, EST_ZIRR_COUNT, pixel, pixel_count, sample_count, cascade_means);
+}
+
+__kernel void estimate_zirr(__global const float *cascade_means, uint width, uint height, ulong sample_count,
                             __global float *image)
 {
     ulong pixel = get_global_id(0);
     if (pixel >= (ulong)width * height)
         return;
     float rgb[EST_CHANNELS];
-    zirr_estimate(cascades, (uint)(pixel % width), (uint)(pixel / width), width, height, EST_ZIRR_COUNT, EST_ZIRR_BASE,
-                  EST_ZIRR_KAPPA, EST_ZIRR_EMIN, sample_count, rgb);
+    zirr_estimate(cascade_means, (uint)(pixel % width), (uint)(pixel / width), width, height, EST_ZIRR_COUNT,
+                  EST_ZIRR_BASE, EST_ZIRR_KAPPA, EST_ZIRR_EMIN, sample_count, rgb);
     for (int c = 0; c < EST_CHANNELS; ++c)
         image[pixel * EST_CHANNELS + c] = rgb[c];
 }
 
-/* Drives the per-sample accumulation from a stream (tests): work item p
- * adds parts[p][i] (SampleParts as 10 floats: film RGB, direct RGB,
- * indirect RGB, weight) to pixel p, as sample first_sample + i (its set,
- * with -DEST_SETS=M, for mean-or-mon). */
-__kernel void accumulate_sample_stream(__global const float *parts, ulong stream_length, __global ulong *state,
-                                       ulong pixel_count, float direct_limit, float indirect_limit, ulong first_sample)
+/* Drives the accumulation from a stream (tests): work item p adds
+ * parts[p][i] (SampleParts as 10 floats: film RGB, direct RGB, indirect
+ * RGB, weight) to pixel p, as sample first_sample + i, to the set sums
+ * `accumulators` (EST_SETS sets) and the per-sample state, as the path
+ * tracer adds a sample. */
+__kernel void accumulate_sample_stream(__global const float *parts, ulong stream_length, __global ulong *accumulators,
+                                       __global ulong *state, ulong pixel_count, float direct_limit,
+                                       float indirect_limit, ulong first_sample)
 {
     ulong pixel = get_global_id(0);
     if (pixel >= pixel_count)
@@ -103,14 +109,11 @@ __kernel void accumulate_sample_stream(__global const float *parts, ulong stream
             s.indirect[c] = p[6 + c];
         }
         s.weight = p[9];
-#ifdef EST_SETS
         s.set = set_of_sample(first_sample + i, EST_SETS);
         s.set_count = EST_SETS;
-#else
-        s.set = 0;
-        s.set_count = 1;
-        (void)first_sample;
-#endif
+        float x[EST_CHANNELS];
+        sample_film_weighted(&s, x);
+        accumulate_sample(accumulators, pixel, pixel_count, EST_SETS, s.set, x[0], x[1], x[2]);
         sample_passes_add(state, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, levels, direct_limit,
                           indirect_limit, EST_ZIRR_COUNT, EST_ZIRR_BASE, &s);
     }

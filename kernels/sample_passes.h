@@ -27,6 +27,15 @@
  * the samples, never on devices, pass batching or pixel moves. The blocks of
  * the requested passes follow each other in one buffer of uint64 planes.
  *
+ * A sum that takes most samples as the sets do (clamp's levels, clamp-sum,
+ * zirr's cascade 0) is kept as its deviation from the set sums: the sum of
+ * value - x over the samples whose value differs from x, the sample as the
+ * sets got it (film response times weight). Its estimate is the exact total
+ * of the pixel's set sums plus that deviation (sets_plus_deviation), and a
+ * sample that no level clamps costs a comparison, not an addition. So these
+ * passes read the set sums at estimation, which every render keeps (one set
+ * at least).
+ *
  * Valid C11 and OpenCL C 1.2 (host/film/film_sample.c is the host side, the
  * reference the kernels are tested against). In the path tracer and in
  * kernels/sample_estimator.cl EST_SAMPLE_PASSES is the mask of requested
@@ -42,28 +51,38 @@
 
 /* The state's blocks, in this order, each present only when a pass that
  * needs it is requested:
- *   clamp     an accumulator of L sums (L = clamp's levels)
- *   clamp-sum an accumulator of 1 sum
- *   moments   (abmm, gabmm) the pixel's shift c, three planes (one per
- *             channel: the float's bits | SHIFT_SET), then three
- *             accumulators of 1 sum each, of d = x - c, d^2 and d^3 (each
- *             power on its own grid, as their magnitudes differ widely)
+ *   clamp     an accumulator of L deviation sums (L = clamp's levels)
+ *   clamp-sum an accumulator of 1 deviation sum
+ *   moments   (abmm, gabmm, mean-or-mon) the pixel's shift c, three
+ *             planes (one per channel: the float's bits | SHIFT_SET), then
+ *             for abmm and gabmm an accumulator of 1 sum of d^3, d = x - c;
+ *             the first moment comes from the set sums, the second from
+ *             the squares after the blocks
  *   zirr      an accumulator of K sums, sum k the cascade of scale b^k
- *             (last, so that the blocks before it do not depend on K) */
+ *             (sum 0 as a deviation; last, so that the blocks before it do
+ *             not depend on K) */
 #define SAMPLE_BLOCK_CLAMP 0
 #define SAMPLE_BLOCK_CLAMP_SUM 1
 #define SAMPLE_BLOCK_MOMENTS 2
 #define SAMPLE_BLOCK_ZIRR 3
 #define SAMPLE_BLOCKS 4
 #define SAMPLE_MOMENT_PASSES (PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM))
+#define SAMPLE_SHIFT_PASSES (SAMPLE_MOMENT_PASSES | PASS_BIT(PASS_MEAN_OR_MON))
 #define SHIFT_SET 0x100000000ul
 
-/* mean-or-mon's sums of x^2 follow the blocks above: an accumulator of M
- * sums (the render's sets, sample s in set s mod M, as its set sums), so
- * their planes depend on M, which the blocks above do not. */
+/* The sums of d^2 (d = x - c, squared exactly) follow the blocks above,
+ * shared by abmm, gabmm and mean-or-mon: an accumulator of one sum, or
+ * with mean-or-mon of M (the render's sets, sample s in set s mod M, as its
+ * set sums), so that their planes depend on M, which the blocks above do
+ * not. */
+KERNEL_FN uint32_t sample_square_count(uint32_t passes, uint32_t set_count)
+{
+    return (passes & PASS_BIT(PASS_MEAN_OR_MON)) ? set_count : 1u;
+}
+
 KERNEL_FN uint32_t sample_square_planes(uint32_t passes, uint32_t set_count)
 {
-    return (passes & PASS_BIT(PASS_MEAN_OR_MON)) ? accumulator_planes(set_count) : 0u;
+    return (passes & SAMPLE_SHIFT_PASSES) ? accumulator_planes(sample_square_count(passes, set_count)) : 0u;
 }
 
 /* Planes of a block; cascade_count (zirr's K) matters for zirr's only. */
@@ -74,7 +93,8 @@ KERNEL_FN uint32_t sample_block_planes(uint32_t passes, int level_count, int cas
     if (block == SAMPLE_BLOCK_CLAMP_SUM)
         return (passes & PASS_BIT(PASS_CLAMP_SUM)) ? accumulator_planes(1) : 0u;
     if (block == SAMPLE_BLOCK_MOMENTS)
-        return (passes & SAMPLE_MOMENT_PASSES) ? EST_CHANNELS + 3 * accumulator_planes(1) : 0u;
+        return ((passes & SAMPLE_SHIFT_PASSES) ? EST_CHANNELS : 0u) +
+               ((passes & SAMPLE_MOMENT_PASSES) ? accumulator_planes(1) : 0u);
     return (passes & PASS_BIT(PASS_ZIRR)) ? accumulator_planes((uint32_t)cascade_count) : 0u;
 }
 
@@ -130,15 +150,17 @@ KERNEL_FN void clamp_largest_component(float *rgb, float level)
     }
 }
 
-/* Cycles' rule: scaled by L / (|r| + |g| + |b|) when that exceeds L > 0. */
-KERNEL_FN void clamp_component_sum(float *rgb, float limit)
+/* Cycles' rule: scaled by L / (|r| + |g| + |b|) when that exceeds L > 0;
+ * returns whether it did. */
+KERNEL_FN int clamp_component_sum(float *rgb, float limit)
 {
     float sum = abs_float(rgb[0]) + abs_float(rgb[1]) + abs_float(rgb[2]);
-    if (limit > 0.0f && sum > limit) {
-        float scale = limit / sum;
-        for (int c = 0; c < EST_CHANNELS; ++c)
-            rgb[c] *= scale;
-    }
+    if (!(limit > 0.0f && sum > limit))
+        return 0;
+    float scale = limit / sum;
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        rgb[c] *= scale;
+    return 1;
 }
 
 /* ------------------------------------------------------------------------
@@ -219,20 +241,40 @@ KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)
     return sample_is_finite(x[0], x[1], x[2]);
 }
 
-/* The same, a non-finite one counted as 0, as the sets count it. */
-KERNEL_FN void sample_as_in_sets(const SampleParts *s, float *x)
+/* Adds value - x to deviation sum `index` of the accumulator `block` (of
+ * sum_count sums), x being the sample as the sets got it (x_finite: whether
+ * they added it; a non-finite one counts as 0 there). Nothing when the two
+ * agree bit for bit (or are both non-finite): the common case costs a
+ * comparison. Both are added exactly; returns EST_ADD_* (EST_ADD_NONFINITE
+ * for a non-finite value). */
+KERNEL_FN int accumulate_deviation(GLOBAL uint64_t *block, uint64_t pixel, uint64_t pixel_count, uint32_t sum_count,
+                                   uint32_t index, const float *value, const float *x, int x_finite)
 {
-    if (!sample_film_weighted(s, x))
-        x[0] = x[1] = x[2] = 0.0f;
+    const int value_finite = sample_is_finite(value[0], value[1], value[2]);
+    if (value_finite == x_finite &&
+        (!x_finite || (float_bits(value[0]) == float_bits(x[0]) && float_bits(value[1]) == float_bits(x[1]) &&
+                       float_bits(value[2]) == float_bits(x[2]))))
+        return value_finite ? EST_ADD_EXACT : EST_ADD_NONFINITE;
+    const float minus_x[EST_CHANNELS] = {-x[0], -x[1], -x[2]};
+    if (value_finite && x_finite)
+        return accumulate_two(block, pixel, pixel_count, sum_count, index, value, index, minus_x);
+    if (x_finite) {
+        int added = accumulate_sample(block, pixel, pixel_count, sum_count, index, minus_x[0], minus_x[1], minus_x[2]);
+        return added > EST_ADD_NONFINITE ? added : EST_ADD_NONFINITE;
+    }
+    return accumulate_sample(block, pixel, pixel_count, sum_count, index, value[0], value[1], value[2]);
 }
 
-/* Adds one sample to the per-sample state of `pixel`. Returns EST_ADD_*
- * (the worst of its sums: non-finite samples are added to none). */
+/* Adds one sample to the per-sample state of `pixel` (the caller adds it
+ * to the set sums: accumulate_sample of sample_film_weighted). Returns
+ * EST_ADD_* (the worst of its sums: non-finite samples are added to none). */
 KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
                                 int level_count, const float *levels, float direct_limit, float indirect_limit,
                                 int cascade_count, float cascade_base, const SampleParts *s)
 {
     int result = EST_ADD_EXACT;
+    float x[EST_CHANNELS];
+    const int x_finite = sample_film_weighted(s, x);
     if (passes & PASS_BIT(PASS_CLAMP)) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_CLAMP) * pixel_count;
@@ -241,79 +283,250 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
             for (int c = 0; c < EST_CHANNELS; ++c)
                 rgb[c] = s->film[c];
             clamp_largest_component(rgb, levels[level]);
-            int added = accumulate_sample(block, pixel, pixel_count, (uint32_t)level_count, (uint32_t)level,
-                                          rgb[0] * s->weight, rgb[1] * s->weight, rgb[2] * s->weight);
+            for (int c = 0; c < EST_CHANNELS; ++c)
+                rgb[c] *= s->weight;
+            int added = accumulate_deviation(block, pixel, pixel_count, (uint32_t)level_count, (uint32_t)level, rgb, x,
+                                             x_finite);
             result = added > result ? added : result;
         }
     }
     if (passes & PASS_BIT(PASS_CLAMP_SUM)) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_CLAMP_SUM) * pixel_count;
-        float direct[EST_CHANNELS], indirect[EST_CHANNELS];
+        float direct[EST_CHANNELS], indirect[EST_CHANNELS], value[EST_CHANNELS];
         for (int c = 0; c < EST_CHANNELS; ++c) {
             direct[c] = s->direct[c];
             indirect[c] = s->indirect[c];
         }
-        clamp_component_sum(direct, direct_limit);
-        clamp_component_sum(indirect, indirect_limit);
-        int added = accumulate_sample(block, pixel, pixel_count, 1u, 0u, (direct[0] + indirect[0]) * s->weight,
-                                      (direct[1] + indirect[1]) * s->weight, (direct[2] + indirect[2]) * s->weight);
+        /* Neither part clamped: the sample itself (its parts add up to it
+         * but for rounding). */
+        const int clamped = clamp_component_sum(direct, direct_limit) | clamp_component_sum(indirect, indirect_limit);
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            value[c] = clamped ? (direct[c] + indirect[c]) * s->weight : x[c];
+        int added = accumulate_deviation(block, pixel, pixel_count, 1u, 0u, value, x, x_finite);
         result = added > result ? added : result;
     }
-    if (passes & SAMPLE_MOMENT_PASSES) {
+    if (passes & SAMPLE_SHIFT_PASSES) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
-        float x[EST_CHANNELS], d[3][EST_CHANNELS];
-        sample_as_in_sets(s, x);
+        float d[EST_CHANNELS], cube[EST_CHANNELS];
         for (int c = 0; c < EST_CHANNELS; ++c) {
             /* The pixel's first sample is its shift: the moments about it do
-             * not cancel as raw moments would (a pixel of 1e6 +- 1e3). */
+             * not cancel as raw moments would (a pixel of 1e6 +- 1e3). A
+             * non-finite sample is 0, as in the sets. */
+            const float value = x_finite ? x[c] : 0.0f;
             uint64_t shift = block[(uint64_t)c * pixel_count + pixel];
             if (!(shift & SHIFT_SET)) {
-                shift = SHIFT_SET | float_bits(x[c]);
+                shift = SHIFT_SET | float_bits(value);
                 block[(uint64_t)c * pixel_count + pixel] = shift;
             }
-            d[0][c] = x[c] - float_from_bits((uint32_t)shift);
-            d[1][c] = d[0][c] * d[0][c];
-            d[2][c] = d[1][c] * d[0][c];
+            d[c] = value - float_from_bits((uint32_t)shift);
+            cube[c] = d[c] * d[c] * d[c];
         }
-        for (int k = 0; k < 3; ++k) {
-            GLOBAL uint64_t *power = block + (uint64_t)(EST_CHANNELS + k * accumulator_planes(1)) * pixel_count;
-            int added = accumulate_sample(power, pixel, pixel_count, 1u, 0u, d[k][0], d[k][1], d[k][2]);
+        if (passes & SAMPLE_MOMENT_PASSES) {
+            int added = accumulate_sample(block + (uint64_t)EST_CHANNELS * pixel_count, pixel, pixel_count, 1u, 0u,
+                                          cube[0], cube[1], cube[2]);
             result = added > result ? added : result;
         }
+        GLOBAL uint64_t *squares =
+            state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+        const int per_set = (passes & PASS_BIT(PASS_MEAN_OR_MON)) != 0;
+        int added = accumulate_square(squares, pixel, pixel_count, per_set ? s->set_count : 1u, per_set ? s->set : 0u,
+                                      d[0], d[1], d[2]);
+        result = added > result ? added : result;
     }
     if (passes & PASS_BIT(PASS_ZIRR)) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
-        float x[EST_CHANNELS];
-        if (!sample_film_weighted(s, x))
+        if (!x_finite)
             return EST_ADD_NONFINITE > result ? EST_ADD_NONFINITE : result;
-        /* One luminance splits all three channels: colours are kept. */
-        ZirrSplit split = zirr_split(v_luminance(vec3(x[0], x[1], x[2])), cascade_count, cascade_base);
-        const float weights[2] = {split.weight_lower, split.weight_upper};
-        for (int k = 0; k < 2; ++k) {
-            if (weights[k] == 0.0f)
-                continue;
-            int added =
-                accumulate_sample(block, pixel, pixel_count, (uint32_t)cascade_count, (uint32_t)(split.lower + k),
-                                  x[0] * weights[k], x[1] * weights[k], x[2] * weights[k]);
-            result = added > result ? added : result;
+        /* One luminance splits all three channels: colours are kept.
+         * Cascade 0 is the sets' total plus its deviation: a sample it
+         * keeps whole costs nothing, one split between cascades 0 and 1
+         * moves its part v = x w_1 up (cascade 0 keeps x - v: the parts add
+         * up to x exactly), and one above gives cascade 0 -x. */
+        const ZirrSplit split = zirr_split(v_luminance(vec3(x[0], x[1], x[2])), cascade_count, cascade_base);
+        float lower[EST_CHANNELS], upper[EST_CHANNELS];
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            lower[c] = x[c] * split.weight_lower;
+            upper[c] = x[c] * split.weight_upper;
         }
-    }
-    if (passes & PASS_BIT(PASS_MEAN_OR_MON)) {
-        GLOBAL uint64_t *squares =
-            state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
-        float x[EST_CHANNELS];
-        sample_as_in_sets(s, x);
-        int added = accumulate_square(squares, pixel, pixel_count, s->set_count, s->set, x[0], x[1], x[2]);
+        const float minus_upper[EST_CHANNELS] = {-upper[0], -upper[1], -upper[2]};
+        const float minus_x[EST_CHANNELS] = {-x[0], -x[1], -x[2]};
+        const uint32_t count = (uint32_t)cascade_count, next = (uint32_t)split.lower + 1;
+        int added = EST_ADD_EXACT;
+        if (split.lower == 0 && split.weight_lower > 0.0f) {
+            if (split.weight_upper > 0.0f)
+                added = accumulate_two(block, pixel, pixel_count, count, 0u, minus_upper, 1u, upper);
+        } else if (split.weight_lower > 0.0f) {
+            added = accumulate_two(block, pixel, pixel_count, count, 0u, minus_x, (uint32_t)split.lower, lower);
+            if (split.weight_upper > 0.0f) {
+                int more = accumulate_sample(block, pixel, pixel_count, count, next, upper[0], upper[1], upper[2]);
+                added = more > added ? more : added;
+            }
+        } else {
+            added = accumulate_two(block, pixel, pixel_count, count, 0u, minus_x, next, upper);
+        }
         result = added > result ? added : result;
     }
     return result;
 }
 
+/* ------------------------------------------------------------------------
+ * The exact total of a pixel's set sums plus a deviation sum: each on its
+ * own grid, added as 256-bit integers on the finer grid (the set totals
+ * stay below 2^132 units, a sum below 2^127), then rounded once. Grids more
+ * than WIDE_GRID_SPAN bits apart (never met in practice: the deviations'
+ * values are the samples' own, scaled) put the finer operands on the
+ * coarser grid less WIDE_GRID_SPAN, rounded: still the same bits on every
+ * device.
+ * ---------------------------------------------------------------------- */
+#define WIDE_GRID_SPAN 120
+
+typedef struct {
+    uint64_t word[4]; /* two's complement, word 0 lowest */
+    int exponent;     /* the units: 2^exponent */
+} WideSum;
+
+/* Adds v (4 words, two's complement) times 2^shift, shift in
+ * 0..WIDE_GRID_SPAN, to s. */
+KERNEL_FN void wide_add_shifted(WideSum *s, const uint64_t *v, int shift)
+{
+    const int words = shift / 64, bits = shift % 64;
+    uint64_t carry = 0;
+    for (int i = 0; i < 4; ++i) {
+        uint64_t here = i - words >= 0 ? v[i - words] : 0u;
+        uint64_t below = i - words - 1 >= 0 ? v[i - words - 1] : 0u;
+        uint64_t w = bits ? (here << bits) | (below >> (64 - bits)) : here;
+        uint64_t sum = s->word[i] + w;
+        uint64_t next = sum < w ? 1u : 0u;
+        sum += carry;
+        next += sum < carry ? 1u : 0u;
+        s->word[i] = sum;
+        carry = next;
+    }
+}
+
+/* Adds v, a sum in units of 2^v_exponent, to s (rounded onto s's grid if
+ * that is coarser). */
+KERNEL_FN void wide_add(WideSum *s, FixedSum v, int v_exponent)
+{
+    int shift = v_exponent - s->exponent, inexact = 0;
+    if (shift < 0) {
+        v = fixed_shift_right_rounded(v, -shift, &inexact);
+        shift = 0;
+    }
+    const uint64_t sign = (uint64_t)((int64_t)v.hi >> 63);
+    const uint64_t words[4] = {v.lo, v.hi, sign, sign};
+    wide_add_shifted(s, words, shift);
+}
+
+/* The magnitude of s as window 2^*exponent, window the 64 bits from its
+ * leading one with a sticky bit for the rest (so that converting it rounds
+ * as the whole would); returns whether s is negative. 0 gives window 0. */
+KERNEL_FN int wide_window(WideSum s, uint64_t *window, int *exponent)
+{
+    const int negative = (int)(s.word[3] >> 63);
+    if (negative) { /* magnitude: ~s + 1 */
+        uint64_t carry = 1;
+        for (int i = 0; i < 4; ++i) {
+            s.word[i] = ~s.word[i] + carry;
+            carry = carry && s.word[i] == 0 ? 1u : 0u;
+        }
+    }
+    int top = 3;
+    while (top > 0 && s.word[top] == 0)
+        --top;
+    const int zeros = s.word[top] != 0 ? leading_zeros64(s.word[top]) : 0;
+    const uint64_t below = top > 0 ? s.word[top - 1] : 0u;
+    uint64_t rest = zeros ? below << zeros : below;
+    for (int i = 0; i < top - 1; ++i)
+        rest |= s.word[i];
+    *window = (zeros ? (s.word[top] << zeros) | (below >> (64 - zeros)) : s.word[top]) | (rest != 0 ? 1u : 0u);
+    *exponent = s.exponent + 64 * top - zeros; /* the window's top bit is the leading one's */
+    return negative;
+}
+
+/* The value of s as f 2^*exponent, f correctly rounded; a value that fits
+ * 128 bits converts as fixed_to_float converts a sum, so that a set total
+ * without deviation keeps its own bits. */
+KERNEL_FN float wide_to_float(WideSum s, int *exponent)
+{
+    const uint64_t sign = (uint64_t)((int64_t)s.word[1] >> 63);
+    if (s.word[2] == sign && s.word[3] == sign) {
+        *exponent = s.exponent;
+        return fixed_to_float_lanes(s.word[0], s.word[1]);
+    }
+    uint64_t window;
+    const int negative = wide_window(s, &window, exponent);
+    return negative ? -(float)window : (float)window;
+}
+
+/* Channel c of `pixel`: the sum of its set_count set sums plus sum `index`
+ * of the deviation accumulator `deviations` (NULL: none), exactly. */
+KERNEL_FN WideSum sets_plus_deviation(GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                      GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
+                                      uint64_t pixel_count, int c)
+{
+    WideSum s;
+    for (int i = 0; i < 4; ++i)
+        s.word[i] = 0;
+    const uint64_t set_grid = accumulators[grid_index(pixel)];
+    const uint64_t deviation_grid = deviations ? deviations[grid_index(pixel)] : 0u;
+    const int e_sets = grid_exponent(set_grid), e_deviation = grid_exponent(deviation_grid);
+    if (set_grid && deviation_grid) {
+        const int finer = e_sets < e_deviation ? e_sets : e_deviation;
+        const int coarser = e_sets < e_deviation ? e_deviation : e_sets;
+        s.exponent = coarser - finer > WIDE_GRID_SPAN ? coarser - WIDE_GRID_SPAN : finer;
+    } else {
+        s.exponent = set_grid ? e_sets : e_deviation;
+    }
+    if (set_grid && e_sets >= s.exponent) {
+        /* The common case: the sets' total on their own grid first (below
+         * 2^132: a third word takes the carries), then placed once. */
+        uint64_t total[4] = {0u, 0u, 0u, 0u};
+        for (uint32_t j = 0; j < set_count; ++j) {
+            FixedSum v = load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count);
+            uint64_t lo = total[0] + v.lo;
+            uint64_t carry = lo < v.lo ? 1u : 0u;
+            uint64_t hi = total[1] + v.hi;
+            uint64_t next = hi < v.hi ? 1u : 0u;
+            hi += carry;
+            next += hi < carry ? 1u : 0u;
+            total[0] = lo;
+            total[1] = hi;
+            total[2] += next + (uint64_t)((int64_t)v.hi >> 63);
+        }
+        total[3] = (uint64_t)((int64_t)total[2] >> 63);
+        wide_add_shifted(&s, total, e_sets - s.exponent);
+    } else if (set_grid) {
+        for (uint32_t j = 0; j < set_count; ++j)
+            wide_add(&s, load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
+                     e_sets);
+    }
+    if (deviation_grid)
+        wide_add(&s, load_sum(deviations, accumulator_index(index, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
+                 e_deviation);
+    return s;
+}
+
+/* The mean over n samples (0 for n = 0) of sets_plus_deviation, as the
+ * mean of a render of one set computes it from its sum (so that clamp at
+ * V = INFINITY, no deviation, equals that mean bit for bit). */
+KERNEL_FN void sets_plus_deviation_mean(GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                        GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
+                                        uint64_t pixel_count, uint64_t n, float *rgb)
+{
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        int exponent;
+        float sum = wide_to_float(
+            sets_plus_deviation(accumulators, set_count, deviations, index, pixel, pixel_count, c), &exponent);
+        rgb[c] = scale_by_grid(n > 0 ? sum / (float)n : 0.0f, exponent);
+    }
+}
+
 /* Sum `index` of the accumulator `block` at `pixel` divided by n (0 for
- * n = 0), as the mean of a render of one set computes it. */
+ * n = 0), as sets_plus_deviation_mean without the sets. */
 KERNEL_FN void accumulator_mean(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, uint32_t index,
                                 uint64_t n, float *rgb)
 {
@@ -327,21 +540,46 @@ KERNEL_FN void accumulator_mean(GLOBAL const uint64_t *block, uint64_t pixel, ui
 }
 
 /* Image `index` of clamp or clamp-sum at `pixel` after sample_count
- * samples: the sum's mean, as the mean of a render of one set computes it
- * (so that clamp at V = INFINITY equals that mean bit for bit). */
-KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+ * samples, from its deviation and the render's set sums (set_count sets). */
+KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                   uint32_t set_count, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
                                    int level_count, uint64_t sample_count, int pass, int index, float *rgb)
 {
     GLOBAL const uint64_t *block =
         state + (uint64_t)sample_block_first_plane(passes, level_count,
                                                    pass == PASS_CLAMP ? SAMPLE_BLOCK_CLAMP : SAMPLE_BLOCK_CLAMP_SUM) *
                     pixel_count;
-    accumulator_mean(block, pixel, pixel_count, (uint32_t)index, sample_count, rgb);
+    sets_plus_deviation_mean(accumulators, set_count, block, (uint32_t)index, pixel, pixel_count, sample_count, rgb);
+}
+
+/* zirr's cascade k at `pixel`: its sum / n (cascade 0 with the set sums). */
+KERNEL_FN void zirr_cascade_mean(GLOBAL const uint64_t *block, GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                 int k, uint64_t pixel, uint64_t pixel_count, uint64_t n, float *rgb)
+{
+    if (k == 0)
+        sets_plus_deviation_mean(accumulators, set_count, block, 0u, pixel, pixel_count, n, rgb);
+    else
+        accumulator_mean(block, pixel, pixel_count, (uint32_t)k, n, rgb);
+}
+
+/* The first step of zirr's estimate: the cascades' means B_k of `pixel`
+ * (zirr_cascade_mean), K RGB triples at cascade_means + pixel K 3, so that
+ * the neighbourhoods read each pixel's once. */
+KERNEL_FN void zirr_pixel_means(GLOBAL const uint64_t *block, GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                int cascade_count, uint64_t pixel, uint64_t pixel_count, uint64_t n,
+                                GLOBAL float *cascade_means)
+{
+    for (int k = 0; k < cascade_count; ++k) {
+        float mean[EST_CHANNELS];
+        zirr_cascade_mean(block, accumulators, set_count, k, pixel, pixel_count, n, mean);
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            cascade_means[(pixel * (uint64_t)cascade_count + (uint64_t)k) * EST_CHANNELS + c] = mean[c];
+    }
 }
 
 /* zirr's estimate at pixel (x, y) of a width x height image after n
- * samples a pixel, from the cascades' means B_k (sum / n); `block` is
- * the state's zirr block (an accumulator of K sums) of the whole image. With
+ * samples a pixel, from the cascades' means B_k (sum / n) of the whole
+ * image (zirr_pixel_means of every pixel). With
  * c_k = lum(B_k) n / s_k the estimated count of samples in cascade k (at
  * the pixel, or averaged over its 3x3 neighbourhood, clamped to the
  * image's edge), cascade i's reliability from counting is
@@ -351,10 +589,9 @@ KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, uint64_t pixel,
  * P = sum_{k<i} r_k B_k (the estimate of the cascades below) and
  * f = (0.4 + 0.6 b) (1 - t) + t, t = min(1, 1 / kappa); r_i is their mean
  * clamped to [0, 1], and the estimate is P after the last cascade. */
-KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *block, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
+KERNEL_FN void zirr_estimate(GLOBAL const float *cascade_means, uint32_t x, uint32_t y, uint32_t width, uint32_t height,
                              int cascade_count, float base, float kappa, float emin, uint64_t n, float *rgb)
 {
-    const uint64_t pixel_count = (uint64_t)width * height;
     const float samples = (float)n;
     float means[EST_ZIRR_CASCADES_MAX][EST_CHANNELS], center[EST_ZIRR_CASCADES_MAX], hood[EST_ZIRR_CASCADES_MAX];
     for (int k = 0; k < cascade_count; ++k) {
@@ -365,11 +602,15 @@ KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *block, uint32_t x, uint32_t 
                 int64_t qx = (int64_t)x + dx, qy = (int64_t)y + dy;
                 qx = qx < 0 ? 0 : (qx >= (int64_t)width ? (int64_t)width - 1 : qx);
                 qy = qy < 0 ? 0 : (qy >= (int64_t)height ? (int64_t)height - 1 : qy);
-                float mean[EST_CHANNELS];
-                accumulator_mean(block, (uint64_t)qy * width + (uint64_t)qx, pixel_count, (uint32_t)k, n, mean);
+                GLOBAL const float *mean =
+                    cascade_means +
+                    (((uint64_t)qy * width + (uint64_t)qx) * (uint64_t)cascade_count + k) * EST_CHANNELS;
                 around += v_luminance(vec3(mean[0], mean[1], mean[2]));
             }
-        accumulator_mean(block, (uint64_t)y * width + x, pixel_count, (uint32_t)k, n, means[k]);
+        GLOBAL const float *mean =
+            cascade_means + (((uint64_t)y * width + x) * (uint64_t)cascade_count + k) * EST_CHANNELS;
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            means[k][c] = mean[c];
         center[k] = v_luminance(vec3(means[k][0], means[k][1], means[k][2])) * samples / scale;
         hood[k] = around / 9.0f * samples / scale;
     }
@@ -400,11 +641,10 @@ KERNEL_FN void zirr_estimate(GLOBAL const uint64_t *block, uint32_t x, uint32_t 
 }
 
 #ifdef SAMPLE_PASSES_DOUBLE
-/* Only gabmm and mean-or-mon use it; in a kernel it needs -DEST_SETS
- * (abmm alone has none). */
-#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
+/* gabmm's and mean-or-mon's set-based parts; in a kernel it needs
+ * -DEST_SETS (the sample estimator always has it: every pass reads the
+ * set sums). */
 #include "estimators.h"
-#endif
 
 /* ------------------------------------------------------------------------
  * abmm and gabmm: the moments in double (a kernel needs cl_khr_fp64), with
@@ -448,29 +688,61 @@ typedef struct {
     double third;  /* m3 = mean of (x - mu)^3 */
 } PixelMoments;
 
-/* Channel c's mean and central moments after n samples, from the moments
- * about the shift: with a = mean(d), m2 = mean(d^2) - a^2, m3 = mean(d^3)
- * - 3 a mean(d^2) + 2 a^3; they cancel only as far as the shift is from the
- * mean, not as far as the mean is from 0. */
-KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count,
-                                      uint32_t passes, int level_count, uint64_t n, int c)
+/* The exact total of channel c's set sums (set_count sets) as a double
+ * (one rounding). */
+KERNEL_FN double sets_total(GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                            uint64_t pixel_count, int c)
+{
+    uint64_t window;
+    int exponent;
+    const int negative =
+        wide_window(sets_plus_deviation(accumulators, set_count, 0, 0u, pixel, pixel_count, c), &window, &exponent);
+    const double total = (double)window * double_power_of_two(exponent);
+    return negative ? -total : total;
+}
+
+/* The pixel's squares (sample_square_planes) within its state. */
+KERNEL_FN GLOBAL const uint64_t *sample_squares(GLOBAL const uint64_t *state, uint64_t pixel_count, uint32_t passes,
+                                                int level_count, int cascade_count)
+{
+    return state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+}
+
+/* Channel c's shift (the pixel's first sample). */
+KERNEL_FN double sample_shift(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                              int level_count, int c)
 {
     GLOBAL const uint64_t *block =
         state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
+    return (double)float_from_bits((uint32_t)block[(uint64_t)c * pixel_count + pixel]);
+}
+
+/* Channel c's mean and central moments after n samples: the mean mu from
+ * the set sums (set_count sets), the others from the moments about the
+ * shift: with a = mu - c, m2 = mean(d^2) - a^2, m3 = mean(d^3) - 3 a
+ * mean(d^2) + 2 a^3; they cancel only as far as the shift is from the mean,
+ * not as far as the mean is from 0. */
+KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                      uint32_t set_count, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                      int level_count, int cascade_count, uint64_t n, int c)
+{
     PixelMoments m;
     m.mean = m.second = m.third = 0.0;
     if (n == 0)
         return m;
     const double count = (double)n;
-    double shift = (double)float_from_bits((uint32_t)block[(uint64_t)c * pixel_count + pixel]);
-    double s[3];
-    for (int k = 0; k < 3; ++k)
-        s[k] = moment_sum(block + (uint64_t)(EST_CHANNELS + k * accumulator_planes(1)) * pixel_count, pixel,
-                          pixel_count, c) /
-               count;
-    m.mean = shift + s[0];
-    m.second = s[1] - s[0] * s[0];
-    m.third = s[2] - 3.0 * s[0] * s[1] + 2.0 * s[0] * s[0] * s[0];
+    GLOBAL const uint64_t *cubes =
+        state +
+        ((uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) + EST_CHANNELS) * pixel_count;
+    GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
+    double square_sum = 0.0;
+    for (uint32_t j = 0; j < sample_square_count(passes, set_count); ++j)
+        square_sum += accumulator_sum(squares, j, pixel, pixel_count, c);
+    const double second = square_sum / count, third = moment_sum(cubes, pixel, pixel_count, c) / count;
+    m.mean = sets_total(accumulators, set_count, pixel, pixel_count, c) / count;
+    const double a = m.mean - sample_shift(state, pixel, pixel_count, passes, level_count, c);
+    m.second = second - a * a;
+    m.third = third - 3.0 * a * second + 2.0 * a * a * a;
     return m;
 }
 
@@ -483,7 +755,6 @@ KERNEL_FN float abmm_of_moments(PixelMoments m, uint64_t n, double alpha)
     return (float)(m.mean - m.third / (3.0 * m.second * ((double)n * alpha + 2.0)));
 }
 
-#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
 /* gabmm's Gbar: the mean of the channels' Gini coefficients of the set
  * means (estimators.h's G), from the render's set sums (set_count sets,
  * sample s of [first_sample, first_sample + n) in set s mod set_count). */
@@ -510,37 +781,31 @@ KERNEL_FN float sets_mean_gini(GLOBAL const uint64_t *accumulators, uint64_t pix
     }
     return total / 3.0f;
 }
-#endif
 
 /* abmm (alpha = 1) or gabmm (alpha = 1 - Gbar) of a pixel, per channel. */
 KERNEL_FN void moment_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
-                               uint64_t pixel_count, uint32_t passes, int level_count, uint32_t set_count,
-                               uint64_t first_sample, uint64_t n, int pass, float *rgb)
+                               uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
+                               uint32_t set_count, uint64_t first_sample, uint64_t n, int pass, float *rgb)
 {
     double alpha = 1.0;
-#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
     if (pass == PASS_GABMM)
         alpha = 1.0 - (double)sets_mean_gini(accumulators, pixel, pixel_count, set_count, first_sample, n);
-#else
-    (void)accumulators;
-    (void)set_count;
-    (void)first_sample;
-#endif
     for (int c = 0; c < EST_CHANNELS; ++c)
-        rgb[c] = abmm_of_moments(sample_moments(state, pixel, pixel_count, passes, level_count, n, c), n, alpha);
+        rgb[c] = abmm_of_moments(sample_moments(state, accumulators, set_count, pixel, pixel_count, passes, level_count,
+                                                cascade_count, n, c),
+                                 n, alpha);
 }
 
-#if !defined(__OPENCL_C_VERSION__) || defined(EST_SETS)
 /* ------------------------------------------------------------------------
  * mean-or-mon (the authors' MeanOrMON): per channel the 95 % confidence
  * half-widths 1.96 s / sqrt(n) of the mean (s from every sample of the
  * pixel) and of the median set's mean (s and n of that set; even m: the
  * middle pair's averaged), each averaged over the channels; the pixel is
  * the mean where the mean's is no larger, else MoN. s^2 is the sample
- * variance (1/(n - 1)), from the exact sums of x and x^2 in double:
- * (Q - S^2 / n) / (n - 1), which loses to cancellation about log2(mean^2 /
- * s^2) of double's 53 bits (1e6 with s = 1e3: 20 bits lost, 1e-10
- * relative left).
+ * variance (1/(n - 1)) about the pixel's shift c (its first sample):
+ * (Q - D^2 / n) / (n - 1) in double from D, the sum of d = x - c (the
+ * exact set sums less n c), and Q, the exact sum of d^2, which loses to
+ * cancellation only about log2((mean - c)^2 / s^2) of double's 53 bits.
  * ---------------------------------------------------------------------- */
 
 /* sqrt(x) for double x >= 0 without library sqrt: x = 4^h f with f in
@@ -588,11 +853,12 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
     *mean_width = *mon_width = 0.0;
     if (n < 2u * set_count)
         return 0;
-    GLOBAL const uint64_t *squares =
-        state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+    GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
     const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
     const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
     for (int c = 0; c < EST_CHANNELS; ++c) {
+        /* Sums of d = x - c and d^2 by set: d's from the set sums. */
+        const double shift = sample_shift(state, pixel, pixel_count, passes, level_count, c);
         double sums[EST_CAPACITY], squares_of_set[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
         float means[EST_CAPACITY];
         uint64_t counts[EST_CAPACITY];
@@ -601,21 +867,26 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
             uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
             /* Ranked as MoN ranks them: the float set means. */
             means[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)counts[j];
-            sums[j] = accumulator_sum(accumulators, j, pixel, pixel_count, c);
+            sums[j] = accumulator_sum(accumulators, j, pixel, pixel_count, c) - (double)counts[j] * shift;
             sum += sums[j];
             squares_of_set[j] = accumulator_sum(squares, j, pixel, pixel_count, c);
             sum_squares += squares_of_set[j];
         }
         *mean_width += confidence_half_width(sum, sum_squares, n);
-        /* The median set(s): rank = the sets below, ties by set index. */
-        double median_width = 0.0;
+        /* The median set(s): the sets ordered by mean, ties by set index
+         * (a stable insertion sort of their indices). */
+        uint32_t order[EST_CAPACITY];
         for (uint32_t j = 0; j < set_count; ++j) {
-            uint32_t rank = 0;
-            for (uint32_t i = 0; i < set_count; ++i)
-                rank += means[i] < means[j] || (means[i] == means[j] && i < j) ? 1u : 0u;
-            if (rank == low_rank || rank == high_rank)
-                median_width +=
-                    confidence_half_width(sums[j], squares_of_set[j], counts[j]) / (low_rank == high_rank ? 1.0 : 2.0);
+            uint32_t k = j;
+            for (; k > 0 && means[order[k - 1]] > means[j]; --k)
+                order[k] = order[k - 1];
+            order[k] = j;
+        }
+        double median_width = 0.0;
+        for (uint32_t rank = low_rank; rank <= high_rank; ++rank) {
+            const uint32_t j = order[rank];
+            median_width +=
+                confidence_half_width(sums[j], squares_of_set[j], counts[j]) / (low_rank == high_rank ? 1.0 : 2.0);
         }
         *mon_width += median_width;
     }
@@ -655,7 +926,6 @@ KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const u
     for (int c = 0; c < EST_CHANNELS; ++c)
         rgb[c] = scale_by_grid(e.value[pass][c], exponent);
 }
-#endif
 
 #endif /* SAMPLE_PASSES_DOUBLE */
 

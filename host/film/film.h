@@ -84,6 +84,7 @@ typedef struct {
 typedef enum {
     ESTIMATOR_OK = 0,
     ESTIMATOR_INVALID_ARGUMENT = 1,
+    ESTIMATOR_OUT_OF_MEMORY = 2, /* a working buffer could not be allocated */
 } EstimatorStatus;
 
 /* Estimates every pixel from float set sums (set_sums_length >= M * 3 *

@@ -86,7 +86,7 @@ void film_sample_estimator_options(const EstimatorSettings *s, char *options, si
     size_t used = strlen(options);
     if (film_sample_needs_double(s) && used < size)
         used += (size_t)snprintf(options + used, size - used, " -DSAMPLE_PASSES_DOUBLE");
-    if (film_sample_needs_sets(s) && used < size)
+    if (used < size) /* every pass reads the set sums */
         snprintf(options + used, size - used, " -DEST_SETS=%d", s->set_count);
 }
 
@@ -127,7 +127,7 @@ int film_sample_select_film_clamp(EstimatorSettings *s, float level)
 
 void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t size)
 {
-    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "abmm/gabmm moments", "zirr"};
+    static const char *const block_names[SAMPLE_BLOCKS] = {"clamp", "clamp-sum", "shifts and sums of d^3", "zirr"};
     const uint32_t passes = film_sample_passes(s);
     size_t used = 0;
     line[0] = '\0';
@@ -147,9 +147,11 @@ void film_sample_memory_summary(const EstimatorSettings *s, char *line, size_t s
                 (size_t)snprintf(line + used, size - used, "%s%s %zu B", used ? ", " : "", block_names[block], bytes);
     }
     size_t squares = sample_square_planes(passes, (uint32_t)s->set_count) * sizeof(uint64_t);
-    if (squares && used < size)
-        snprintf(line + used, size - used, "%smean-or-mon (sums of x^2, %d sets) %zu B", used ? ", " : "", s->set_count,
-                 squares);
+    if (squares && used < size) {
+        const uint32_t count = sample_square_count(passes, (uint32_t)s->set_count);
+        snprintf(line + used, size - used, "%ssums of d^2 (%u set%s) %zu B", used ? ", " : "", count,
+                 count == 1 ? "" : "s", squares);
+    }
 }
 
 EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
@@ -158,8 +160,8 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
 {
     const uint32_t passes = film_sample_passes(s);
     const size_t planes = film_sample_planes(s);
-    if (!state || !images || state_length < planes * pixel_count || images->length < pixel_count * EST_CHANNELS ||
-        (film_sample_needs_sets(s) && !accumulators)) {
+    if (!state || !accumulators || !images || state_length < planes * pixel_count ||
+        images->length < pixel_count * EST_CHANNELS) {
         if (message && message_size)
             snprintf(message, message_size, "per-sample state, set sums or images missing or too short");
         return ESTIMATOR_INVALID_ARGUMENT;
@@ -172,14 +174,14 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
             for (size_t p = 0; p < pixel_count; ++p) {
                 float *rgb = image + ((size_t)i * pixel_count + p) * EST_CHANNELS;
                 if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
-                    sample_sum_estimate(state, p, pixel_count, passes, s->params.clamp_level_count, sample_count, pass,
-                                        i, rgb);
+                    sample_sum_estimate(state, accumulators, (uint32_t)s->set_count, p, pixel_count, passes,
+                                        s->params.clamp_level_count, sample_count, pass, i, rgb);
                 else if (pass == PASS_MEAN_OR_MON)
                     mean_or_mon_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
                                          s->params.zirr_k, (uint32_t)s->set_count, s->first_sample, sample_count, rgb);
                 else
                     moment_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
-                                    (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);
+                                    s->params.zirr_k, (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);
             }
     }
     return ESTIMATOR_OK;
@@ -198,11 +200,11 @@ size_t film_sample_zirr_planes(const EstimatorSettings *s)
 }
 
 EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *s, const uint64_t *state, size_t state_length,
-                                          uint32_t width, uint32_t height, uint64_t sample_count, float *image,
-                                          char *message, size_t message_size)
+                                          const uint64_t *accumulators, uint32_t width, uint32_t height,
+                                          uint64_t sample_count, float *image, char *message, size_t message_size)
 {
     const size_t pixel_count = (size_t)width * height;
-    if (!(film_sample_passes(s) & PASS_BIT(PASS_ZIRR)) || !state || !image || !pixel_count ||
+    if (!(film_sample_passes(s) & PASS_BIT(PASS_ZIRR)) || !state || !accumulators || !image || !pixel_count ||
         state_length < film_sample_planes(s) * pixel_count) {
         if (message && message_size)
             snprintf(message, message_size, "zirr not requested, or its state or image missing or too short");
@@ -210,16 +212,29 @@ EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *s, const uint
     }
     const EstimatorParams *p = &s->params;
     const uint64_t *cascades = film_sample_zirr_block(s, state, pixel_count);
+    float *means = malloc(pixel_count * (size_t)p->zirr_k * EST_CHANNELS * sizeof(float));
+    if (!means) {
+        if (message && message_size)
+            snprintf(message, message_size, "out of memory for zirr's cascade means");
+        return ESTIMATOR_OUT_OF_MEMORY;
+    }
+    for (size_t pixel = 0; pixel < pixel_count; ++pixel)
+        zirr_pixel_means(cascades, accumulators, (uint32_t)s->set_count, p->zirr_k, pixel, pixel_count, sample_count,
+                         means);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x)
-            zirr_estimate(cascades, x, y, width, height, p->zirr_k, p->zirr_base, p->zirr_kappa, p->zirr_emin,
+            zirr_estimate(means, x, y, width, height, p->zirr_k, p->zirr_base, p->zirr_kappa, p->zirr_emin,
                           sample_count, image + ((size_t)y * width + x) * EST_CHANNELS);
+    free(means);
     return ESTIMATOR_OK;
 }
 
-int film_sample_add(const EstimatorSettings *s, uint64_t *state, size_t pixel, size_t pixel_count,
-                    const SampleParts *sample)
+int film_sample_add(const EstimatorSettings *s, uint64_t *accumulators, uint64_t *state, size_t pixel,
+                    size_t pixel_count, const SampleParts *sample)
 {
+    float x[EST_CHANNELS];
+    sample_film_weighted(sample, x);
+    accumulate_sample(accumulators, pixel, pixel_count, sample->set_count, sample->set, x[0], x[1], x[2]);
     return sample_passes_add(state, pixel, pixel_count, film_sample_passes(s), s->params.clamp_level_count,
                              s->params.clamp_levels, s->params.clamp_sum_direct, s->params.clamp_sum_indirect,
                              s->params.zirr_k, s->params.zirr_base, sample);

@@ -34,16 +34,17 @@ int film_sample_images(const EstimatorSettings *settings);
  * (with a leading space). */
 void film_sample_build_options(const EstimatorSettings *settings, char *options, size_t size);
 
-/* The sample estimator's build options: film_sample_build_options, and
- * for abmm/gabmm/mean-or-mon -DSAMPLE_PASSES_DOUBLE, for gabmm and
- * mean-or-mon -DEST_SETS=M. */
+/* The sample estimator's build options: film_sample_build_options,
+ * -DEST_SETS=M (every pass reads the set sums), and for
+ * abmm/gabmm/mean-or-mon -DSAMPLE_PASSES_DOUBLE. */
 void film_sample_estimator_options(const EstimatorSettings *settings, char *options, size_t size);
 
 /* Whether the passes need double precision on the device (cl_khr_fp64). */
 int film_sample_needs_double(const EstimatorSettings *settings);
 
-/* Whether the passes read the set sums (gabmm's Gbar, mean-or-mon's sets):
- * the render keeps M sets for them. */
+/* Whether the passes need the render's M sets (gabmm's Gbar, mean-or-mon's
+ * sets): the render keeps them. The others read the set sums' total only
+ * (one set will do). */
 int film_sample_needs_sets(const EstimatorSettings *settings);
 
 /* The EXR layer of image `index` of `pass`: clamp-<V> (V as the shortest
@@ -60,10 +61,9 @@ void film_sample_memory_summary(const EstimatorSettings *settings, char *line, s
 int film_sample_select_film_clamp(EstimatorSettings *settings, float max_component_value);
 
 /* Estimates every requested per-sample image but zirr's from the state
- * (length >= film_sample_planes * pixel_count) into images->pass[...]
- * (those not NULL); gabmm and mean-or-mon also read the set sums
- * `accumulators` (settings' M and first sample; NULL when neither is
- * requested). */
+ * (length >= film_sample_planes * pixel_count) and the set sums
+ * `accumulators` (settings' M and first sample) into images->pass[...]
+ * (those not NULL). */
 EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
                                      const uint64_t *accumulators, size_t pixel_count, uint64_t sample_count,
                                      EstimatorImages *images, char *message, size_t message_size);
@@ -73,18 +73,19 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *settings, const ui
 const uint64_t *film_sample_zirr_block(const EstimatorSettings *settings, const uint64_t *state, size_t pixel_count);
 size_t film_sample_zirr_planes(const EstimatorSettings *settings);
 
-/* zirr's image (RGB, pixel-interleaved, width x height) from the state of
- * the whole image (pixel y * width + x; length >= film_sample_planes *
- * width * height): its neighbourhoods need every pixel's cascades, so it
- * runs once they are all gathered. */
+/* zirr's image (RGB, pixel-interleaved, width x height) from the state and
+ * set sums of the whole image (pixel y * width + x; state length >=
+ * film_sample_planes * width * height): its neighbourhoods need every
+ * pixel's cascades, so it runs once they are all gathered. */
 EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *settings, const uint64_t *state, size_t state_length,
-                                          uint32_t width, uint32_t height, uint64_t sample_count, float *image,
-                                          char *message, size_t message_size);
+                                          const uint64_t *accumulators, uint32_t width, uint32_t height,
+                                          uint64_t sample_count, float *image, char *message, size_t message_size);
 
-/* Adds one sample to pixel `pixel`'s state on the host (tests, the
- * reference of the kernels' accumulation); mean-or-mon reads its set and
- * set_count. */
-int film_sample_add(const EstimatorSettings *settings, uint64_t *state, size_t pixel, size_t pixel_count,
-                    const SampleParts *sample);
+/* Adds one sample to pixel `pixel` on the host as the path tracer does (the
+ * reference of the kernels' accumulation, for tests): to its set (the
+ * sample's set of set_count) in `accumulators`, then to its per-sample
+ * state. Returns sample_passes_add's EST_ADD_*. */
+int film_sample_add(const EstimatorSettings *settings, uint64_t *accumulators, uint64_t *state, size_t pixel,
+                    size_t pixel_count, const SampleParts *sample);
 
 #endif

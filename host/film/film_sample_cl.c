@@ -10,7 +10,8 @@ struct SampleEstimatorProgram {
     cl_program program;
     cl_kernel estimate;
     cl_kernel accumulate;
-    cl_kernel zirr; /* NULL unless zirr is requested */
+    cl_kernel zirr_means; /* zirr's two steps, NULL unless zirr is requested */
+    cl_kernel zirr;
 };
 
 SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
@@ -48,6 +49,8 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
     p->accumulate = clCreateKernel(p->program, "accumulate_sample_stream", &err);
     CL_CHECK(err, fail);
     if (film_sample_passes(settings) & PASS_BIT(PASS_ZIRR)) {
+        p->zirr_means = clCreateKernel(p->program, "zirr_means", &err);
+        CL_CHECK(err, fail);
         p->zirr = clCreateKernel(p->program, "estimate_zirr", &err);
         CL_CHECK(err, fail);
     }
@@ -65,6 +68,8 @@ void sample_estimator_destroy(SampleEstimatorProgram *p)
         clReleaseKernel(p->estimate);
     if (p->accumulate)
         clReleaseKernel(p->accumulate);
+    if (p->zirr_means)
+        clReleaseKernel(p->zirr_means);
     if (p->zirr)
         clReleaseKernel(p->zirr);
     if (p->program)
@@ -127,11 +132,13 @@ cl_int sample_estimator_read(SampleEstimatorProgram *p, cl_mem images, size_t fi
 }
 
 int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, size_t stream_length, size_t pixel_count,
-                                const uint64_t *accumulators, uint64_t *state, EstimatorImages *images)
+                                uint64_t *accumulators, uint64_t *state, EstimatorImages *images)
 {
     cl_context ctx = p->device->context;
     const size_t state_bytes = film_sample_planes(&p->settings) * pixel_count * sizeof(uint64_t);
+    const size_t set_bytes = accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t);
     memset(state, 0, state_bytes);
+    memset(accumulators, 0, set_bytes);
     cl_int err = CL_SUCCESS;
     cl_mem in = NULL, st = NULL, out = NULL, sets = NULL;
     cl_event event = NULL;
@@ -144,26 +151,23 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     const size_t image_bytes = sample_estimator_image_bytes(p, pixel_count);
     out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes ? image_bytes : sizeof(float), NULL, &err);
     CL_CHECK(err, done);
-    uint64_t none = 0;
-    sets = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR,
-                          accumulators
-                              ? accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t)
-                              : sizeof none,
-                          accumulators ? (void *)accumulators : &none, &err);
+    sets = clCreateBuffer(ctx, CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR, set_bytes, accumulators, &err);
     CL_CHECK(err, done);
     cl_ulong length = stream_length, pixels = pixel_count;
     float direct = p->settings.params.clamp_sum_direct, indirect = p->settings.params.clamp_sum_indirect;
     CL_CHECK(clSetKernelArg(p->accumulate, 0, sizeof in, &in), done);
     CL_CHECK(clSetKernelArg(p->accumulate, 1, sizeof length, &length), done);
-    CL_CHECK(clSetKernelArg(p->accumulate, 2, sizeof st, &st), done);
-    CL_CHECK(clSetKernelArg(p->accumulate, 3, sizeof pixels, &pixels), done);
-    CL_CHECK(clSetKernelArg(p->accumulate, 4, sizeof direct, &direct), done);
-    CL_CHECK(clSetKernelArg(p->accumulate, 5, sizeof indirect, &indirect), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 2, sizeof sets, &sets), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 3, sizeof st, &st), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 4, sizeof pixels, &pixels), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 5, sizeof direct, &direct), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 6, sizeof indirect, &indirect), done);
     cl_ulong first = p->settings.first_sample;
-    CL_CHECK(clSetKernelArg(p->accumulate, 6, sizeof first, &first), done);
+    CL_CHECK(clSetKernelArg(p->accumulate, 7, sizeof first, &first), done);
     size_t global = pixel_count;
     CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);
+    CL_CHECK(clEnqueueReadBuffer(p->device->queue, sets, CL_TRUE, 0, set_bytes, accumulators, 0, NULL, NULL), done);
     event = sample_estimator_enqueue(p, st, sets, pixel_count, stream_length, out);
     if (!event)
         goto done;
@@ -183,43 +187,61 @@ done:
     return status;
 }
 
-int sample_estimator_zirr(SampleEstimatorProgram *p, const uint64_t *state, uint32_t width, uint32_t height,
-                          uint64_t sample_count, float *image, double *seconds)
+int sample_estimator_zirr(SampleEstimatorProgram *p, const uint64_t *state, const uint64_t *accumulators,
+                          uint32_t width, uint32_t height, uint64_t sample_count, float *image, double *seconds)
 {
     if (!p->zirr)
         return -1;
     cl_context ctx = p->device->context;
     const size_t pixel_count = (size_t)width * height;
     const size_t cascade_bytes = film_sample_zirr_planes(&p->settings) * pixel_count * sizeof(uint64_t);
+    const size_t set_bytes = accumulator_planes((uint32_t)p->settings.set_count) * pixel_count * sizeof(uint64_t);
+    const size_t mean_bytes = (size_t)p->settings.params.zirr_k * pixel_count * EST_CHANNELS * sizeof(float);
     const size_t image_bytes = pixel_count * EST_CHANNELS * sizeof(float);
     cl_int err = CL_SUCCESS;
-    cl_mem st = NULL, out = NULL;
-    cl_event event = NULL;
+    cl_mem st = NULL, sets = NULL, means = NULL, out = NULL;
+    cl_event events[2] = {NULL, NULL};
     int status = -1;
     st = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cascade_bytes,
                         (void *)film_sample_zirr_block(&p->settings, state, pixel_count), &err);
     CL_CHECK(err, done);
+    sets = clCreateBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, set_bytes, (void *)accumulators, &err);
+    CL_CHECK(err, done);
+    means = clCreateBuffer(ctx, CL_MEM_READ_WRITE, mean_bytes, NULL, &err);
+    CL_CHECK(err, done);
     out = clCreateBuffer(ctx, CL_MEM_WRITE_ONLY, image_bytes, NULL, &err);
     CL_CHECK(err, done);
     cl_uint w = width, h = height;
-    cl_ulong samples = sample_count;
-    CL_CHECK(clSetKernelArg(p->zirr, 0, sizeof st, &st), done);
+    cl_ulong pixels = pixel_count, samples = sample_count;
+    CL_CHECK(clSetKernelArg(p->zirr_means, 0, sizeof st, &st), done);
+    CL_CHECK(clSetKernelArg(p->zirr_means, 1, sizeof sets, &sets), done);
+    CL_CHECK(clSetKernelArg(p->zirr_means, 2, sizeof pixels, &pixels), done);
+    CL_CHECK(clSetKernelArg(p->zirr_means, 3, sizeof samples, &samples), done);
+    CL_CHECK(clSetKernelArg(p->zirr_means, 4, sizeof means, &means), done);
+    CL_CHECK(clSetKernelArg(p->zirr, 0, sizeof means, &means), done);
     CL_CHECK(clSetKernelArg(p->zirr, 1, sizeof w, &w), done);
     CL_CHECK(clSetKernelArg(p->zirr, 2, sizeof h, &h), done);
     CL_CHECK(clSetKernelArg(p->zirr, 3, sizeof samples, &samples), done);
     CL_CHECK(clSetKernelArg(p->zirr, 4, sizeof out, &out), done);
     size_t global = pixel_count;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr, 1, NULL, &global, NULL, 0, NULL, &event), done);
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr_means, 1, NULL, &global, NULL, 0, NULL, &events[0]),
+             done);
+    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr, 1, NULL, &global, NULL, 0, NULL, &events[1]), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, out, CL_TRUE, 0, image_bytes, image, 0, NULL, NULL), done);
     if (seconds)
-        *seconds += cl_event_seconds(event);
+        *seconds += cl_event_seconds(events[0]) + cl_event_seconds(events[1]);
     status = 0;
 done:
-    if (event)
-        clReleaseEvent(event);
+    for (int i = 0; i < 2; ++i)
+        if (events[i])
+            clReleaseEvent(events[i]);
     if (out)
         clReleaseMemObject(out);
+    if (means)
+        clReleaseMemObject(means);
     if (st)
         clReleaseMemObject(st);
+    if (sets)
+        clReleaseMemObject(sets);
     return status;
 }

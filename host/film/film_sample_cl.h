@@ -18,9 +18,9 @@ void sample_estimator_destroy(SampleEstimatorProgram *program);
  * writes (every per-sample image but zirr's; 0 for zirr alone). */
 size_t sample_estimator_image_bytes(const SampleEstimatorProgram *program, size_t pixel_count);
 
-/* Enqueues the estimation of `state` (pixel_count pixels; gabmm also reads
- * the set sums `accumulators`) into `images`; returns the kernel's event
- * (caller releases) or NULL. */
+/* Enqueues the estimation of `state` and the set sums `accumulators`
+ * (pixel_count pixels) into `images`; returns the kernel's event (caller
+ * releases) or NULL. */
 cl_event sample_estimator_enqueue(SampleEstimatorProgram *program, cl_mem state, cl_mem accumulators,
                                   size_t pixel_count, uint64_t sample_count, cl_mem images);
 
@@ -30,19 +30,18 @@ cl_int sample_estimator_read(SampleEstimatorProgram *program, cl_mem images, siz
                              size_t image_pixels, EstimatorImages *host);
 
 /* Tests: runs the kernel's accumulation on a stream (stream_length
- * samples a pixel, SampleParts as 10 floats) into host state (zeroed
- * first), then estimates into host images (gabmm: with the set sums
- * `accumulators`, M and first sample of the settings; else NULL). 0 on
- * success. */
+ * samples a pixel, SampleParts as 10 floats, sets by the settings' M and
+ * first sample) into host set sums and state (both zeroed first), then
+ * estimates into host images. 0 on success. */
 int sample_estimator_run_stream(SampleEstimatorProgram *program, const float *parts, size_t stream_length,
-                                size_t pixel_count, const uint64_t *accumulators, uint64_t *state,
-                                EstimatorImages *images);
+                                size_t pixel_count, uint64_t *accumulators, uint64_t *state, EstimatorImages *images);
 
 /* zirr's image (film_sample_estimate_zirr's, computed by the kernel
- * estimate_zirr) from the host state of a whole width x height image,
- * its cascades uploaded for it; adds the kernel's time to *seconds (if not NULL).
- * Returns 0, or -1 (zirr not requested, or an OpenCL error, reported). */
-int sample_estimator_zirr(SampleEstimatorProgram *program, const uint64_t *state, uint32_t width, uint32_t height,
-                          uint64_t sample_count, float *image, double *seconds);
+ * estimate_zirr) from the host state and set sums of a whole width x
+ * height image, its cascades and set sums uploaded for it; adds the
+ * kernel's time to *seconds (if not NULL). Returns 0, or -1 (zirr not
+ * requested, or an OpenCL error, reported). */
+int sample_estimator_zirr(SampleEstimatorProgram *program, const uint64_t *state, const uint64_t *accumulators,
+                          uint32_t width, uint32_t height, uint64_t sample_count, float *image, double *seconds);
 
 #endif

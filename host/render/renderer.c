@@ -561,11 +561,12 @@ static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *ou
         if (!w->live || !w->sample_estimator)
             continue;
         track_peak(r, w,
-                   (film_sample_zirr_planes(&r->estimator) * sizeof(uint64_t) + EST_CHANNELS * sizeof(float)) *
+                   ((film_sample_zirr_planes(&r->estimator) + r->planes) * sizeof(uint64_t) +
+                    (size_t)(r->estimator.params.zirr_k + 1) * EST_CHANNELS * sizeof(float)) *
                        r->pixels);
-        if (sample_estimator_zirr(w->sample_estimator, r->saved.samples, r->scene->constants.camera.width,
-                                  r->scene->constants.camera.height, samples, out->pass[PASS_ZIRR],
-                                  &w->report->estimate_seconds) != 0) {
+        if (sample_estimator_zirr(w->sample_estimator, r->saved.samples, r->saved.accumulators,
+                                  r->scene->constants.camera.width, r->scene->constants.camera.height, samples,
+                                  out->pass[PASS_ZIRR], &w->report->estimate_seconds) != 0) {
             drop_on_cl_error(r, w, "the zirr estimator failed");
             return -1;
         }
@@ -654,7 +655,7 @@ static int estimate_on_host(const Render *r, uint64_t samples, RenderOutput *out
                              r->pixels, samples, &images, NULL, 0) != ESTIMATOR_OK)
         return -1;
     if ((r->estimator.passes & PASS_BIT(PASS_ZIRR)) &&
-        film_sample_estimate_zirr(&r->estimator, r->saved.samples, r->sample_planes * r->pixels,
+        film_sample_estimate_zirr(&r->estimator, r->saved.samples, r->sample_planes * r->pixels, r->saved.accumulators,
                                   r->scene->constants.camera.width, r->scene->constants.camera.height, samples,
                                   out->pass[PASS_ZIRR], NULL, 0) != ESTIMATOR_OK)
         return -1;
