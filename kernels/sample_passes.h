@@ -12,7 +12,7 @@
  *   abmm, gabmm   from the pixel's moments (below)
  *   mean-or-mon   the mean where its 95 % confidence half-width is no
  *              larger than the median set's, else MoN: the exact sum of
- *              x^2 of each set beside the set sums
+ *              d^2 (d = x - c, below) of each set beside the set sums
  * Both clamp the film's response to the radiance before the pixel filter's
  * weight multiplies it, as pbrt-v4 does.
  *   zirr       Zirr, Hanika and Dachsbacher's reweighting of framebuffer
