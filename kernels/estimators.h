@@ -192,6 +192,42 @@ EST_INLINE est_float median_of_sorted(const est_float *v, int m)
     return average_range(v, (m - 1) / 2, m / 2, 1);
 }
 
+/* With unequal counts: the set means t[j] = sums over counts (in place,
+ * in set order, j < m) and the channel's mean, weighted by the counts. */
+EST_INLINE void unequal_sets_mean(const SetCounts *k, est_float *t, LaneEstimates *out, int c)
+{
+    const int m = k->m;
+    EST_UNROLL
+    for (int j = 0; j < m; ++j)
+        t[j] = t[j] / (j < k->with_extra ? k->more : k->fewer);
+    est_float lo = t[0], hi = t[0];
+    EST_UNROLL
+    for (int j = 1; j < m; ++j) {
+        lo = EST_SELECT(t[j] < lo, t[j], lo);
+        hi = EST_SELECT(t[j] > hi, t[j], hi);
+    }
+    out->value[PASS_MEAN][c] = weighted_average(t, m, k->with_extra, k->more, k->fewer, (float)k->sample_count, lo, hi);
+}
+
+/* The sorted part of one channel: from its ascending set means (or sums,
+ * see SetCounts) v[0..m-1], its mean (with equal counts), MoN, G and trim
+ * in out. */
+EST_INLINE void sorted_channel(const SetCounts *k, const est_float *v, LaneEstimates *out, int c)
+{
+    const int m = k->m;
+    /* The mean (average_range(v, 0, m - 1, 1) with equal counts) and G share
+     * the scaled differences. */
+    est_int e = sorted_range_exponent(v, 0, m - 1);
+    est_float down = power_of_two(-e);
+    est_float lowest = scaled(v[0], down);
+    est_float differences = sum_of_differences(v, 0, m - 1, down, lowest, 1);
+    if (k->equal_counts)
+        out->value[PASS_MEAN][c] = scaled(lowest + differences / (float)m, power_of_two(e));
+    out->value[PASS_MON][c] = median_of_sorted(v, m);
+    out->value[PASS_GINI][c] = gini_sorted(v, m, down, lowest, differences);
+    out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(out->value[PASS_GINI][c], m));
+}
+
 /* The first part of one channel: from its sums (sums[j], j < M) the set
  * means by set, t (t[j] = +inf for the empty sets j >= m), the same sorted,
  * v, and the channel's mean, MoN, G and trim in out (mean and MoN before
@@ -210,37 +246,15 @@ EST_INLINE void estimate_channel(const SetCounts *k, const est_float *sums, int 
             sum = EST_SELECT((EST_FLOAT_BITS(sum) & 0x7f800000u) == 0x7f800000u, EST_FLOATS(0.0f), sum);
         t[j] = j < m ? sum : EST_FLOATS(INFINITY);
     }
-    if (!k->equal_counts) {
-        /* The weighted mean, in set order, first: the means by set are then
-         * not needed past the sort (but in luminance mode). */
-        EST_UNROLL
-        for (int j = 0; j < m; ++j)
-            t[j] = t[j] / (j < k->with_extra ? k->more : k->fewer);
-        est_float lo = t[0], hi = t[0];
-        EST_UNROLL
-        for (int j = 1; j < m; ++j) {
-            lo = EST_SELECT(t[j] < lo, t[j], lo);
-            hi = EST_SELECT(t[j] > hi, t[j], hi);
-        }
-        out->value[PASS_MEAN][c] =
-            weighted_average(t, m, k->with_extra, k->more, k->fewer, (float)k->sample_count, lo, hi);
-    }
+    /* The weighted mean, in set order, first: the means by set are then
+     * not needed past the sort (but in luminance mode). */
+    if (!k->equal_counts)
+        unequal_sets_mean(k, t, out, c);
     EST_UNROLL
     for (int j = 0; j < k->set_count; ++j)
         v[j] = t[j];
     EST_SORTING_NETWORK(k->set_count, EST_SORT_STEP)
-
-    /* The mean (average_range(v, 0, m - 1, 1) with equal counts) and G share
-     * the scaled differences. */
-    est_int e = sorted_range_exponent(v, 0, m - 1);
-    est_float down = power_of_two(-e);
-    est_float lowest = scaled(v[0], down);
-    est_float differences = sum_of_differences(v, 0, m - 1, down, lowest, 1);
-    if (k->equal_counts)
-        out->value[PASS_MEAN][c] = scaled(lowest + differences / (float)m, power_of_two(e));
-    out->value[PASS_MON][c] = median_of_sorted(v, m);
-    out->value[PASS_GINI][c] = gini_sorted(v, m, down, lowest, differences);
-    out->value[PASS_TRIM][c] = EST_FLOAT_FROM_INT(trim_count(out->value[PASS_GINI][c], m));
+    sorted_channel(k, v, out, c);
 }
 
 /* One channel in the default mode (EST_GINI_PER_CHANNEL), start to end; m

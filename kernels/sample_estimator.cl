@@ -35,25 +35,14 @@ __kernel void estimate_sample_passes(__global const ulong *state, __global const
     ulong pixel = get_global_id(0);
     if (pixel >= pixel_count)
         return;
-    const uint pixel_passes = SAMPLE_PIXEL_PASSES(EST_SAMPLE_PASSES);
-    for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass)
-        for (int i = 0; i < sample_pass_images(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass); ++i) {
-            float rgb[EST_CHANNELS];
-            if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
-                sample_sum_estimate(state, accumulators, EST_SETS, pixel, pixel_count, EST_SAMPLE_PASSES,
-                                    EST_CLAMP_LEVEL_COUNT, sample_count, pass, i, rgb);
-#ifdef SAMPLE_PASSES_DOUBLE
-            else if (pass == PASS_MEAN_OR_MON)
-                mean_or_mon_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
-                                     EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, rgb);
-            else
-                moment_estimate(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
-                                EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, pass, rgb);
-#endif
-            ulong slot = (ulong)sample_image_slot(pixel_passes, EST_CLAMP_LEVEL_COUNT, pass, i);
-            for (int c = 0; c < EST_CHANNELS; ++c)
-                images[(slot * pixel_count + pixel) * EST_CHANNELS + c] = rgb[c];
-        }
+    float rgb[SAMPLE_PIXEL_IMAGES_MAX][EST_CHANNELS];
+    sample_pixel_estimates(state, accumulators, pixel, pixel_count, EST_SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT,
+                           EST_ZIRR_COUNT, EST_SETS, first_sample, sample_count, rgb);
+    const int images_of_pixel =
+        sample_image_slot(SAMPLE_PIXEL_PASSES(EST_SAMPLE_PASSES), EST_CLAMP_LEVEL_COUNT, PASS_COUNT, 0);
+    for (int slot = 0; slot < images_of_pixel; ++slot)
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            images[((ulong)slot * pixel_count + pixel) * EST_CHANNELS + c] = rgb[slot][c];
 }
 
 /* zirr's image from the cascades (the state's zirr block) and set sums of

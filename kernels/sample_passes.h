@@ -462,29 +462,22 @@ KERNEL_FN float wide_to_float(WideSum s, int *exponent)
     return negative ? -(float)window : (float)window;
 }
 
-/* Channel c of `pixel`: the sum of its set_count set sums plus sum `index`
- * of the deviation accumulator `deviations` (NULL: none), exactly. */
-KERNEL_FN WideSum sets_plus_deviation(GLOBAL const uint64_t *accumulators, uint32_t set_count,
-                                      GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
-                                      uint64_t pixel_count, int c)
+/* A pixel's set sums as its estimates read them, once a pixel
+ * (pixel_set_totals): the sets' grid word and, per channel, the exact
+ * total of the set sums on that grid, four words (two's complement, word 0
+ * lowest; below 2^132 units: the third word takes the carries). */
+typedef struct {
+    uint64_t grid;
+    uint64_t total[EST_CHANNELS][4];
+} PixelSetTotals;
+
+KERNEL_FN void pixel_set_totals(GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                                uint64_t pixel_count, PixelSetTotals *t)
 {
-    WideSum s;
-    for (int i = 0; i < 4; ++i)
-        s.word[i] = 0;
-    const uint64_t set_grid = accumulators[grid_index(pixel)];
-    const uint64_t deviation_grid = deviations ? deviations[grid_index(pixel)] : 0u;
-    const int e_sets = grid_exponent(set_grid), e_deviation = grid_exponent(deviation_grid);
-    if (set_grid && deviation_grid) {
-        const int finer = e_sets < e_deviation ? e_sets : e_deviation;
-        const int coarser = e_sets < e_deviation ? e_deviation : e_sets;
-        s.exponent = coarser - finer > WIDE_GRID_SPAN ? coarser - WIDE_GRID_SPAN : finer;
-    } else {
-        s.exponent = set_grid ? e_sets : e_deviation;
-    }
-    if (set_grid && e_sets >= s.exponent) {
-        /* The common case: the sets' total on their own grid first (below
-         * 2^132: a third word takes the carries), then placed once. */
-        uint64_t total[4] = {0u, 0u, 0u, 0u};
+    t->grid = accumulators[grid_index(pixel)];
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        uint64_t *total = t->total[c];
+        total[0] = total[1] = total[2] = 0u;
         for (uint32_t j = 0; j < set_count; ++j) {
             FixedSum v = load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count);
             uint64_t lo = total[0] + v.lo;
@@ -498,12 +491,35 @@ KERNEL_FN WideSum sets_plus_deviation(GLOBAL const uint64_t *accumulators, uint3
             total[2] += next + (uint64_t)((int64_t)v.hi >> 63);
         }
         total[3] = (uint64_t)((int64_t)total[2] >> 63);
-        wide_add_shifted(&s, total, e_sets - s.exponent);
-    } else if (set_grid) {
+    }
+}
+
+/* Channel c of `pixel`: the total of its set_count set sums (t, read from
+ * `accumulators`) plus sum `index` of the deviation accumulator
+ * `deviations` (NULL: none), exactly. */
+KERNEL_FN WideSum sets_plus_deviation(const PixelSetTotals *t, GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                      GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
+                                      uint64_t pixel_count, int c)
+{
+    WideSum s;
+    for (int i = 0; i < 4; ++i)
+        s.word[i] = 0;
+    const uint64_t set_grid = t->grid;
+    const uint64_t deviation_grid = deviations ? deviations[grid_index(pixel)] : 0u;
+    const int e_sets = grid_exponent(set_grid), e_deviation = grid_exponent(deviation_grid);
+    if (set_grid && deviation_grid) {
+        const int finer = e_sets < e_deviation ? e_sets : e_deviation;
+        const int coarser = e_sets < e_deviation ? e_deviation : e_sets;
+        s.exponent = coarser - finer > WIDE_GRID_SPAN ? coarser - WIDE_GRID_SPAN : finer;
+    } else {
+        s.exponent = set_grid ? e_sets : e_deviation;
+    }
+    if (set_grid && e_sets >= s.exponent) /* the common case: the total placed once */
+        wide_add_shifted(&s, t->total[c], e_sets - s.exponent);
+    else if (set_grid)
         for (uint32_t j = 0; j < set_count; ++j)
             wide_add(&s, load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
                      e_sets);
-    }
     if (deviation_grid)
         wide_add(&s, load_sum(deviations, accumulator_index(index, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
                  e_deviation);
@@ -513,14 +529,14 @@ KERNEL_FN WideSum sets_plus_deviation(GLOBAL const uint64_t *accumulators, uint3
 /* The mean over n samples (0 for n = 0) of sets_plus_deviation, as the
  * mean of a render of one set computes it from its sum (so that clamp at
  * V = INFINITY, no deviation, equals that mean bit for bit). */
-KERNEL_FN void sets_plus_deviation_mean(GLOBAL const uint64_t *accumulators, uint32_t set_count,
-                                        GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
-                                        uint64_t pixel_count, uint64_t n, float *rgb)
+KERNEL_FN void sets_plus_deviation_mean(const PixelSetTotals *t, GLOBAL const uint64_t *accumulators,
+                                        uint32_t set_count, GLOBAL const uint64_t *deviations, uint32_t index,
+                                        uint64_t pixel, uint64_t pixel_count, uint64_t n, float *rgb)
 {
     for (int c = 0; c < EST_CHANNELS; ++c) {
         int exponent;
         float sum = wide_to_float(
-            sets_plus_deviation(accumulators, set_count, deviations, index, pixel, pixel_count, c), &exponent);
+            sets_plus_deviation(t, accumulators, set_count, deviations, index, pixel, pixel_count, c), &exponent);
         rgb[c] = scale_by_grid(n > 0 ? sum / (float)n : 0.0f, exponent);
     }
 }
@@ -540,38 +556,36 @@ KERNEL_FN void accumulator_mean(GLOBAL const uint64_t *block, uint64_t pixel, ui
 }
 
 /* Image `index` of clamp or clamp-sum at `pixel` after sample_count
- * samples, from its deviation and the render's set sums (set_count sets). */
-KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
-                                   uint32_t set_count, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
-                                   int level_count, uint64_t sample_count, int pass, int index, float *rgb)
+ * samples, from its deviation and the render's set sums (t of
+ * `accumulators`, set_count sets). */
+KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, const PixelSetTotals *t,
+                                   GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                                   uint64_t pixel_count, uint32_t passes, int level_count, uint64_t sample_count,
+                                   int pass, int index, float *rgb)
 {
     GLOBAL const uint64_t *block =
         state + (uint64_t)sample_block_first_plane(passes, level_count,
                                                    pass == PASS_CLAMP ? SAMPLE_BLOCK_CLAMP : SAMPLE_BLOCK_CLAMP_SUM) *
                     pixel_count;
-    sets_plus_deviation_mean(accumulators, set_count, block, (uint32_t)index, pixel, pixel_count, sample_count, rgb);
-}
-
-/* zirr's cascade k at `pixel`: its sum / n (cascade 0 with the set sums). */
-KERNEL_FN void zirr_cascade_mean(GLOBAL const uint64_t *block, GLOBAL const uint64_t *accumulators, uint32_t set_count,
-                                 int k, uint64_t pixel, uint64_t pixel_count, uint64_t n, float *rgb)
-{
-    if (k == 0)
-        sets_plus_deviation_mean(accumulators, set_count, block, 0u, pixel, pixel_count, n, rgb);
-    else
-        accumulator_mean(block, pixel, pixel_count, (uint32_t)k, n, rgb);
+    sets_plus_deviation_mean(t, accumulators, set_count, block, (uint32_t)index, pixel, pixel_count, sample_count, rgb);
 }
 
 /* The first step of zirr's estimate: the cascades' means B_k of `pixel`
- * (zirr_cascade_mean), K RGB triples at cascade_means + pixel K 3, so that
- * the neighbourhoods read each pixel's once. */
+ * (each sum / n; cascade 0's with the set sums), K RGB triples at
+ * cascade_means + pixel K 3, so that the neighbourhoods read each pixel's
+ * once. */
 KERNEL_FN void zirr_pixel_means(GLOBAL const uint64_t *block, GLOBAL const uint64_t *accumulators, uint32_t set_count,
                                 int cascade_count, uint64_t pixel, uint64_t pixel_count, uint64_t n,
                                 GLOBAL float *cascade_means)
 {
+    PixelSetTotals totals;
+    pixel_set_totals(accumulators, set_count, pixel, pixel_count, &totals);
     for (int k = 0; k < cascade_count; ++k) {
         float mean[EST_CHANNELS];
-        zirr_cascade_mean(block, accumulators, set_count, k, pixel, pixel_count, n, mean);
+        if (k == 0)
+            sets_plus_deviation_mean(&totals, accumulators, set_count, block, 0u, pixel, pixel_count, n, mean);
+        else
+            accumulator_mean(block, pixel, pixel_count, (uint32_t)k, n, mean);
         for (int c = 0; c < EST_CHANNELS; ++c)
             cascade_means[(pixel * (uint64_t)cascade_count + (uint64_t)k) * EST_CHANNELS + c] = mean[c];
     }
@@ -664,22 +678,20 @@ KERNEL_FN double double_power_of_two(int e)
 #endif
 }
 
-/* Set `set`, channel c of an accumulator as a double (two roundings:
- * deterministic). */
-KERNEL_FN double accumulator_sum(GLOBAL const uint64_t *block, uint32_t set, uint64_t pixel, uint64_t pixel_count,
-                                 int c)
+/* Set `set`, channel c of an accumulator as a double count of its grid's
+ * units (two roundings: deterministic). */
+KERNEL_FN double accumulator_units(GLOBAL const uint64_t *block, uint32_t set, uint64_t pixel, uint64_t pixel_count,
+                                   int c)
 {
     uint64_t lo = block[accumulator_index(set, (uint32_t)c, 0, pixel, pixel_count)];
     uint64_t hi = block[accumulator_index(set, (uint32_t)c, 1, pixel, pixel_count)];
-    double value = (double)(int64_t)hi * 18446744073709551616.0 + (double)lo;
-    return value * double_power_of_two(grid_exponent(block[grid_index(pixel)]));
+    return (double)(int64_t)hi * 18446744073709551616.0 + (double)lo;
 }
 
-/* An accumulator of one sum (block of accumulator_planes(1) planes):
- * channel c's value as a double. */
-KERNEL_FN double moment_sum(GLOBAL const uint64_t *block, uint64_t pixel, uint64_t pixel_count, int c)
+/* The size of an accumulator's unit at `pixel`, 2^E. */
+KERNEL_FN double accumulator_unit(GLOBAL const uint64_t *block, uint64_t pixel)
 {
-    return accumulator_sum(block, 0, pixel, pixel_count, c);
+    return double_power_of_two(grid_exponent(block[grid_index(pixel)]));
 }
 
 typedef struct {
@@ -688,15 +700,17 @@ typedef struct {
     double third;  /* m3 = mean of (x - mu)^3 */
 } PixelMoments;
 
-/* The exact total of channel c's set sums (set_count sets) as a double
- * (one rounding). */
-KERNEL_FN double sets_total(GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
-                            uint64_t pixel_count, int c)
+/* The exact total of channel c's set sums (t) as a double (one
+ * rounding). */
+KERNEL_FN double sets_total(const PixelSetTotals *t, int c)
 {
+    WideSum s;
+    for (int i = 0; i < 4; ++i)
+        s.word[i] = t->total[c][i];
+    s.exponent = grid_exponent(t->grid);
     uint64_t window;
     int exponent;
-    const int negative =
-        wide_window(sets_plus_deviation(accumulators, set_count, 0, 0u, pixel, pixel_count, c), &window, &exponent);
+    const int negative = wide_window(s, &window, &exponent);
     const double total = (double)window * double_power_of_two(exponent);
     return negative ? -total : total;
 }
@@ -718,13 +732,13 @@ KERNEL_FN double sample_shift(GLOBAL const uint64_t *state, uint64_t pixel, uint
 }
 
 /* Channel c's mean and central moments after n samples: the mean mu from
- * the set sums (set_count sets), the others from the moments about the
+ * the set sums (t, set_count sets), the others from the moments about the
  * shift: with a = mu - c, m2 = mean(d^2) - a^2, m3 = mean(d^3) - 3 a
  * mean(d^2) + 2 a^3; they cancel only as far as the shift is from the mean,
  * not as far as the mean is from 0. */
-KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
-                                      uint32_t set_count, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
-                                      int level_count, int cascade_count, uint64_t n, int c)
+KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, const PixelSetTotals *t, uint32_t set_count,
+                                      uint64_t pixel, uint64_t pixel_count, uint32_t passes, int level_count,
+                                      int cascade_count, uint64_t n, int c)
 {
     PixelMoments m;
     m.mean = m.second = m.third = 0.0;
@@ -735,11 +749,13 @@ KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, GLOBAL const
         state +
         ((uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) + EST_CHANNELS) * pixel_count;
     GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
+    const double square_unit = accumulator_unit(squares, pixel);
     double square_sum = 0.0;
     for (uint32_t j = 0; j < sample_square_count(passes, set_count); ++j)
-        square_sum += accumulator_sum(squares, j, pixel, pixel_count, c);
-    const double second = square_sum / count, third = moment_sum(cubes, pixel, pixel_count, c) / count;
-    m.mean = sets_total(accumulators, set_count, pixel, pixel_count, c) / count;
+        square_sum += accumulator_units(squares, j, pixel, pixel_count, c) * square_unit;
+    const double second = square_sum / count;
+    const double third = accumulator_units(cubes, 0, pixel, pixel_count, c) * accumulator_unit(cubes, pixel) / count;
+    m.mean = sets_total(t, c) / count;
     const double a = m.mean - sample_shift(state, pixel, pixel_count, passes, level_count, c);
     m.second = second - a * a;
     m.third = third - 3.0 * a * second + 2.0 * a * a * a;
@@ -755,45 +771,91 @@ KERNEL_FN float abmm_of_moments(PixelMoments m, uint64_t n, double alpha)
     return (float)(m.mean - m.third / (3.0 * m.second * ((double)n * alpha + 2.0)));
 }
 
-/* gabmm's Gbar: the mean of the channels' Gini coefficients of the set
- * means (estimators.h's G), from the render's set sums (set_count sets,
- * sample s of [first_sample, first_sample + n) in set s mod set_count). */
-KERNEL_FN float sets_mean_gini(GLOBAL const uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
-                               uint32_t set_count, uint64_t first_sample, uint64_t n)
+/* A pixel's set means as gabmm and mean-or-mon read them, once a pixel
+ * (pixel_set_means): each set's sample count (sample s of [first_sample,
+ * first_sample + n) in set s mod M), per channel its float sum and mean
+ * (the sum over the count, as MoN ranks them) and the non-empty sets in
+ * ascending order of mean: with equal counts (SetCounts) of sum, which
+ * orders the means too and is the order MoN sorts; ties by set index. */
+typedef struct {
+    uint32_t m; /* the non-empty sets: min(n, M) */
+    uint64_t count[EST_CAPACITY];
+    float sum[EST_CHANNELS][EST_CAPACITY];
+    float mean[EST_CHANNELS][EST_CAPACITY];
+    uint8_t order[EST_CHANNELS][EST_CAPACITY];
+} PixelSetMeans;
+
+/* A finite float as an unsigned key of the same order (-0 below +0, which
+ * set sums never hold: a sum of 0 converts to +0). */
+KERNEL_FN uint32_t float_order_key(float x)
 {
-    float total = 0.0f;
+    const uint32_t bits = float_bits(x);
+    return (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+}
+
+/* A comparator of the sorting network on the keys (value key << 32 | set
+ * index): branch free, and the index breaks ties. */
+KERNEL_FN void set_key_exchange(uint64_t *keys, int i, int j)
+{
+    const uint64_t a = keys[i], b = keys[j];
+    keys[i] = a < b ? a : b;
+    keys[j] = a < b ? b : a;
+}
+#define SET_KEY_STEP(i, j) set_key_exchange(keys, i, j);
+
+KERNEL_FN void pixel_set_means(GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                               uint64_t pixel_count, uint64_t first_sample, uint64_t n, PixelSetMeans *s)
+{
     const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
+    const uint64_t per_set = n / set_count;
+    const int by_sum = n < set_count || extra == 0; /* SetCounts' equal_counts */
+    s->m = 0;
+    for (uint32_t j = 0; j < set_count; ++j) {
+        s->count[j] = per_set + ((j + set_count - first_set) % set_count < extra ? 1u : 0u);
+        s->m += s->count[j] != 0 ? 1u : 0u;
+    }
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        uint64_t keys[EST_CAPACITY];
+        for (uint32_t j = 0; j < set_count; ++j) {
+            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
+            const float sum = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]);
+            const float mean = s->count[j] != 0 ? sum / (float)s->count[j] : 0.0f;
+            s->sum[c][j] = sum;
+            s->mean[c][j] = mean;
+            /* Empty sets last: no finite float's key reaches 0xffffffff. */
+            const uint32_t key = s->count[j] == 0 ? 0xffffffffu : float_order_key(by_sum ? sum : mean);
+            keys[j] = (uint64_t)key << 32 | j;
+        }
+        EST_SORTING_NETWORK(set_count, SET_KEY_STEP)
+        for (uint32_t r = 0; r < set_count; ++r)
+            s->order[c][r] = (uint8_t)keys[r];
+    }
+}
+
+/* gabmm's Gbar: the mean of the channels' Gini coefficients of the set
+ * means (estimators.h's G; 0 without samples). */
+KERNEL_FN float sets_mean_gini(const PixelSetMeans *s)
+{
+    if (s->m == 0)
+        return 0.0f;
+    float total = 0.0f;
     for (int c = 0; c < EST_CHANNELS; ++c) {
         float t[EST_CAPACITY];
-        int m = 0;
-        for (uint32_t j = 0; j < set_count; ++j) {
-            uint64_t count = n / set_count + ((j + set_count - first_set) % set_count < extra ? 1u : 0u);
-            if (count == 0)
-                continue;
-            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
-            float mean = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)count;
-            int k = m++;
-            for (; k > 0 && t[k - 1] > mean; --k) /* insertion: ascending */
-                t[k] = t[k - 1];
-            t[k] = mean;
-        }
-        total += gini_of_sorted(t, m);
+        for (uint32_t k = 0; k < s->m; ++k)
+            t[k] = s->mean[c][s->order[c][k]];
+        total += gini_of_sorted(t, (int)s->m);
     }
     return total / 3.0f;
 }
 
-/* abmm (alpha = 1) or gabmm (alpha = 1 - Gbar) of a pixel, per channel. */
-KERNEL_FN void moment_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
-                               uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
-                               uint32_t set_count, uint64_t first_sample, uint64_t n, int pass, float *rgb)
+/* abmm (alpha = 1) or gabmm (alpha = 1 - Gbar of `means`) of a pixel from
+ * its channels' moments. */
+KERNEL_FN void moment_estimate(const PixelMoments *moments, const PixelSetMeans *means, uint64_t n, int pass,
+                               float *rgb)
 {
-    double alpha = 1.0;
-    if (pass == PASS_GABMM)
-        alpha = 1.0 - (double)sets_mean_gini(accumulators, pixel, pixel_count, set_count, first_sample, n);
+    const double alpha = pass == PASS_GABMM ? 1.0 - (double)sets_mean_gini(means) : 1.0;
     for (int c = 0; c < EST_CHANNELS; ++c)
-        rgb[c] = abmm_of_moments(sample_moments(state, accumulators, set_count, pixel, pixel_count, passes, level_count,
-                                                cascade_count, n, c),
-                                 n, alpha);
+        rgb[c] = abmm_of_moments(moments[c], n, alpha);
 }
 
 /* ------------------------------------------------------------------------
@@ -842,51 +904,37 @@ KERNEL_FN double confidence_half_width(double sum, double squares, uint64_t n)
 }
 
 /* The channel-averaged half-widths of the mean and of the median set of
- * `pixel` after n samples (sets as in sets_mean_gini); returns 0, leaving
- * them 0, while a set holds fewer than 2 samples (n < 2M: a set's s is
+ * `pixel` after n samples (its set means `means`); returns 0, leaving them
+ * 0, while a set holds fewer than 2 samples (n < 2M: a set's s is
  * unknown). */
-KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
-                                      uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
-                                      uint32_t set_count, uint64_t first_sample, uint64_t n, double *mean_width,
-                                      double *mon_width)
+KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                      const PixelSetMeans *means, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                      int level_count, int cascade_count, uint32_t set_count, uint64_t n,
+                                      double *mean_width, double *mon_width)
 {
     *mean_width = *mon_width = 0.0;
     if (n < 2u * set_count)
         return 0;
     GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
-    const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
+    const double unit = accumulator_unit(accumulators, pixel), square_unit = accumulator_unit(squares, pixel);
     const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
     for (int c = 0; c < EST_CHANNELS; ++c) {
         /* Sums of d = x - c and d^2 by set: d's from the set sums. */
         const double shift = sample_shift(state, pixel, pixel_count, passes, level_count, c);
         double sums[EST_CAPACITY], squares_of_set[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
-        float means[EST_CAPACITY];
-        uint64_t counts[EST_CAPACITY];
         for (uint32_t j = 0; j < set_count; ++j) {
-            counts[j] = n / set_count + ((j + set_count - first_set) % set_count < extra ? 1u : 0u);
-            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
-            /* Ranked as MoN ranks them: the float set means. */
-            means[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]) / (float)counts[j];
-            sums[j] = accumulator_sum(accumulators, j, pixel, pixel_count, c) - (double)counts[j] * shift;
+            sums[j] =
+                accumulator_units(accumulators, j, pixel, pixel_count, c) * unit - (double)means->count[j] * shift;
             sum += sums[j];
-            squares_of_set[j] = accumulator_sum(squares, j, pixel, pixel_count, c);
+            squares_of_set[j] = accumulator_units(squares, j, pixel, pixel_count, c) * square_unit;
             sum_squares += squares_of_set[j];
         }
         *mean_width += confidence_half_width(sum, sum_squares, n);
-        /* The median set(s): the sets ordered by mean, ties by set index
-         * (a stable insertion sort of their indices). */
-        uint32_t order[EST_CAPACITY];
-        for (uint32_t j = 0; j < set_count; ++j) {
-            uint32_t k = j;
-            for (; k > 0 && means[order[k - 1]] > means[j]; --k)
-                order[k] = order[k - 1];
-            order[k] = j;
-        }
         double median_width = 0.0;
         for (uint32_t rank = low_rank; rank <= high_rank; ++rank) {
-            const uint32_t j = order[rank];
-            median_width +=
-                confidence_half_width(sums[j], squares_of_set[j], counts[j]) / (low_rank == high_rank ? 1.0 : 2.0);
+            const uint32_t j = means->order[c][rank];
+            median_width += confidence_half_width(sums[j], squares_of_set[j], means->count[j]) /
+                            (low_rank == high_rank ? 1.0 : 2.0);
         }
         *mon_width += median_width;
     }
@@ -899,28 +947,35 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
  * channel, the same bits as the `mean` and `mon` passes), the mean where
  * its half-width is no larger than MoN's (so where both are 0, and while
  * they are unknown), else MoN. */
-KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
-                                    uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
-                                    uint32_t set_count, uint64_t first_sample, uint64_t n, float *rgb)
+KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                    const PixelSetMeans *means, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                    int level_count, int cascade_count, uint32_t set_count, uint64_t first_sample,
+                                    uint64_t n, float *rgb)
 {
-    const uint32_t first_set = (uint32_t)(first_sample % set_count);
-    const int m = n < set_count ? (int)n : (int)set_count;
+    const uint32_t first_set = (uint32_t)(first_sample % set_count), m = means->m;
     LaneEstimates e;
     clear_estimates(&e);
     if (m > 0) {
-        const SetCounts k = est_set_counts(n, (int)set_count, m);
+        /* estimate_channel and finish_channel's mean and MoN, on the sets
+         * already in order. */
+        const SetCounts k = est_set_counts(n, (int)set_count, (int)m);
         for (int c = 0; c < EST_CHANNELS; ++c) {
-            float sums[EST_CAPACITY];
-            for (uint32_t j = 0; j < set_count; ++j) { /* in the order the samples filled them */
-                uint64_t i = accumulator_index((j + first_set) % set_count, (uint32_t)c, 0, pixel, pixel_count);
-                sums[j] = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]);
+            float t[EST_CAPACITY], v[EST_CAPACITY];
+            if (!k.equal_counts) {
+                for (uint32_t j = 0; j < m; ++j) /* in the order the samples filled them */
+                    t[j] = means->sum[c][(j + first_set) % set_count];
+                unequal_sets_mean(&k, t, &e, c);
             }
-            estimate_channel_alone(&k, sums, 1, &e, c);
+            for (uint32_t r = 0; r < m; ++r)
+                v[r] = k.equal_counts ? means->sum[c][means->order[c][r]] : means->mean[c][means->order[c][r]];
+            sorted_channel(&k, v, &e, c);
+            e.value[PASS_MEAN][c] = finish_value(e.value[PASS_MEAN][c], v[0], v[m - 1], k.divisor);
+            e.value[PASS_MON][c] = finish_value(e.value[PASS_MON][c], v[0], v[m - 1], k.divisor);
         }
     }
     double mean_width, mon_width;
-    mean_or_mon_half_widths(state, accumulators, pixel, pixel_count, passes, level_count, cascade_count, set_count,
-                            first_sample, n, &mean_width, &mon_width);
+    mean_or_mon_half_widths(state, accumulators, means, pixel, pixel_count, passes, level_count, cascade_count,
+                            set_count, n, &mean_width, &mon_width);
     const int pass = mean_width <= mon_width ? PASS_MEAN : PASS_MON;
     const int exponent = grid_exponent(accumulators[grid_index(pixel)]);
     for (int c = 0; c < EST_CHANNELS; ++c)
@@ -928,5 +983,47 @@ KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const u
 }
 
 #endif /* SAMPLE_PASSES_DOUBLE */
+
+/* The images of `pixel` of the passes estimated pixel by pixel
+ * (SAMPLE_PIXEL_PASSES of passes), images[slot] as sample_image_slot
+ * numbers them, after n samples [first_sample, first_sample + n) in the
+ * render's set_count sets. What the passes share (the set totals, the
+ * moments, the set means) is read once. */
+#define SAMPLE_PIXEL_IMAGES_MAX (EST_CLAMP_LEVELS_MAX + PASS_COUNT)
+
+KERNEL_FN void sample_pixel_estimates(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators, uint64_t pixel,
+                                      uint64_t pixel_count, uint32_t passes, int level_count, int cascade_count,
+                                      uint32_t set_count, uint64_t first_sample, uint64_t n,
+                                      float (*images)[EST_CHANNELS])
+{
+    const uint32_t pixel_passes = SAMPLE_PIXEL_PASSES(passes);
+    PixelSetTotals totals;
+    pixel_set_totals(accumulators, set_count, pixel, pixel_count, &totals);
+    for (int pass = PASS_CLAMP; pass <= PASS_CLAMP_SUM; ++pass)
+        for (int i = 0; i < sample_pass_images(pixel_passes, level_count, pass); ++i)
+            sample_sum_estimate(state, &totals, accumulators, set_count, pixel, pixel_count, passes, level_count, n,
+                                pass, i, images[sample_image_slot(pixel_passes, level_count, pass, i)]);
+#ifdef SAMPLE_PASSES_DOUBLE
+    PixelMoments moments[EST_CHANNELS];
+    if (pixel_passes & SAMPLE_MOMENT_PASSES)
+        for (int c = 0; c < EST_CHANNELS; ++c)
+            moments[c] =
+                sample_moments(state, &totals, set_count, pixel, pixel_count, passes, level_count, cascade_count, n, c);
+    PixelSetMeans means;
+    means.m = 0; /* read by gabmm only, which fills it */
+    if (pixel_passes & (PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_MEAN_OR_MON)))
+        pixel_set_means(accumulators, set_count, pixel, pixel_count, first_sample, n, &means);
+    for (int pass = PASS_ABMM; pass <= PASS_GABMM; ++pass)
+        if (pixel_passes & PASS_BIT(pass))
+            moment_estimate(moments, &means, n, pass, images[sample_image_slot(pixel_passes, level_count, pass, 0)]);
+    if (pixel_passes & PASS_BIT(PASS_MEAN_OR_MON))
+        mean_or_mon_estimate(state, accumulators, &means, pixel, pixel_count, passes, level_count, cascade_count,
+                             set_count, first_sample, n,
+                             images[sample_image_slot(pixel_passes, level_count, PASS_MEAN_OR_MON, 0)]);
+#else
+    (void)first_sample;
+    (void)cascade_count;
+#endif
+}
 
 #endif /* KERNELS_SAMPLE_PASSES_H */

@@ -263,7 +263,9 @@ static void test_moments_do_not_cancel(void **state)
     uint64_t *st = calloc(film_sample_planes(&s), sizeof(uint64_t)),
              *acc = calloc(accumulator_planes(1), sizeof(uint64_t));
     add_grey_stream(&s, x, N, st, acc, 0, 1);
-    PixelMoments m = sample_moments(st, acc, 1, 0, 1, film_sample_passes(&s), 1, s.params.zirr_k, N, 1);
+    PixelSetTotals totals;
+    pixel_set_totals(acc, 1, 0, 1, &totals);
+    PixelMoments m = sample_moments(st, &totals, 1, 0, 1, film_sample_passes(&s), 1, s.params.zirr_k, N, 1);
     ReferenceMoments r = reference_moments(x, N);
     long double sd = sqrtl(r.m2);
     printf("  1e6 +- 1e3: mean %.12Lg (reference %.12Lg), m2 %.12g (%.12Lg), m3 %.6g (%.6Lg)\n", (long double)m.mean,
@@ -501,9 +503,10 @@ static void test_mean_or_mon_against_reference(void **state)
         for (int p = 0; p < STREAMS; ++p) {
             ReferenceMeanOrMon r = reference_mean_or_mon(x + p * N, N, s.set_count, s.first_sample);
             double mean_width, mon_width;
-            assert_true(mean_or_mon_half_widths(st, acc, (uint64_t)p, STREAMS, film_sample_passes(&s), 0,
-                                                s.params.zirr_k, (uint32_t)s.set_count, s.first_sample, N, &mean_width,
-                                                &mon_width));
+            PixelSetMeans means;
+            pixel_set_means(acc, (uint32_t)s.set_count, (uint64_t)p, STREAMS, s.first_sample, N, &means);
+            assert_true(mean_or_mon_half_widths(st, acc, &means, (uint64_t)p, STREAMS, film_sample_passes(&s), 0,
+                                                s.params.zirr_k, (uint32_t)s.set_count, N, &mean_width, &mon_width));
             printf("  M %d, stream %d: half-widths mean %.12g (reference %.12Lg), MoN %.12g (%.12Lg); %s %.9g "
                    "(reference %.9Lg)\n",
                    s.set_count, p, mean_width, r.mean_width, mon_width, r.mon_width, r.chose_mean ? "mean" : "MoN",
@@ -870,16 +873,16 @@ static void test_zirr_kernel_equals_host(void **state)
     /* Not every cascade at full weight: the fireflies are weighed down
      * somewhere (against sum_k B_k, every reliability 1). */
     int lower = 0;
+    float *cascade_means = malloc((size_t)PIXELS * s.params.zirr_k * 3 * sizeof(float));
     for (int p = 0; p < PIXELS; ++p) {
+        zirr_pixel_means(host + (size_t)sample_block_first_plane(s.passes, 1, SAMPLE_BLOCK_ZIRR) * PIXELS, host_sets, 1,
+                         s.params.zirr_k, (uint64_t)p, PIXELS, LENGTH, cascade_means);
         float all = 0.0f;
-        for (int k = 0; k < s.params.zirr_k; ++k) {
-            float mean[3];
-            zirr_cascade_mean(host + (size_t)sample_block_first_plane(s.passes, 1, SAMPLE_BLOCK_ZIRR) * PIXELS,
-                              host_sets, 1, k, (uint64_t)p, PIXELS, LENGTH, mean);
-            all += mean[0];
-        }
+        for (int k = 0; k < s.params.zirr_k; ++k)
+            all += cascade_means[((size_t)p * s.params.zirr_k + k) * 3];
         lower += host_image[p][0] < 0.5f * all;
     }
+    free(cascade_means);
     printf("  zirr kernel == host on %dx%d; %d pixels below half their unweighted cascades\n", W, H, lower);
     assert_true(lower > 0);
     sample_estimator_destroy(program);

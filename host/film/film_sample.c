@@ -166,23 +166,16 @@ EstimatorStatus film_sample_estimate(const EstimatorSettings *s, const uint64_t 
             snprintf(message, message_size, "per-sample state, set sums or images missing or too short");
         return ESTIMATOR_INVALID_ARGUMENT;
     }
-    for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass) {
-        float *image = images->pass[pass];
-        if (!image)
-            continue;
-        for (int i = 0; i < sample_pass_images(SAMPLE_PIXEL_PASSES(passes), s->params.clamp_level_count, pass); ++i)
-            for (size_t p = 0; p < pixel_count; ++p) {
-                float *rgb = image + ((size_t)i * pixel_count + p) * EST_CHANNELS;
-                if (pass == PASS_CLAMP || pass == PASS_CLAMP_SUM)
-                    sample_sum_estimate(state, accumulators, (uint32_t)s->set_count, p, pixel_count, passes,
-                                        s->params.clamp_level_count, sample_count, pass, i, rgb);
-                else if (pass == PASS_MEAN_OR_MON)
-                    mean_or_mon_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
-                                         s->params.zirr_k, (uint32_t)s->set_count, s->first_sample, sample_count, rgb);
-                else
-                    moment_estimate(state, accumulators, p, pixel_count, passes, s->params.clamp_level_count,
-                                    s->params.zirr_k, (uint32_t)s->set_count, s->first_sample, sample_count, pass, rgb);
-            }
+    const uint32_t pixel_passes = SAMPLE_PIXEL_PASSES(passes);
+    const int levels = s->params.clamp_level_count;
+    for (size_t p = 0; p < pixel_count; ++p) {
+        float rgb[SAMPLE_PIXEL_IMAGES_MAX][EST_CHANNELS];
+        sample_pixel_estimates(state, accumulators, p, pixel_count, passes, levels, s->params.zirr_k,
+                               (uint32_t)s->set_count, s->first_sample, sample_count, rgb);
+        for (int pass = PASS_CLAMP; pass < PASS_COUNT; ++pass)
+            for (int i = 0; images->pass[pass] && i < sample_pass_images(pixel_passes, levels, pass); ++i)
+                memcpy((float *)images->pass[pass] + ((size_t)i * pixel_count + p) * EST_CHANNELS,
+                       rgb[sample_image_slot(pixel_passes, levels, pass, i)], sizeof rgb[0]);
     }
     return ESTIMATOR_OK;
 }

@@ -12,7 +12,21 @@ struct SampleEstimatorProgram {
     cl_kernel accumulate;
     cl_kernel zirr_means; /* zirr's two steps, NULL unless zirr is requested */
     cl_kernel zirr;
+    size_t local_size; /* 0: the runtime's */
 };
+
+/* One work item a pixel, in work groups of p->local_size: on CPUs small
+ * ones, as the set estimator's (film_cl.c: PoCL keeps a copy of a work
+ * item's private arrays per item of its group, too many for its stack in
+ * groups of thousands). */
+static cl_int enqueue_pixels(SampleEstimatorProgram *p, cl_kernel kernel, size_t pixel_count, cl_event *event)
+{
+    size_t global = pixel_count, local = p->local_size;
+    if (local > 0)
+        global = (global + local - 1) / local * local;
+    return clEnqueueNDRangeKernel(p->device->queue, kernel, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL,
+                                  event);
+}
 
 SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
                                              const char *kernel_dir)
@@ -26,6 +40,7 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
         return NULL;
     p->device = device;
     p->settings = *settings;
+    p->local_size = (device->info.type & CL_DEVICE_TYPE_CPU) ? 32 : 0;
     if (film_sample_needs_double(settings)) {
         char extensions[4096] = "";
         clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
@@ -101,8 +116,7 @@ cl_event sample_estimator_enqueue(SampleEstimatorProgram *p, cl_mem state, cl_me
     CL_CHECK(clSetKernelArg(p->estimate, 3, sizeof samples, &samples), fail);
     CL_CHECK(clSetKernelArg(p->estimate, 4, sizeof first, &first), fail);
     CL_CHECK(clSetKernelArg(p->estimate, 5, sizeof images, &images), fail);
-    size_t global = pixel_count;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->estimate, 1, NULL, &global, NULL, 0, NULL, &event), fail);
+    CL_CHECK(enqueue_pixels(p, p->estimate, pixel_count, &event), fail);
     return event;
 fail:
     return NULL;
@@ -164,8 +178,7 @@ int sample_estimator_run_stream(SampleEstimatorProgram *p, const float *parts, s
     CL_CHECK(clSetKernelArg(p->accumulate, 6, sizeof indirect, &indirect), done);
     cl_ulong first = p->settings.first_sample;
     CL_CHECK(clSetKernelArg(p->accumulate, 7, sizeof first, &first), done);
-    size_t global = pixel_count;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->accumulate, 1, NULL, &global, NULL, 0, NULL, NULL), done);
+    CL_CHECK(enqueue_pixels(p, p->accumulate, pixel_count, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, st, CL_TRUE, 0, state_bytes, state, 0, NULL, NULL), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, sets, CL_TRUE, 0, set_bytes, accumulators, 0, NULL, NULL), done);
     event = sample_estimator_enqueue(p, st, sets, pixel_count, stream_length, out);
@@ -223,10 +236,8 @@ int sample_estimator_zirr(SampleEstimatorProgram *p, const uint64_t *state, cons
     CL_CHECK(clSetKernelArg(p->zirr, 2, sizeof h, &h), done);
     CL_CHECK(clSetKernelArg(p->zirr, 3, sizeof samples, &samples), done);
     CL_CHECK(clSetKernelArg(p->zirr, 4, sizeof out, &out), done);
-    size_t global = pixel_count;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr_means, 1, NULL, &global, NULL, 0, NULL, &events[0]),
-             done);
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, p->zirr, 1, NULL, &global, NULL, 0, NULL, &events[1]), done);
+    CL_CHECK(enqueue_pixels(p, p->zirr_means, pixel_count, &events[0]), done);
+    CL_CHECK(enqueue_pixels(p, p->zirr, pixel_count, &events[1]), done);
     CL_CHECK(clEnqueueReadBuffer(p->device->queue, out, CL_TRUE, 0, image_bytes, image, 0, NULL, NULL), done);
     if (seconds)
         *seconds += cl_event_seconds(events[0]) + cl_event_seconds(events[1]);
