@@ -245,34 +245,24 @@ KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)
 /* The sum of d^3 (abmm, gabmm) is no exact sum: the cubes are rounded to
  * float anyway, their range (3 times d's) is more than the fixed-point
  * sums hold, and no file or merge keeps them. One word a channel holds a
- * float pair (sum, error: its low and high 32 bits) that every cube is
- * added to with Knuth's TwoSum and renormalized (TwoSum again): about
- * 2^-48 relative, and deterministic, as a pixel's samples arrive in order
- * on every device split and pass batching (FP_CONTRACT off). A non-finite
- * cube, or one that would make the sum overflow, is left out
- * (EST_ADD_ROUNDED). */
-KERNEL_FN uint64_t cube_sum_pack(float sum, float error)
-{
-    return (uint64_t)float_bits(sum) | (uint64_t)float_bits(error) << 32;
-}
-
-/* a + b = *sum + *error exactly (Knuth's TwoSum). */
-KERNEL_FN void two_sum(float a, float b, float *sum, float *error)
-{
-    *sum = a + b;
-    const float b_part = *sum - a;
-    *error = (a - (*sum - b_part)) + (b - b_part);
-}
-
+ * float pair (sum, error: its low and high 32 bits), Neumaier's compensated
+ * sum: each addition's rounding error, exact (Fast2Sum of the larger and
+ * the smaller operand), goes to the error term; the value is their sum
+ * (cube_sum_value), good to about n 2^-48 of the sum of |d^3|, and
+ * deterministic, as a pixel's samples arrive in order on every device
+ * split and pass batching (FP_CONTRACT off). A non-finite cube, or one
+ * that would make the sum overflow, is left out (EST_ADD_ROUNDED). */
 KERNEL_FN int cube_sum_add(GLOBAL uint64_t *word, float x)
 {
     const uint64_t old = *word;
-    float total, lost, high, rest;
-    two_sum(float_from_bits((uint32_t)old), x, &total, &lost);
-    two_sum(total, float_from_bits((uint32_t)(old >> 32)) + lost, &high, &rest);
-    if (!sample_is_finite(high, rest, x))
+    const float sum = float_from_bits((uint32_t)old), error = float_from_bits((uint32_t)(old >> 32));
+    const float total = sum + x;
+    const int sum_larger = abs_float(sum) >= abs_float(x);
+    const float larger = sum_larger ? sum : x, smaller = sum_larger ? x : sum;
+    const float new_error = error + ((larger - total) + smaller);
+    if (!sample_is_finite(total, new_error, x))
         return EST_ADD_ROUNDED;
-    *word = cube_sum_pack(high, rest);
+    *word = (uint64_t)float_bits(total) | (uint64_t)float_bits(new_error) << 32;
     return EST_ADD_EXACT;
 }
 
