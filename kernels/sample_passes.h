@@ -488,13 +488,11 @@ KERNEL_FN float wide_to_float(WideSum s, int *exponent)
 }
 
 /* A pixel's set sums as its estimates read them, once a pixel
- * (pixel_set_totals): the sets' grid word, the sums by channel and set, and
- * per channel their exact total on that grid, four words (two's
- * complement, word 0 lowest; below 2^132 units: the third word takes the
- * carries). */
+ * (pixel_set_totals): the sets' grid word and, per channel, the exact
+ * total of the set sums on that grid, four words (two's complement, word 0
+ * lowest; below 2^132 units: the third word takes the carries). */
 typedef struct {
     uint64_t grid;
-    FixedSum sums[EST_CHANNELS][EST_CAPACITY];
     uint64_t total[EST_CHANNELS][4];
 } PixelSetTotals;
 
@@ -506,9 +504,7 @@ KERNEL_FN void pixel_set_totals(GLOBAL const uint64_t *accumulators, uint32_t se
         uint64_t *total = t->total[c];
         total[0] = total[1] = total[2] = 0u;
         for (uint32_t j = 0; j < set_count; ++j) {
-            const FixedSum v =
-                load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count);
-            t->sums[c][j] = v;
+            FixedSum v = load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count);
             uint64_t lo = total[0] + v.lo;
             uint64_t carry = lo < v.lo ? 1u : 0u;
             uint64_t hi = total[1] + v.hi;
@@ -523,11 +519,12 @@ KERNEL_FN void pixel_set_totals(GLOBAL const uint64_t *accumulators, uint32_t se
     }
 }
 
-/* Channel c of `pixel`: the total of its set_count set sums (t) plus sum
- * `index` of the deviation accumulator `deviations` (NULL: none),
- * exactly. */
-KERNEL_FN WideSum sets_plus_deviation(const PixelSetTotals *t, uint32_t set_count, GLOBAL const uint64_t *deviations,
-                                      uint32_t index, uint64_t pixel, uint64_t pixel_count, int c)
+/* Channel c of `pixel`: the total of its set_count set sums (t, read from
+ * `accumulators`) plus sum `index` of the deviation accumulator
+ * `deviations` (NULL: none), exactly. */
+KERNEL_FN WideSum sets_plus_deviation(const PixelSetTotals *t, GLOBAL const uint64_t *accumulators, uint32_t set_count,
+                                      GLOBAL const uint64_t *deviations, uint32_t index, uint64_t pixel,
+                                      uint64_t pixel_count, int c)
 {
     WideSum s;
     for (int i = 0; i < 4; ++i)
@@ -546,7 +543,8 @@ KERNEL_FN WideSum sets_plus_deviation(const PixelSetTotals *t, uint32_t set_coun
         wide_add_shifted(&s, t->total[c], e_sets - s.exponent);
     else if (set_grid)
         for (uint32_t j = 0; j < set_count; ++j)
-            wide_add(&s, t->sums[c][j], e_sets);
+            wide_add(&s, load_sum(accumulators, accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
+                     e_sets);
     if (deviation_grid)
         wide_add(&s, load_sum(deviations, accumulator_index(index, (uint32_t)c, 0, pixel, pixel_count), pixel_count),
                  e_deviation);
@@ -556,13 +554,14 @@ KERNEL_FN WideSum sets_plus_deviation(const PixelSetTotals *t, uint32_t set_coun
 /* The mean over n samples (0 for n = 0) of sets_plus_deviation, as the
  * mean of a render of one set computes it from its sum (so that clamp at
  * V = INFINITY, no deviation, equals that mean bit for bit). */
-KERNEL_FN void sets_plus_deviation_mean(const PixelSetTotals *t, uint32_t set_count, GLOBAL const uint64_t *deviations,
-                                        uint32_t index, uint64_t pixel, uint64_t pixel_count, uint64_t n, float *rgb)
+KERNEL_FN void sets_plus_deviation_mean(const PixelSetTotals *t, GLOBAL const uint64_t *accumulators,
+                                        uint32_t set_count, GLOBAL const uint64_t *deviations, uint32_t index,
+                                        uint64_t pixel, uint64_t pixel_count, uint64_t n, float *rgb)
 {
     for (int c = 0; c < EST_CHANNELS; ++c) {
         int exponent;
-        float sum =
-            wide_to_float(sets_plus_deviation(t, set_count, deviations, index, pixel, pixel_count, c), &exponent);
+        float sum = wide_to_float(
+            sets_plus_deviation(t, accumulators, set_count, deviations, index, pixel, pixel_count, c), &exponent);
         rgb[c] = scale_by_grid(n > 0 ? sum / (float)n : 0.0f, exponent);
     }
 }
@@ -582,17 +581,18 @@ KERNEL_FN void accumulator_mean(GLOBAL const uint64_t *block, uint64_t pixel, ui
 }
 
 /* Image `index` of clamp or clamp-sum at `pixel` after sample_count
- * samples, from its deviation and the render's set sums (t, set_count
- * sets). */
-KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, const PixelSetTotals *t, uint32_t set_count,
-                                   uint64_t pixel, uint64_t pixel_count, uint32_t passes, int level_count,
-                                   uint64_t sample_count, int pass, int index, float *rgb)
+ * samples, from its deviation and the render's set sums (t of
+ * `accumulators`, set_count sets). */
+KERNEL_FN void sample_sum_estimate(GLOBAL const uint64_t *state, const PixelSetTotals *t,
+                                   GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                                   uint64_t pixel_count, uint32_t passes, int level_count, uint64_t sample_count,
+                                   int pass, int index, float *rgb)
 {
     GLOBAL const uint64_t *block =
         state + (uint64_t)sample_block_first_plane(passes, level_count,
                                                    pass == PASS_CLAMP ? SAMPLE_BLOCK_CLAMP : SAMPLE_BLOCK_CLAMP_SUM) *
                     pixel_count;
-    sets_plus_deviation_mean(t, set_count, block, (uint32_t)index, pixel, pixel_count, sample_count, rgb);
+    sets_plus_deviation_mean(t, accumulators, set_count, block, (uint32_t)index, pixel, pixel_count, sample_count, rgb);
 }
 
 /* The first step of zirr's estimate: the cascades' means B_k of `pixel`
@@ -608,7 +608,7 @@ KERNEL_FN void zirr_pixel_means(GLOBAL const uint64_t *block, GLOBAL const uint6
     for (int k = 0; k < cascade_count; ++k) {
         float mean[EST_CHANNELS];
         if (k == 0)
-            sets_plus_deviation_mean(&totals, set_count, block, 0u, pixel, pixel_count, n, mean);
+            sets_plus_deviation_mean(&totals, accumulators, set_count, block, 0u, pixel, pixel_count, n, mean);
         else
             accumulator_mean(block, pixel, pixel_count, (uint32_t)k, n, mean);
         for (int c = 0; c < EST_CHANNELS; ++c)
@@ -703,18 +703,14 @@ KERNEL_FN double double_power_of_two(int e)
 #endif
 }
 
-/* A sum as a double count of its grid's units (two roundings:
- * deterministic). */
-KERNEL_FN double fixed_units(FixedSum v)
-{
-    return (double)(int64_t)v.hi * 18446744073709551616.0 + (double)v.lo;
-}
-
-/* Set `set`, channel c of an accumulator as fixed_units. */
+/* Set `set`, channel c of an accumulator as a double count of its grid's
+ * units (two roundings: deterministic). */
 KERNEL_FN double accumulator_units(GLOBAL const uint64_t *block, uint32_t set, uint64_t pixel, uint64_t pixel_count,
                                    int c)
 {
-    return fixed_units(load_sum(block, accumulator_index(set, (uint32_t)c, 0, pixel, pixel_count), pixel_count));
+    uint64_t lo = block[accumulator_index(set, (uint32_t)c, 0, pixel, pixel_count)];
+    uint64_t hi = block[accumulator_index(set, (uint32_t)c, 1, pixel, pixel_count)];
+    return (double)(int64_t)hi * 18446744073709551616.0 + (double)lo;
 }
 
 /* The size of an accumulator's unit at `pixel`, 2^E. */
@@ -838,8 +834,8 @@ KERNEL_FN void set_key_exchange(uint64_t *keys, int i, int j)
 }
 #define SET_KEY_STEP(i, j) set_key_exchange(keys, i, j);
 
-KERNEL_FN void pixel_set_means(const PixelSetTotals *t, uint32_t set_count, uint64_t first_sample, uint64_t n,
-                               PixelSetMeans *s)
+KERNEL_FN void pixel_set_means(GLOBAL const uint64_t *accumulators, uint32_t set_count, uint64_t pixel,
+                               uint64_t pixel_count, uint64_t first_sample, uint64_t n, PixelSetMeans *s)
 {
     const uint32_t first_set = (uint32_t)(first_sample % set_count), extra = (uint32_t)(n % set_count);
     const uint64_t per_set = n / set_count;
@@ -852,7 +848,8 @@ KERNEL_FN void pixel_set_means(const PixelSetTotals *t, uint32_t set_count, uint
     for (int c = 0; c < EST_CHANNELS; ++c) {
         uint64_t keys[EST_CAPACITY];
         for (uint32_t j = 0; j < set_count; ++j) {
-            const float sum = fixed_to_float_lanes(t->sums[c][j].lo, t->sums[c][j].hi);
+            uint64_t i = accumulator_index(j, (uint32_t)c, 0, pixel, pixel_count);
+            const float sum = fixed_to_float_lanes(accumulators[i], accumulators[i + pixel_count]);
             const float mean = s->count[j] != 0 ? sum / (float)s->count[j] : 0.0f;
             s->sum[c][j] = sum;
             s->mean[c][j] = mean;
@@ -938,26 +935,27 @@ KERNEL_FN double confidence_half_width(double sum, double squares, uint64_t n)
 }
 
 /* The channel-averaged half-widths of the mean and of the median set of
- * `pixel` after n samples (its set sums t and set means `means`); returns
- * 0, leaving them 0, while a set holds fewer than 2 samples (n < 2M: a
- * set's s is unknown). */
-KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, const PixelSetTotals *t, const PixelSetMeans *means,
-                                      uint64_t pixel, uint64_t pixel_count, uint32_t passes, int level_count,
-                                      int cascade_count, uint32_t set_count, uint64_t n, double *mean_width,
-                                      double *mon_width)
+ * `pixel` after n samples (its set means `means`); returns 0, leaving them
+ * 0, while a set holds fewer than 2 samples (n < 2M: a set's s is
+ * unknown). */
+KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                      const PixelSetMeans *means, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                      int level_count, int cascade_count, uint32_t set_count, uint64_t n,
+                                      double *mean_width, double *mon_width)
 {
     *mean_width = *mon_width = 0.0;
     if (n < 2u * set_count)
         return 0;
     GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
-    const double unit = double_power_of_two(grid_exponent(t->grid)), square_unit = accumulator_unit(squares, pixel);
+    const double unit = accumulator_unit(accumulators, pixel), square_unit = accumulator_unit(squares, pixel);
     const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
     for (int c = 0; c < EST_CHANNELS; ++c) {
         /* Sums of d = x - c and d^2 by set: d's from the set sums. */
         const double shift = sample_shift(state, pixel, pixel_count, passes, level_count, c);
         double sums[EST_CAPACITY], squares_of_set[EST_CAPACITY], sum = 0.0, sum_squares = 0.0;
         for (uint32_t j = 0; j < set_count; ++j) {
-            sums[j] = fixed_units(t->sums[c][j]) * unit - (double)means->count[j] * shift;
+            sums[j] =
+                accumulator_units(accumulators, j, pixel, pixel_count, c) * unit - (double)means->count[j] * shift;
             sum += sums[j];
             squares_of_set[j] = accumulator_units(squares, j, pixel, pixel_count, c) * square_unit;
             sum_squares += squares_of_set[j];
@@ -980,10 +978,10 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, const PixelS
  * channel, the same bits as the `mean` and `mon` passes), the mean where
  * its half-width is no larger than MoN's (so where both are 0, and while
  * they are unknown), else MoN. */
-KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, const PixelSetTotals *t, const PixelSetMeans *means,
-                                    uint64_t pixel, uint64_t pixel_count, uint32_t passes, int level_count,
-                                    int cascade_count, uint32_t set_count, uint64_t first_sample, uint64_t n,
-                                    float *rgb)
+KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, GLOBAL const uint64_t *accumulators,
+                                    const PixelSetMeans *means, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                    int level_count, int cascade_count, uint32_t set_count, uint64_t first_sample,
+                                    uint64_t n, float *rgb)
 {
     const uint32_t first_set = (uint32_t)(first_sample % set_count), m = means->m;
     LaneEstimates e;
@@ -1007,10 +1005,10 @@ KERNEL_FN void mean_or_mon_estimate(GLOBAL const uint64_t *state, const PixelSet
         }
     }
     double mean_width, mon_width;
-    mean_or_mon_half_widths(state, t, means, pixel, pixel_count, passes, level_count, cascade_count, set_count, n,
-                            &mean_width, &mon_width);
+    mean_or_mon_half_widths(state, accumulators, means, pixel, pixel_count, passes, level_count, cascade_count,
+                            set_count, n, &mean_width, &mon_width);
     const int pass = mean_width <= mon_width ? PASS_MEAN : PASS_MON;
-    const int exponent = grid_exponent(t->grid);
+    const int exponent = grid_exponent(accumulators[grid_index(pixel)]);
     for (int c = 0; c < EST_CHANNELS; ++c)
         rgb[c] = scale_by_grid(e.value[pass][c], exponent);
 }
@@ -1034,8 +1032,8 @@ KERNEL_FN void sample_pixel_estimates(GLOBAL const uint64_t *state, GLOBAL const
     pixel_set_totals(accumulators, set_count, pixel, pixel_count, &totals);
     for (int pass = PASS_CLAMP; pass <= PASS_CLAMP_SUM; ++pass)
         for (int i = 0; i < sample_pass_images(pixel_passes, level_count, pass); ++i)
-            sample_sum_estimate(state, &totals, set_count, pixel, pixel_count, passes, level_count, n, pass, i,
-                                images[sample_image_slot(pixel_passes, level_count, pass, i)]);
+            sample_sum_estimate(state, &totals, accumulators, set_count, pixel, pixel_count, passes, level_count, n,
+                                pass, i, images[sample_image_slot(pixel_passes, level_count, pass, i)]);
 #ifdef SAMPLE_PASSES_DOUBLE
     PixelMoments moments[EST_CHANNELS];
     if (pixel_passes & SAMPLE_MOMENT_PASSES)
@@ -1045,13 +1043,13 @@ KERNEL_FN void sample_pixel_estimates(GLOBAL const uint64_t *state, GLOBAL const
     PixelSetMeans means;
     means.m = 0; /* read by gabmm only, which fills it */
     if (pixel_passes & (PASS_BIT(PASS_GABMM) | PASS_BIT(PASS_MEAN_OR_MON)))
-        pixel_set_means(&totals, set_count, first_sample, n, &means);
+        pixel_set_means(accumulators, set_count, pixel, pixel_count, first_sample, n, &means);
     for (int pass = PASS_ABMM; pass <= PASS_GABMM; ++pass)
         if (pixel_passes & PASS_BIT(pass))
             moment_estimate(moments, &means, n, pass, images[sample_image_slot(pixel_passes, level_count, pass, 0)]);
     if (pixel_passes & PASS_BIT(PASS_MEAN_OR_MON))
-        mean_or_mon_estimate(state, &totals, &means, pixel, pixel_count, passes, level_count, cascade_count, set_count,
-                             first_sample, n,
+        mean_or_mon_estimate(state, accumulators, &means, pixel, pixel_count, passes, level_count, cascade_count,
+                             set_count, first_sample, n,
                              images[sample_image_slot(pixel_passes, level_count, PASS_MEAN_OR_MON, 0)]);
 #else
     (void)first_sample;

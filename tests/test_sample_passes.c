@@ -503,11 +503,9 @@ static void test_mean_or_mon_against_reference(void **state)
         for (int p = 0; p < STREAMS; ++p) {
             ReferenceMeanOrMon r = reference_mean_or_mon(x + p * N, N, s.set_count, s.first_sample);
             double mean_width, mon_width;
-            PixelSetTotals totals;
             PixelSetMeans means;
-            pixel_set_totals(acc, (uint32_t)s.set_count, (uint64_t)p, STREAMS, &totals);
-            pixel_set_means(&totals, (uint32_t)s.set_count, s.first_sample, N, &means);
-            assert_true(mean_or_mon_half_widths(st, &totals, &means, (uint64_t)p, STREAMS, film_sample_passes(&s), 0,
+            pixel_set_means(acc, (uint32_t)s.set_count, (uint64_t)p, STREAMS, s.first_sample, N, &means);
+            assert_true(mean_or_mon_half_widths(st, acc, &means, (uint64_t)p, STREAMS, film_sample_passes(&s), 0,
                                                 s.params.zirr_k, (uint32_t)s.set_count, N, &mean_width, &mon_width));
             printf("  M %d, stream %d: half-widths mean %.12g (reference %.12Lg), MoN %.12g (%.12Lg); %s %.9g "
                    "(reference %.9Lg)\n",
