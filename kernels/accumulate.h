@@ -361,6 +361,28 @@ KERNEL_COLD_FN int grid_coarsen(GLOBAL uint64_t *accumulators, uint64_t pixel, u
     return inexact;
 }
 
+/* Adds v to the sum at lo_index; returns whether that sum now reaches
+ * 2^EST_SUM_BITS (fixed_too_wide). */
+KERNEL_FN int add_to_sum(GLOBAL uint64_t *accumulators, uint64_t lo_index, uint64_t pixel_count, FixedSum v)
+{
+    FixedSum sum = fixed_add(load_sum(accumulators, lo_index, pixel_count), v);
+    store_sum(accumulators, lo_index, pixel_count, sum);
+    return fixed_too_wide(sum);
+}
+
+/* The end of additions on the pixel's grid word `grid`: if a sum grew too
+ * wide, the grid moves up one bit (rounded). Returns EST_ADD_EXACT or
+ * EST_ADD_ROUNDED. */
+KERNEL_FN int end_additions_on_grid(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
+                                    uint32_t set_count, uint64_t grid, int too_wide)
+{
+    if (!too_wide)
+        return EST_ADD_EXACT;
+    int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
+    accumulators[grid_index(pixel)] = grid + 1;
+    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+}
+
 /* accumulate_exact for any finite values, any case. */
 KERNEL_COLD_FN int accumulate_exact_in_general(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count,
                                                uint32_t set_count, uint32_t set, const ExactValue *values)
@@ -400,11 +422,8 @@ KERNEL_COLD_FN int accumulate_exact_in_general(GLOBAL uint64_t *accumulators, ui
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
         if (values[c].significand == 0)
             continue;
-        uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
-        FixedSum sum =
-            fixed_add(load_sum(accumulators, i, pixel_count), fixed_from_exact(values[c], exponent, &inexact));
-        store_sum(accumulators, i, pixel_count, sum);
-        too_wide |= fixed_too_wide(sum);
+        too_wide |= add_to_sum(accumulators, accumulator_index(set, c, 0, pixel, pixel_count), pixel_count,
+                               fixed_from_exact(values[c], exponent, &inexact));
     }
     if (too_wide) {
         inexact |= grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
@@ -453,17 +472,9 @@ KERNEL_FN int accumulate_exact(GLOBAL uint64_t *accumulators, uint64_t pixel, ui
     if (!fits)
         return accumulate_exact_in_general(accumulators, pixel, pixel_count, set_count, set, x);
     int too_wide = 0;
-    for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
-        uint64_t i = accumulator_index(set, c, 0, pixel, pixel_count);
-        FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), values[c]);
-        store_sum(accumulators, i, pixel_count, sum);
-        too_wide |= fixed_too_wide(sum);
-    }
-    if (!too_wide)
-        return EST_ADD_EXACT;
-    int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
-    accumulators[grid_index(pixel)] = grid + 1;
-    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+    for (uint32_t c = 0; c < EST_CHANNELS; ++c)
+        too_wide |= add_to_sum(accumulators, accumulator_index(set, c, 0, pixel, pixel_count), pixel_count, values[c]);
+    return end_additions_on_grid(accumulators, pixel, pixel_count, set_count, grid, too_wide);
 }
 
 /* Adds one RGB sample to `set` of `pixel` (set_count sets). Returns
@@ -510,25 +521,15 @@ KERNEL_FN int accumulate_two(GLOBAL uint64_t *accumulators, uint64_t pixel, uint
     for (uint32_t c = 0; c < EST_CHANNELS; ++c) {
         /* Each value lies below 2^(EST_SUM_BITS - 1): their sum, and a sum
          * below 2^EST_SUM_BITS plus either, cannot wrap 128 bits. */
-        if (first == second) {
-            uint64_t i = accumulator_index(first, c, 0, pixel, pixel_count);
-            FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), fixed_add(values[0][c], values[1][c]));
-            store_sum(accumulators, i, pixel_count, sum);
-            too_wide |= fixed_too_wide(sum);
-        } else {
-            for (int k = 0; k < 2; ++k) {
-                uint64_t i = accumulator_index(k ? second : first, c, 0, pixel, pixel_count);
-                FixedSum sum = fixed_add(load_sum(accumulators, i, pixel_count), values[k][c]);
-                store_sum(accumulators, i, pixel_count, sum);
-                too_wide |= fixed_too_wide(sum);
-            }
-        }
+        if (first == second)
+            too_wide |= add_to_sum(accumulators, accumulator_index(first, c, 0, pixel, pixel_count), pixel_count,
+                                   fixed_add(values[0][c], values[1][c]));
+        else
+            for (int k = 0; k < 2; ++k)
+                too_wide |= add_to_sum(accumulators, accumulator_index(k ? second : first, c, 0, pixel, pixel_count),
+                                       pixel_count, values[k][c]);
     }
-    if (!too_wide)
-        return EST_ADD_EXACT;
-    int inexact = grid_coarsen(accumulators, pixel, pixel_count, set_count, 1);
-    accumulators[grid_index(pixel)] = grid + 1;
-    return inexact ? EST_ADD_ROUNDED : EST_ADD_EXACT;
+    return end_additions_on_grid(accumulators, pixel, pixel_count, set_count, grid, too_wide);
 }
 
 /* Adds the squares (r^2, g^2, b^2) of one RGB sample exactly, as
