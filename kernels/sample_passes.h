@@ -1028,8 +1028,9 @@ KERNEL_FN void sample_pixel_estimates(GLOBAL const uint64_t *state, GLOBAL const
                                       float (*images)[EST_CHANNELS])
 {
     const uint32_t pixel_passes = SAMPLE_PIXEL_PASSES(passes);
-    PixelSetTotals totals;
-    pixel_set_totals(accumulators, set_count, pixel, pixel_count, &totals);
+    PixelSetTotals totals; /* read by clamp, clamp-sum and the moments only */
+    if (pixel_passes & (PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_CLAMP_SUM) | SAMPLE_MOMENT_PASSES))
+        pixel_set_totals(accumulators, set_count, pixel, pixel_count, &totals);
     for (int pass = PASS_CLAMP; pass <= PASS_CLAMP_SUM; ++pass)
         for (int i = 0; i < sample_pass_images(pixel_passes, level_count, pass); ++i)
             sample_sum_estimate(state, &totals, accumulators, set_count, pixel, pixel_count, passes, level_count, n,
