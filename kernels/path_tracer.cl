@@ -10,7 +10,12 @@
  * Build options: -DEST_SETS=M, -DGMON_FEATURES=<mask> to compile out
  * what the scene does not use (feature_mask.h), and with per-sample
  * estimators -DEST_SAMPLE_PASSES=<mask> and their parameters
- * (sample_passes.h): without it none of their code or state exists. */
+ * (sample_passes.h): without it none of their code or state exists; with
+ * abmm, gabmm or mean-or-mon -DSAMPLE_SUMS_DOUBLE (their moments' double
+ * sums: the device needs cl_khr_fp64). */
+#ifdef SAMPLE_SUMS_DOUBLE
+#pragma OPENCL EXTENSION cl_khr_fp64 : enable
+#endif
 #include "accumulate.h"
 #include "bsdf.h"
 #include "camera.h"

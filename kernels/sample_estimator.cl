@@ -5,10 +5,11 @@
  * per-sample passes), -DEST_SETS=M (the render's sets: every pass reads the
  * set sums), -DEST_CLAMP_LEVEL_COUNT=L and -DEST_CLAMP_LEVEL_VALUES=<L
  * floats, comma-separated> (clamp's levels); with abmm, gabmm or
- * mean-or-mon -DSAMPLE_PASSES_DOUBLE (the device needs cl_khr_fp64); with
+ * mean-or-mon -DSAMPLE_SUMS_DOUBLE -DSAMPLE_PASSES_DOUBLE (the device needs
+ * cl_khr_fp64); with
  * zirr -DEST_ZIRR_COUNT=K -DEST_ZIRR_BASE=b -DEST_ZIRR_KAPPA=kappa
  * -DEST_ZIRR_EMIN=emin. */
-#ifdef SAMPLE_PASSES_DOUBLE
+#ifdef SAMPLE_SUMS_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
 #include "sample_passes.h"

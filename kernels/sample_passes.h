@@ -11,8 +11,8 @@
  *              clamping); one sum
  *   abmm, gabmm   from the pixel's moments (below)
  *   mean-or-mon   the mean where its 95 % confidence half-width is no
- *              larger than the median set's, else MoN: the exact sum of
- *              d^2 (d = x - c, below) of each set beside the set sums
+ *              larger than the median set's, else MoN: the sum of d^2
+ *              (d = x - c, below) of each set beside the set sums
  * Both clamp the film's response to the radiance before the pixel filter's
  * weight multiplies it, as pbrt-v4 does.
  *   zirr       Zirr, Hanika and Dachsbacher's reweighting of framebuffer
@@ -21,7 +21,8 @@
  *              over a 3x3 neighbourhood of the cascades (zirr_estimate),
  *              so after every sum of the image is gathered
  *
- * Every sum is an exact fixed-point sum as the set sums are (accumulate.h):
+ * Every sum but the moments' (below) is an exact fixed-point sum as the set
+ * sums are (accumulate.h):
  * a pass's sums form one block laid out as an accumulator of that many
  * "sets" (its own grid plane, then its sums), so the state depends only on
  * the samples, never on devices, pass batching or pixel moves. The blocks of
@@ -49,6 +50,13 @@
 #include "passes.h"
 #include "vec3.h"
 
+/* SAMPLE_SUMS_DOUBLE: the moments' double sums (moment_sum_add), in the
+ * path tracer and wherever SAMPLE_PASSES_DOUBLE (their estimation) is;
+ * both need cl_khr_fp64 in a kernel. */
+#if defined(SAMPLE_PASSES_DOUBLE) && !defined(SAMPLE_SUMS_DOUBLE)
+#define SAMPLE_SUMS_DOUBLE
+#endif
+
 /* The state's blocks, in this order, each present only when a pass that
  * needs it is requested:
  *   clamp     an accumulator of L deviation sums (L = clamp's levels)
@@ -56,9 +64,8 @@
  *   moments   (abmm, gabmm, mean-or-mon) the pixel's shift c, three
  *             planes (one per channel: the float's bits | SHIFT_SET), then
  *             for abmm and gabmm the sum of d^3, d = x - c, three planes of
- *             compensated float sums (cube_sum_add); the first moment
- *             comes from the set sums, the second from the squares after
- *             the blocks
+ *             doubles (moment_sum_add); the first moment comes from the
+ *             set sums, the second from the squares after the blocks
  *   zirr      an accumulator of K sums, sum k the cascade of scale b^k
  *             (sum 0 as a deviation; last, so that the blocks before it do
  *             not depend on K) */
@@ -70,12 +77,17 @@
 #define SAMPLE_MOMENT_PASSES (PASS_BIT(PASS_ABMM) | PASS_BIT(PASS_GABMM))
 #define SAMPLE_SHIFT_PASSES (SAMPLE_MOMENT_PASSES | PASS_BIT(PASS_MEAN_OR_MON))
 #define SHIFT_SET 0x100000000ul
+#if defined(EST_SAMPLE_PASSES) && !defined(SAMPLE_SUMS_DOUBLE)
+/* A kernel with abmm, gabmm or mean-or-mon built without -DSAMPLE_SUMS_DOUBLE
+ * would keep no moments: refused at compile time (a negative array size). */
+typedef char sample_sums_need_double[((EST_SAMPLE_PASSES)&SAMPLE_SHIFT_PASSES) ? -1 : 1];
+#endif
 
-/* The sums of d^2 (d = x - c, squared exactly) follow the blocks above,
- * shared by abmm, gabmm and mean-or-mon: an accumulator of one sum, or
- * with mean-or-mon of M (the render's sets, sample s in set s mod M, as its
- * set sums), so that their planes depend on M, which the blocks above do
- * not. */
+/* The sums of d^2 (d = x - c, squared exactly in double) follow the
+ * blocks above, shared by abmm, gabmm and mean-or-mon: one double a
+ * channel, or with mean-or-mon M (the render's sets, sample s in set s mod
+ * M, as its set sums; set j's channel c in plane 3 j + c), so that their
+ * planes depend on M, which the blocks above do not. */
 KERNEL_FN uint32_t sample_square_count(uint32_t passes, uint32_t set_count)
 {
     return (passes & PASS_BIT(PASS_MEAN_OR_MON)) ? set_count : 1u;
@@ -83,7 +95,7 @@ KERNEL_FN uint32_t sample_square_count(uint32_t passes, uint32_t set_count)
 
 KERNEL_FN uint32_t sample_square_planes(uint32_t passes, uint32_t set_count)
 {
-    return (passes & SAMPLE_SHIFT_PASSES) ? accumulator_planes(sample_square_count(passes, set_count)) : 0u;
+    return (passes & SAMPLE_SHIFT_PASSES) ? sample_square_count(passes, set_count) * EST_CHANNELS : 0u;
 }
 
 /* Planes of a block; cascade_count (zirr's K) matters for zirr's only. */
@@ -242,29 +254,44 @@ KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)
     return sample_is_finite(x[0], x[1], x[2]);
 }
 
-/* The sum of d^3 (abmm, gabmm) is no exact sum: the cubes are rounded to
- * float anyway, their range (3 times d's) is more than the fixed-point
- * sums hold, and no file or merge keeps them. One word a channel holds a
- * float pair (sum, error: its low and high 32 bits), Neumaier's compensated
- * sum: each addition's rounding error, exact (Fast2Sum of the larger and
- * the smaller operand), goes to the error term; the value is their sum
- * (cube_sum_value), good to about n 2^-48 of the sum of |d^3|, and
- * deterministic, as a pixel's samples arrive in order on every device
- * split and pass batching (FP_CONTRACT off). A non-finite cube, or one
- * that would make the sum overflow, is left out (EST_ADD_ROUNDED). */
-KERNEL_FN int cube_sum_add(GLOBAL uint64_t *word, float x)
+#ifdef SAMPLE_SUMS_DOUBLE
+/* A double's bits, and back. */
+KERNEL_FN uint64_t double_bits(double x)
 {
-    const uint64_t old = *word;
-    const float sum = float_from_bits((uint32_t)old), error = float_from_bits((uint32_t)(old >> 32));
-    const float total = sum + x;
-    const int sum_larger = abs_float(sum) >= abs_float(x);
-    const float larger = sum_larger ? sum : x, smaller = sum_larger ? x : sum;
-    const float new_error = error + ((larger - total) + smaller);
-    if (!sample_is_finite(total, new_error, x))
-        return EST_ADD_ROUNDED;
-    *word = (uint64_t)float_bits(total) | (uint64_t)float_bits(new_error) << 32;
-    return EST_ADD_EXACT;
+#ifdef __OPENCL_C_VERSION__
+    return as_ulong(x);
+#else
+    uint64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    return bits;
+#endif
 }
+
+KERNEL_FN double double_from_bits(uint64_t bits)
+{
+#ifdef __OPENCL_C_VERSION__
+    return as_double(bits);
+#else
+    double x;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+#endif
+}
+
+/* The moments' sums of d^2 and d^3 are plain double sums, no exact ones:
+ * d, the difference of two floats, is kept to 2^-53 in double, its square
+ * and cube to 2^-53 again, and the sums to about n 2^-53 of the sum of
+ * their magnitudes (the sum of d^2 relative to itself: its terms are
+ * positive). That is what the moments need, far within what the float
+ * estimates keep, at one addition a sum instead of an exact one, and the
+ * range ((2^128)^3 times 2^64 samples) never overflows. A pixel's samples
+ * arrive in order on every device split and pass batching, so the sums
+ * are deterministic (FP_CONTRACT off). No file or merge keeps them. */
+KERNEL_FN void moment_sum_add(GLOBAL uint64_t *word, double x)
+{
+    *word = double_bits(double_from_bits(*word) + x);
+}
+#endif
 
 /* Adds value - x to deviation sum `index` of the accumulator `block` (of
  * sum_count sums), x being the sample as the sets got it (x_finite: whether
@@ -331,10 +358,13 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
         int added = accumulate_deviation(block, pixel, pixel_count, 1u, 0u, value, x, x_finite);
         result = added > result ? added : result;
     }
+#ifdef SAMPLE_SUMS_DOUBLE
     if (passes & SAMPLE_SHIFT_PASSES) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
-        float d[EST_CHANNELS], cube[EST_CHANNELS];
+        GLOBAL uint64_t *squares = state + ((uint64_t)sample_state_planes(passes, level_count, cascade_count) +
+                                            ((passes & PASS_BIT(PASS_MEAN_OR_MON)) ? s->set * EST_CHANNELS : 0u)) *
+                                               pixel_count;
         for (int c = 0; c < EST_CHANNELS; ++c) {
             /* The pixel's first sample is its shift: the moments about it do
              * not cancel as raw moments would (a pixel of 1e6 +- 1e3). A
@@ -345,21 +375,13 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
                 shift = SHIFT_SET | float_bits(value);
                 block[(uint64_t)c * pixel_count + pixel] = shift;
             }
-            d[c] = value - float_from_bits((uint32_t)shift);
-            cube[c] = d[c] * d[c] * d[c];
+            const double d = (double)value - (double)float_from_bits((uint32_t)shift), square = d * d;
+            moment_sum_add(squares + (uint64_t)c * pixel_count + pixel, square);
+            if (passes & SAMPLE_MOMENT_PASSES)
+                moment_sum_add(block + (uint64_t)(EST_CHANNELS + c) * pixel_count + pixel, square * d);
         }
-        if (passes & SAMPLE_MOMENT_PASSES)
-            for (int c = 0; c < EST_CHANNELS; ++c) {
-                int added = cube_sum_add(block + (uint64_t)(EST_CHANNELS + c) * pixel_count + pixel, cube[c]);
-                result = added > result ? added : result;
-            }
-        GLOBAL uint64_t *squares =
-            state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
-        const int per_set = (passes & PASS_BIT(PASS_MEAN_OR_MON)) != 0;
-        int added = accumulate_square(squares, pixel, pixel_count, per_set ? s->set_count : 1u, per_set ? s->set : 0u,
-                                      d[0], d[1], d[2]);
-        result = added > result ? added : result;
     }
+#endif
     if (passes & PASS_BIT(PASS_ZIRR)) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_ZIRR) * pixel_count;
@@ -693,14 +715,7 @@ KERNEL_FN void zirr_estimate(GLOBAL const float *cascade_means, uint32_t x, uint
 /* 2^e as a double, e in -1022..1023, from its bits. */
 KERNEL_FN double double_power_of_two(int e)
 {
-#ifdef __OPENCL_C_VERSION__
-    return as_double((ulong)(e + 1023) << 52);
-#else
-    uint64_t bits = (uint64_t)(e + 1023) << 52;
-    double x;
-    memcpy(&x, &bits, sizeof x);
-    return x;
-#endif
+    return double_from_bits((uint64_t)(e + 1023) << 52);
 }
 
 /* Set `set`, channel c of an accumulator as a double count of its grid's
@@ -725,12 +740,6 @@ typedef struct {
     double third;  /* m3 = mean of (x - mu)^3 */
 } PixelMoments;
 
-/* The value of a cube sum word (cube_sum_add). */
-KERNEL_FN double cube_sum_value(uint64_t word)
-{
-    return (double)float_from_bits((uint32_t)word) + (double)float_from_bits((uint32_t)(word >> 32));
-}
-
 /* The exact total of channel c's set sums (t) as a double (one
  * rounding). */
 KERNEL_FN double sets_total(const PixelSetTotals *t, int c)
@@ -746,11 +755,12 @@ KERNEL_FN double sets_total(const PixelSetTotals *t, int c)
     return negative ? -total : total;
 }
 
-/* The pixel's squares (sample_square_planes) within its state. */
-KERNEL_FN GLOBAL const uint64_t *sample_squares(GLOBAL const uint64_t *state, uint64_t pixel_count, uint32_t passes,
-                                                int level_count, int cascade_count)
+/* Set j's sum of d^2 in channel c (sample_square_planes). */
+KERNEL_FN double sample_square_sum(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
+                                   int level_count, int cascade_count, uint32_t j, int c)
 {
-    return state + (uint64_t)sample_state_planes(passes, level_count, cascade_count) * pixel_count;
+    const uint64_t plane = sample_state_planes(passes, level_count, cascade_count) + j * EST_CHANNELS + (uint32_t)c;
+    return double_from_bits(state[plane * pixel_count + pixel]);
 }
 
 /* Channel c's shift (the pixel's first sample). */
@@ -779,13 +789,11 @@ KERNEL_FN PixelMoments sample_moments(GLOBAL const uint64_t *state, const PixelS
     GLOBAL const uint64_t *cubes =
         state +
         ((uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) + EST_CHANNELS) * pixel_count;
-    GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
-    const double square_unit = accumulator_unit(squares, pixel);
     double square_sum = 0.0;
     for (uint32_t j = 0; j < sample_square_count(passes, set_count); ++j)
-        square_sum += accumulator_units(squares, j, pixel, pixel_count, c) * square_unit;
+        square_sum += sample_square_sum(state, pixel, pixel_count, passes, level_count, cascade_count, j, c);
     const double second = square_sum / count;
-    const double third = cube_sum_value(cubes[(uint64_t)c * pixel_count + pixel]) / count;
+    const double third = double_from_bits(cubes[(uint64_t)c * pixel_count + pixel]) / count;
     m.mean = sets_total(t, c) / count;
     const double a = m.mean - sample_shift(state, pixel, pixel_count, passes, level_count, c);
     m.second = second - a * a;
@@ -897,7 +905,7 @@ KERNEL_FN void moment_estimate(const PixelMoments *moments, const PixelSetMeans 
  * the mean where the mean's is no larger, else MoN. s^2 is the sample
  * variance (1/(n - 1)) about the pixel's shift c (its first sample):
  * (Q - D^2 / n) / (n - 1) in double from D, the sum of d = x - c (the
- * exact set sums less n c), and Q, the exact sum of d^2, which loses to
+ * exact set sums less n c), and Q, the sum of d^2, which loses to
  * cancellation only about log2((mean - c)^2 / s^2) of double's 53 bits.
  * ---------------------------------------------------------------------- */
 
@@ -946,8 +954,7 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
     *mean_width = *mon_width = 0.0;
     if (n < 2u * set_count)
         return 0;
-    GLOBAL const uint64_t *squares = sample_squares(state, pixel_count, passes, level_count, cascade_count);
-    const double unit = accumulator_unit(accumulators, pixel), square_unit = accumulator_unit(squares, pixel);
+    const double unit = accumulator_unit(accumulators, pixel);
     const uint32_t low_rank = (set_count - 1) / 2, high_rank = set_count / 2;
     for (int c = 0; c < EST_CHANNELS; ++c) {
         /* Sums of d = x - c and d^2 by set: d's from the set sums. */
@@ -957,7 +964,7 @@ KERNEL_FN int mean_or_mon_half_widths(GLOBAL const uint64_t *state, GLOBAL const
             sums[j] =
                 accumulator_units(accumulators, j, pixel, pixel_count, c) * unit - (double)means->count[j] * shift;
             sum += sums[j];
-            squares_of_set[j] = accumulator_units(squares, j, pixel, pixel_count, c) * square_unit;
+            squares_of_set[j] = sample_square_sum(state, pixel, pixel_count, passes, level_count, cascade_count, j, c);
             sum_squares += squares_of_set[j];
         }
         *mean_width += confidence_half_width(sum, sum_squares, n);

@@ -9,7 +9,7 @@
  * relative variance 1e-6), abmm and gabmm match an independent long-double
  * implementation (tests/support/moment_reference.c), and gabmm goes
  * negative on a single firefly, as the spec says; mean-or-mon's sums of
- * x^2 are exact past float's range, its half-widths and choice match the
+ * d^2 hold squares past float's range, its half-widths and choice match the
  * reference (the mean without outliers, MoN with one firefly), and it is
  * bit for bit the set-based mean or MoN it chose. */
 #include "film/film_sample.h"
@@ -271,9 +271,9 @@ static void test_moments_do_not_cancel(void **state)
     printf("  1e6 +- 1e3: mean %.12Lg (reference %.12Lg), m2 %.12g (%.12Lg), m3 %.6g (%.6Lg)\n", (long double)m.mean,
            r.mean, m.second, r.m2, m.third, r.m3);
     assert_true(fabsl((long double)m.mean - r.mean) <= 1e-12L * r.mean);
-    /* d^2 and d^3 are rounded to float per sample (2^-24 relative). */
-    assert_true(fabsl((long double)m.second - r.m2) <= 1e-7L * r.m2);
-    assert_true(fabsl((long double)m.third - r.m3) <= 1e-7L * sd * sd * sd);
+    /* d^2 and d^3 are rounded to double per sample (2^-53 relative). */
+    assert_true(fabsl((long double)m.second - r.m2) <= 1e-12L * r.m2);
+    assert_true(fabsl((long double)m.third - r.m3) <= 1e-10L * sd * sd * sd);
     assert_true(r.m2 > 0.9e6L && r.m2 < 1.5e6L);
     free(x);
     free(st);
@@ -423,39 +423,34 @@ static void test_moments_kernel_equals_host(void **state)
     free(device_acc);
 }
 
-/* The sums of d^2 (d = x - c, c the pixel's first sample, here 0) are exact
- * beyond float's range: (2^100)^2 + (-3 2^40)^2 = 2^80 (2^120 + 9), with a
- * non-finite sample as 0. */
-static void test_squares_exact(void **state)
+/* The sums of d^2 (d = x - c, c the pixel's first sample, here 0) are
+ * doubles by set and channel, past float's range both ways: (2^100)^2 +
+ * (3 2^90)^2 = 2^180 (2^20 + 9) and (2^-100)^2, each exact in double, with
+ * a non-finite sample as 0. */
+static void test_square_sums(void **state)
 {
     (void)state;
     EstimatorSettings s = sample_settings(PASS_BIT(PASS_MEAN_OR_MON), NULL, 0);
     s.set_count = 3;
-    const float x[] = {0.0f, ldexpf(1.0f, 100), NAN, -3.0f * ldexpf(1.0f, 40)};
     const size_t planes = film_sample_planes(&s);
-    assert_int_equal(planes, EST_CHANNELS + accumulator_planes(3)); /* the shifts, the squares */
+    assert_int_equal(planes, EST_CHANNELS + 3 * EST_CHANNELS); /* the shifts, the squares */
     uint64_t *st = calloc(planes, sizeof(uint64_t)), *sets = calloc(accumulator_planes(3), sizeof(uint64_t));
-    const uint64_t *squares = st + EST_CHANNELS;
-    /* With 1 in channel b the pixel's squares span 2^0 .. 2^200, more than
-     * the 126 bits of a sum: reported rounded, as the sets would. */
-    SampleParts zero = parts_in_set(parts_of(0, 0, 0, 0, 0, 0, 0, 0, 0, 1.0f), 0, 3);
-    SampleParts wide = parts_in_set(parts_of(x[1], x[1], 1.0f, 0, 0, 0, 0, 0, 0, 1.0f), 0, 3);
-    assert_int_equal(film_sample_add(&s, sets, st, 0, 1, &zero), EST_ADD_EXACT);
-    assert_int_equal(film_sample_add(&s, sets, st, 0, 1, &wide), EST_ADD_ROUNDED);
-    /* Without it, r and g are exact (the NaN sample counts as 0): */
-    memset(st, 0, planes * sizeof(uint64_t));
-    memset(sets, 0, accumulator_planes(3) * sizeof(uint64_t));
+    const float x[] = {0.0f, ldexpf(1.0f, 100), NAN, 3.0f * ldexpf(1.0f, 90)};
     for (int i = 0; i < 4; ++i) {
         SampleParts p = parts_in_set(parts_of(x[i], x[i], 0.0f, 0, 0, 0, 0, 0, 0, 1.0f), 0, 3); /* all in set 0 */
         assert_int_equal(film_sample_add(&s, sets, st, 0, 1, &p), EST_ADD_EXACT);
     }
-    accumulators_normalize(st + EST_CHANNELS, 0, 1, 3);
-    assert_int_equal(grid_exponent(squares[grid_index(0)]), 80);
-    for (uint32_t c = 0; c < 2; ++c) {
-        assert_true(squares[accumulator_index(0, c, 0, 0, 1)] == 9u);
-        assert_true(squares[accumulator_index(0, c, 1, 0, 1)] == (uint64_t)1 << 56);
-    }
-    assert_true(squares[accumulator_index(0, 2, 0, 0, 1)] == 0u && squares[accumulator_index(1, 0, 0, 0, 1)] == 0u);
+    SampleParts tiny =
+        parts_in_set(parts_of(ldexpf(1.0f, -100), ldexpf(1.0f, -100), 1.0f, 0, 0, 0, 0, 0, 0, 1.0f), 1, 3);
+    assert_int_equal(film_sample_add(&s, sets, st, 0, 1, &tiny), EST_ADD_EXACT);
+    const double want[3][EST_CHANNELS] = {{ldexp(1048585.0, 180), ldexp(1048585.0, 180), 0.0},
+                                          {ldexp(1.0, -200), ldexp(1.0, -200), 1.0},
+                                          {0.0, 0.0, 0.0}};
+    for (uint32_t j = 0; j < 3; ++j)
+        for (int c = 0; c < EST_CHANNELS; ++c) {
+            const double sum = sample_square_sum(st, 0, 1, film_sample_passes(&s), 0, s.params.zirr_k, j, c);
+            assert_memory_equal(&sum, &want[j][c], sizeof sum);
+        }
     free(st);
     free(sets);
 }
@@ -513,9 +508,8 @@ static void test_mean_or_mon_against_reference(void **state)
                    chosen[p][0], r.value);
             assert_int_equal(r.chose_mean, want_mean[p]);
             assert_int_equal(mean_width <= mon_width, want_mean[p]);
-            /* d = x - c is a float: the firefly's, far from the shift c,
-             * is rounded (2^-24), its square 2^-23 relative. */
-            const long double tolerance = p == 1 ? 1e-7L : 1e-9L;
+            /* d = x - c, d^2 and the sums in double. */
+            const long double tolerance = 1e-10L;
             assert_true(fabsl(mean_width - r.mean_width) <= tolerance * r.mean_width);
             assert_true(fabsl(mon_width - r.mon_width) <= tolerance * r.mon_width);
             assert_true(fabsl(chosen[p][0] - r.value) <= 1e-6L * fabsl(r.value));
@@ -963,7 +957,7 @@ int main(void)
         cmocka_unit_test(test_zirr_kernel_equals_host),
         cmocka_unit_test(test_zirr_memory_summary),
         cmocka_unit_test(test_zirr_render),
-        cmocka_unit_test(test_squares_exact),
+        cmocka_unit_test(test_square_sums),
         cmocka_unit_test(test_mean_or_mon_against_reference),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

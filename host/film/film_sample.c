@@ -42,7 +42,8 @@ void film_sample_build_options(const EstimatorSettings *s, char *options, size_t
     options[0] = '\0';
     if (!passes)
         return;
-    int used = snprintf(options, size, " -DEST_SAMPLE_PASSES=0x%xu", (unsigned)passes);
+    int used = snprintf(options, size, " -DEST_SAMPLE_PASSES=0x%xu%s", (unsigned)passes,
+                        film_sample_needs_double(s) ? " -DSAMPLE_SUMS_DOUBLE" : "");
     if (passes & PASS_BIT(PASS_CLAMP)) {
         used += snprintf(options + used, size - (size_t)used,
                          " -DEST_CLAMP_LEVEL_COUNT=%d -DEST_CLAMP_LEVEL_VALUES=", s->params.clamp_level_count);

@@ -28,6 +28,21 @@ static cl_int enqueue_pixels(SampleEstimatorProgram *p, cl_kernel kernel, size_t
                                   event);
 }
 
+int sample_passes_supported(const ClDevice *device, const EstimatorSettings *settings)
+{
+    if (!film_sample_needs_double(settings))
+        return 1;
+    char extensions[4096] = "";
+    clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
+    if (strstr(extensions, "cl_khr_fp64"))
+        return 1;
+    fprintf(stderr,
+            "abmm, gabmm and mean-or-mon keep and compute their moments in double precision, which device '%s' "
+            "lacks (no cl_khr_fp64): render them on another device\n",
+            device->info.name);
+    return 0;
+}
+
 SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,
                                              const char *kernel_dir)
 {
@@ -41,18 +56,8 @@ SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSe
     p->device = device;
     p->settings = *settings;
     p->local_size = (device->info.type & CL_DEVICE_TYPE_CPU) ? 32 : 0;
-    if (film_sample_needs_double(settings)) {
-        char extensions[4096] = "";
-        clGetDeviceInfo(device->info.id, CL_DEVICE_EXTENSIONS, sizeof extensions - 1, extensions, NULL);
-        if (!strstr(extensions, "cl_khr_fp64")) {
-            fprintf(stderr,
-                    "sample estimator: abmm, gabmm and mean-or-mon compute their moments in double precision, which "
-                    "device '%s' "
-                    "lacks (no cl_khr_fp64): render them on another device\n",
-                    device->info.name);
-            goto fail;
-        }
-    }
+    if (!sample_passes_supported(device, settings))
+        goto fail;
     char options[768];
     film_sample_estimator_options(settings, options, sizeof options);
     p->program = cl_program_build(device, "sample_estimator", options, kernel_dir);

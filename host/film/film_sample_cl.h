@@ -8,6 +8,11 @@
 
 typedef struct SampleEstimatorProgram SampleEstimatorProgram;
 
+/* Whether `device` can accumulate and estimate the settings' per-sample
+ * passes (abmm, gabmm and mean-or-mon need cl_khr_fp64); if not, prints
+ * why and returns 0. */
+int sample_passes_supported(const ClDevice *device, const EstimatorSettings *settings);
+
 /* Builds the program for the settings' per-sample passes (none requested:
  * an error). Returns NULL after printing the reason. */
 SampleEstimatorProgram *sample_estimator_new(ClDevice *device, const EstimatorSettings *settings,

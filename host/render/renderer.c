@@ -235,6 +235,10 @@ static int start_worker(Render *r, Worker *w, const char *options)
         drop_worker(r, w, "the path tracer failed to build (injected by " RENDER_FAULT_ENV ")");
         return -1;
     }
+    if (r->sample_planes && !sample_passes_supported(w->device, &r->estimator)) {
+        drop_worker(r, w, "the device cannot keep the per-sample passes' moments");
+        return -1;
+    }
     w->program = cl_program_build(w->device, "path_tracer", options, s->kernel_dir);
     if (!w->program) {
         drop_worker(r, w, "the path tracer failed to build (build log above)");
