@@ -114,12 +114,6 @@ KERNEL_FN uint64_t float_significand(uint32_t bits)
     return (bits & 0x7fffffu) | ((bits & 0x7f800000u) != 0 ? 0x800000u : 0u);
 }
 
-/* The exponent of the lowest set bit of a nonzero finite float. */
-KERNEL_FN int lowest_bit_exponent(uint32_t bits)
-{
-    return ulp_exponent(bits) + trailing_zeros64(float_significand(bits));
-}
-
 /* Whether |v| reaches 2^EST_SUM_BITS (bits 127 and 126 differ). */
 KERNEL_FN int fixed_too_wide(FixedSum v)
 {
@@ -188,16 +182,13 @@ KERNEL_FN FixedSum fixed_shift_right_rounded(FixedSum v, int d, int *inexact)
     return r;
 }
 
-/* A finite value exactly: significand * 2^exponent, with its sign apart;
- * the significand lies below 2^width. A float's (width 24), or the square
- * of a float's (width 48: mean-or-mon's sums of x^2, sample_passes.h),
- * which no float holds exactly and whose range (2^-298 .. 2^256) no float
- * reaches. */
+/* A finite float exactly: significand * 2^exponent, with its sign apart;
+ * the significand lies below 2^EXACT_VALUE_WIDTH. */
+#define EXACT_VALUE_WIDTH 24
 typedef struct {
     uint64_t significand;
     int exponent;
     int negative;
-    int width;
 } ExactValue;
 
 KERNEL_FN ExactValue exact_of_float(float x)
@@ -207,20 +198,6 @@ KERNEL_FN ExactValue exact_of_float(float x)
     v.significand = float_significand(bits);
     v.exponent = ulp_exponent(bits);
     v.negative = (int)(bits >> 31);
-    v.width = 24;
-    return v;
-}
-
-/* x^2 of a finite float, exactly. */
-KERNEL_FN ExactValue exact_square_of_float(float x)
-{
-    uint32_t bits = float_bits(x);
-    uint64_t significand = float_significand(bits);
-    ExactValue v;
-    v.significand = significand * significand;
-    v.exponent = 2 * ulp_exponent(bits);
-    v.negative = 0;
-    v.width = 48;
     return v;
 }
 
@@ -393,7 +370,7 @@ KERNEL_COLD_FN int accumulate_exact_in_general(GLOBAL uint64_t *accumulators, ui
         if (values[c].significand == 0)
             continue;
         int lowest = values[c].exponent + trailing_zeros64(values[c].significand);
-        int bound = values[c].exponent + values[c].width;
+        int bound = values[c].exponent + EXACT_VALUE_WIDTH;
         finest = nonzero && finest < lowest ? finest : lowest;
         top = nonzero && top > bound ? top : bound;
         nonzero = 1;
@@ -439,14 +416,14 @@ KERNEL_COLD_FN int accumulate_exact_in_general(GLOBAL uint64_t *accumulators, ui
  * every sample is once a pixel has its grid. */
 KERNEL_FN FixedSum value_on_grid(ExactValue x, int grid_exponent, int *fits)
 {
-    /* The value is significand * 2^shift units, below 2^(shift + width). */
+    /* The value is significand * 2^shift units, below 2^(shift + EXACT_VALUE_WIDTH). */
     int shift = x.exponent - grid_exponent;
     FixedSum v;
     v.lo = 0;
     v.hi = 0;
     if (x.significand == 0) /* +-0 lies on every grid */
         return v;
-    if (shift < -(x.width - 1) || shift + x.width > EST_SUM_BITS - 1) {
+    if (shift < -(EXACT_VALUE_WIDTH - 1) || shift + EXACT_VALUE_WIDTH > EST_SUM_BITS - 1) {
         *fits = 0;
         return v;
     }
@@ -530,20 +507,6 @@ KERNEL_FN int accumulate_two(GLOBAL uint64_t *accumulators, uint64_t pixel, uint
                                        pixel_count, values[k][c]);
     }
     return end_additions_on_grid(accumulators, pixel, pixel_count, set_count, grid, too_wide);
-}
-
-/* Adds the squares (r^2, g^2, b^2) of one RGB sample exactly, as
- * accumulate_sample adds the sample. */
-KERNEL_FN int accumulate_square(GLOBAL uint64_t *accumulators, uint64_t pixel, uint64_t pixel_count, uint32_t set_count,
-                                uint32_t set, float r, float g, float b)
-{
-    if (!sample_is_finite(r, g, b))
-        return EST_ADD_NONFINITE;
-    ExactValue x[EST_CHANNELS];
-    x[0] = exact_square_of_float(r);
-    x[1] = exact_square_of_float(g);
-    x[2] = exact_square_of_float(b);
-    return accumulate_exact(accumulators, pixel, pixel_count, set_count, set, x);
 }
 
 /* Puts a pixel's sums in their canonical form: its grid moved up by the

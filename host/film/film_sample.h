@@ -31,7 +31,7 @@ int film_sample_images(const EstimatorSettings *settings);
 
 /* The build options of the path tracer and sample estimator for the
  * settings: "" when none is requested, else " -DEST_SAMPLE_PASSES=..."
- * (with a leading space). */
+ * (with a leading space), with abmm/gabmm/mean-or-mon -DSAMPLE_SUMS_DOUBLE. */
 void film_sample_build_options(const EstimatorSettings *settings, char *options, size_t size);
 
 /* The sample estimator's build options: film_sample_build_options,
