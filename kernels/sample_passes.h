@@ -255,27 +255,24 @@ KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)
 }
 
 #ifdef SAMPLE_SUMS_DOUBLE
-/* A double's bits, and back. */
+/* A double's bits, and back (a union reinterprets in C and OpenCL C). */
+typedef union {
+    double value;
+    uint64_t bits;
+} DoubleBits;
+
 KERNEL_FN uint64_t double_bits(double x)
 {
-#ifdef __OPENCL_C_VERSION__
-    return as_ulong(x);
-#else
-    uint64_t bits;
-    memcpy(&bits, &x, sizeof bits);
-    return bits;
-#endif
+    DoubleBits v;
+    v.value = x;
+    return v.bits;
 }
 
 KERNEL_FN double double_from_bits(uint64_t bits)
 {
-#ifdef __OPENCL_C_VERSION__
-    return as_double(bits);
-#else
-    double x;
-    memcpy(&x, &bits, sizeof x);
-    return x;
-#endif
+    DoubleBits v;
+    v.bits = bits;
+    return v.value;
 }
 
 /* The moments' sums of d^2 and d^3 are plain double sums, no exact ones:

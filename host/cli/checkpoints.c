@@ -2,6 +2,7 @@
 #include "cli/checkpoints.h"
 
 #include "cli/output_files.h"
+#include "film/film_sample.h"
 #include "render/render_exr.h"
 
 #include <errno.h>
@@ -89,16 +90,24 @@ int checkpoints_write(void *user, const RenderOutput *out)
     image->metadata.extra_count = 1;
     if (write_exr_file(path, image))
         ++c->failures;
+    /* A row for every estimate: the set-based ones and each image of the
+     * per-sample ones (clamp's by level), by their layer names. */
+    const size_t values = (size_t)out->width * out->height * 3;
     for (int p = 0; p < PASS_COUNT; ++p) {
-        if (!(PASSES_ESTIMATES & PASS_BIT(p)) || !out->pass[p])
+        if (!((PASSES_ESTIMATES | PASSES_SAMPLE) & PASS_BIT(p)) || !out->pass[p])
             continue;
-        fprintf(c->csv, "%llu,%.6f,%s,", (unsigned long long)out->sample_count, out->seconds, pass_name(p));
-        if (c->reference) {
-            double rmse = 0.0, relmse = 0.0;
-            image_errors(out->pass[p], c->reference, (size_t)out->width * out->height * 3, &rmse, &relmse);
-            fprintf(c->csv, "%.9g,%.9g\n", rmse, relmse);
-        } else {
-            fprintf(c->csv, ",\n");
+        const int images = (PASSES_SAMPLE & PASS_BIT(p)) ? film_sample_pass_images(&out->estimator, p) : 1;
+        for (int i = 0; i < images; ++i) {
+            char name[EXR_LAYER_NAME_CAPACITY];
+            film_sample_layer_name(&out->estimator, p, i, name, sizeof name); /* pass_name but clamp's */
+            fprintf(c->csv, "%llu,%.6f,%s,", (unsigned long long)out->sample_count, out->seconds, name);
+            if (c->reference) {
+                double rmse = 0.0, relmse = 0.0;
+                image_errors((const float *)out->pass[p] + (size_t)i * values, c->reference, values, &rmse, &relmse);
+                fprintf(c->csv, "%.9g,%.9g\n", rmse, relmse);
+            } else {
+                fprintf(c->csv, ",\n");
+            }
         }
     }
     if (fflush(c->csv) != 0) {

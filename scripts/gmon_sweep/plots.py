@@ -63,9 +63,14 @@ def error_plots(rows, floors, x_key, path, title, region="image"):
     ("spp" or "seconds") on `region`; the reference's residual RMSE and
     relMSE (`floors`) as dashed lines."""
     rows = [r for r in rows if r["region"] == region]
-    figure, axes = plt.subplots(2, 2, figsize=(10, 8), constrained_layout=True)
+    lines = _lines(rows)
+    # Beyond a dozen lines the legend goes below the panels, in columns.
+    columns = 1 if len(lines) <= 12 else 4
+    legend_rows = -(-(len(lines) + 1) // columns)
+    figure, axes = plt.subplots(2, 2, figsize=(10, 8 + (0.17 * legend_rows if columns > 1 else 0)),
+                                constrained_layout=True)
     for axis, (key, name) in zip(axes.flat, PANELS):
-        for line_label, colour, line in _lines(rows):
+        for line_label, colour, line in lines:
             line = sorted(line, key=lambda r: r[x_key])
             axis.plot([r[x_key] for r in line], [_value(r, key) for r in line], marker="o", markersize=3,
                       color=colour, label=line_label)
@@ -77,7 +82,10 @@ def error_plots(rows, floors, x_key, path, title, region="image"):
         axis.set_xlabel(AXES[x_key])
         axis.set_ylabel(name)
         axis.grid(True, which="both", alpha=0.3)
-    axes.flat[0].legend(fontsize=7)
+    if columns == 1:
+        axes.flat[0].legend(fontsize=7)
+    else:
+        figure.legend(*axes.flat[0].get_legend_handles_labels(), loc="outside lower center", ncol=columns, fontsize=7)
     figure.suptitle(f"{title}: error on the {'whole image' if region == 'image' else region}")
     figure.savefig(path, dpi=90)
     plt.close(figure)

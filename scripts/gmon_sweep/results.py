@@ -14,7 +14,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from . import crops, renderer, sweep
+from . import crops, exr, renderer, sweep
 from .plots import estimators_of, label
 
 ROOT = renderer.ROOT
@@ -62,7 +62,25 @@ def error(row, key):
     return f"{text} †" if floor is not None and sweep.at_floor(row[key], floor, key) else text
 
 
-def scene_section(scene, rows, settings):
+def below_zero(rows, sweep_dir):
+    """Lines of a table: per estimator and M, the pixels of the last
+    checkpoint with a channel below 0 and the lowest value there (gabmm goes
+    negative on a firefly; a negative filter lobe can make any estimate so)."""
+    all_sets = sorted({r["sets"] for r in rows})
+    final_spp = max(r["spp"] for r in rows)
+    out = [f"Pixels below zero at {final_spp} spp (any channel; the lowest value in brackets):", "",
+           f"| estimator | {' | '.join(f'M = {m}' for m in all_sets)} |", "| --- " * (len(all_sets) + 1) + "|"]
+    for estimator in estimators_of(rows):
+        cells = []
+        for sets in all_sets:
+            image = exr.read_layer(sweep.checkpoint_path(Path(sweep_dir) / f"M{sets}", final_spp), estimator)
+            negative = int((image.min(axis=-1) < 0).sum())
+            cells.append(f"{negative} of {image.shape[0] * image.shape[1]} ({image.min():.3g})" if negative else "0")
+        out.append(f"| {label(estimator)} | {' | '.join(cells)} |")
+    return out + [""]
+
+
+def scene_section(scene, rows, settings, sweep_dir):
     all_sets = sorted({r["sets"] for r in rows})
     final_spp = max(r["spp"] for r in rows)
     estimators = estimators_of(rows)
@@ -97,7 +115,7 @@ def scene_section(scene, rows, settings):
                 r = line(rows, shown_sets, estimator, region)[-1]
                 cells.append(f"{error(r, 'relmse')} / {r['flip']:.3f}")
             out.append(f"| {region} | {' | '.join(cells)} |")
-    out += [""]
+    out += [""] + below_zero(rows, sweep_dir)
     for figure in FIGURES:
         out += [f"![{scene} {figure[:-4]}](results/{scene}-{figure})", ""]
     out += ["Commands run by the sweep:", "", "```sh", *settings["commands"], "```", ""]
@@ -139,7 +157,7 @@ def summary(all_rows):
     return out + [""]
 
 
-def page(all_rows, all_settings, arguments, docs):
+def page(all_rows, all_settings, sweep_dirs, arguments, docs):
     first = next(iter(all_settings.values()))
     estimators = list(dict.fromkeys(e for rows in all_rows.values() for e in estimators_of(rows)))
     others = [label(e) for e in estimators if e != "mean"]
@@ -175,7 +193,7 @@ def page(all_rows, all_settings, arguments, docs):
     out += reference_table(all_settings)
     out += summary(all_rows)
     for scene, rows in all_rows.items():
-        out += scene_section(scene, rows, all_settings[scene])
+        out += scene_section(scene, rows, all_settings[scene], sweep_dirs[scene])
     return "\n".join(out)
 
 
@@ -213,7 +231,8 @@ def main(argv=None):
         for figure in FIGURES:
             shutil.copy(out / figure, figures_dir / f"{scene}-{figure}")
     arguments = [a for a in (argv if argv is not None else sys.argv[1:]) if a != "--no-render"]
-    (args.docs / "results.md").write_text(page(all_rows, all_settings, arguments, args.docs) + "\n")
+    sweep_dirs = {scene: args.sweeps / scene for scene in all_rows}
+    (args.docs / "results.md").write_text(page(all_rows, all_settings, sweep_dirs, arguments, args.docs) + "\n")
     print(f"wrote {args.docs / 'results.md'}", file=sys.stderr)
 
 

@@ -13,7 +13,7 @@ checkpoint image on the whole image and on the scene's named crops (RMSE,
 relMSE, SSIM, FLIP, relative bias), checks its whole-image RMSE against the
 renderer's, flags errors the reference's own residual error could account
 for, and draws the plots. The estimators measured are those the renderer
-wrote: the rows of its checkpoints.csv, and a checkpoint's gmon.estimators.
+wrote: the rows of its checkpoints.csv (one a layer: clamp one a level).
 
 Outputs in --out: sweep.csv (one row per M, checkpoint, estimator and
 region), sweep.json (settings, reference, commands), error-vs-spp.png,
@@ -170,7 +170,7 @@ def sweep(args):
     figure_spps = [s for s in (args.figure_spp or []) if s in run_spps] or [run_spps[-1]]
     files = {spp: exr.read(checkpoint_path(out / f"M{shown_sets}", spp)) for spp in figure_spps}
     images = {spp: layers for spp, (layers, _) in files.items()}
-    estimators = exr.estimators(files[figure_spps[-1]][1])
+    estimators = plots.estimators_of(rows)  # the layers (clamp's by level), as the renderer's rows name them
     plots.crops_figure(images, reference, {n: r for n, r in regions.items() if r}, out / "crops.png",
                        f"{scene}, M = {shown_sets}", estimators)
     return out, rows

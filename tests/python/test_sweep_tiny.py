@@ -106,6 +106,26 @@ class TinySweep(unittest.TestCase):
         with open(docs / "results" / "cornell-diffuse-crops.png", "rb") as f:
             self.assertEqual(f.read(8), PNG_SIGNATURE)
 
+    def test_per_sample_estimators_are_swept_by_layer(self):
+        """clamp (one layer a level) and gabmm: the renderer's checkpoint rows
+        name each layer, their RMSE agrees with this script's (sweep.measure_run
+        checks it), and the page counts the pixels below zero."""
+        sweeps = WORK / "sweeps-per-sample"
+        out = sweeps / "cornell-diffuse"
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5",
+                    "--estimators", "mean,clamp,gabmm", "--out", str(out), "--gmonrt", str(GMONRT)])
+        rows = sweep.read_csv(out / "sweep.csv")
+        self.assertEqual(list(dict.fromkeys(r["estimator"] for r in rows)),
+                         ["mean", "clamp-1", "clamp-1e+01", "clamp-1e+02", "gabmm"])
+        final = {r["estimator"]: r for r in rows if r["spp"] == 8 and r["region"] == "image"}
+        self.assertLess(final["clamp-1"]["rel_bias"], final["clamp-1e+02"]["rel_bias"])  # clamping darkens
+        docs = WORK / "docs-per-sample"
+        results.main([str(SCENE), "--no-render", "--sweeps", str(sweeps), "--docs", str(docs)])
+        page = (docs / "results.md").read_text()
+        self.assertIn("| 5 | clamp-1e+01 |", page)
+        self.assertIn("| estimator | M = 5 |", page)
+        self.assertRegex(page, r"\| mean \| (0|[0-9]+ of 1024 \(-[0-9.e+-]+\)) \|")
+
     def test_calibration_quick(self):
         """Every estimator's standard error at 32 and 64 spp against the tiny
         reference: the mean's covers about as t_20 says (0.935), the
