@@ -127,6 +127,12 @@ KERNEL_FN uint32_t sample_state_planes(uint32_t passes, int level_count, int cas
            sample_block_planes(passes, level_count, cascade_count, SAMPLE_BLOCK_ZIRR);
 }
 
+/* The plane of set j's sum of d^2 in channel c, after the blocks. */
+KERNEL_FN uint64_t sample_square_plane(uint32_t passes, int level_count, int cascade_count, uint32_t j, int c)
+{
+    return (uint64_t)sample_state_planes(passes, level_count, cascade_count) + j * EST_CHANNELS + (uint32_t)c;
+}
+
 /* RGB images a pass produces: one per clamp level, else one. */
 KERNEL_FN int sample_pass_images(uint32_t passes, int level_count, int pass)
 {
@@ -359,9 +365,7 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
     if (passes & SAMPLE_SHIFT_PASSES) {
         GLOBAL uint64_t *block =
             state + (uint64_t)sample_block_first_plane(passes, level_count, SAMPLE_BLOCK_MOMENTS) * pixel_count;
-        GLOBAL uint64_t *squares = state + ((uint64_t)sample_state_planes(passes, level_count, cascade_count) +
-                                            ((passes & PASS_BIT(PASS_MEAN_OR_MON)) ? s->set * EST_CHANNELS : 0u)) *
-                                               pixel_count;
+        const uint32_t square_set = (passes & PASS_BIT(PASS_MEAN_OR_MON)) ? s->set : 0u;
         for (int c = 0; c < EST_CHANNELS; ++c) {
             /* The pixel's first sample is its shift: the moments about it do
              * not cancel as raw moments would (a pixel of 1e6 +- 1e3). A
@@ -373,7 +377,9 @@ KERNEL_FN int sample_passes_add(GLOBAL uint64_t *state, uint64_t pixel, uint64_t
                 block[(uint64_t)c * pixel_count + pixel] = shift;
             }
             const double d = (double)value - (double)float_from_bits((uint32_t)shift), square = d * d;
-            moment_sum_add(squares + (uint64_t)c * pixel_count + pixel, square);
+            moment_sum_add(
+                state + sample_square_plane(passes, level_count, cascade_count, square_set, c) * pixel_count + pixel,
+                square);
             if (passes & SAMPLE_MOMENT_PASSES)
                 moment_sum_add(block + (uint64_t)(EST_CHANNELS + c) * pixel_count + pixel, square * d);
         }
@@ -752,12 +758,11 @@ KERNEL_FN double sets_total(const PixelSetTotals *t, int c)
     return negative ? -total : total;
 }
 
-/* Set j's sum of d^2 in channel c (sample_square_planes). */
+/* Set j's sum of d^2 in channel c (sample_square_plane). */
 KERNEL_FN double sample_square_sum(GLOBAL const uint64_t *state, uint64_t pixel, uint64_t pixel_count, uint32_t passes,
                                    int level_count, int cascade_count, uint32_t j, int c)
 {
-    const uint64_t plane = sample_state_planes(passes, level_count, cascade_count) + j * EST_CHANNELS + (uint32_t)c;
-    return double_from_bits(state[plane * pixel_count + pixel]);
+    return double_from_bits(state[sample_square_plane(passes, level_count, cascade_count, j, c) * pixel_count + pixel]);
 }
 
 /* Channel c's shift (the pixel's first sample). */
