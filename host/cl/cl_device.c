@@ -49,6 +49,9 @@ int cl_devices_enumerate(ClDeviceInfo *devices, int capacity)
                      fail);
             CL_CHECK(clGetDeviceInfo(ids[d], CL_DEVICE_SINGLE_FP_CONFIG, sizeof fp, &fp, NULL), fail);
             info->correctly_rounded_divide = (fp & CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT) != 0;
+            CL_CHECK(clGetDeviceInfo(ids[d], CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT, sizeof info->native_float_width,
+                                     &info->native_float_width, NULL),
+                     fail);
         }
     }
     return found;

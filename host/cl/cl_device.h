@@ -17,6 +17,7 @@ typedef struct {
     cl_ulong global_memory;
     cl_ulong max_allocation;
     int correctly_rounded_divide; /* CL_FP_CORRECTLY_ROUNDED_DIVIDE_SQRT */
+    cl_uint native_float_width;   /* CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT: floats in a register */
 } ClDeviceInfo;
 
 /* Fills up to `capacity` entries with every device of every platform.
