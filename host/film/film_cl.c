@@ -33,24 +33,34 @@ static int setting_from_environment(const char *name, long lo, long hi, int powe
     return 0;
 }
 
-/* The launch configuration. On CPUs: one pixel per float lane of the
- * device's native vector register (16 with AVX-512, else 8), as CPU OpenCL
- * runtimes do not vectorize this kernel across work items (16 lanes on
- * AVX-512: the default set 1.3x, all estimates with standard errors 1.5x
- * faster than 8, bench_estimator), small work groups (a runtime may keep a
- * copy of a work item's private data per item of a group), and the next
- * work item's input prefetched (M * 3 input streams are more than hardware
- * prefetchers follow). Elsewhere one pixel per work item (a GPU runs a work
- * item per SIMD lane) and the runtime's work-group size. The
- * ESTIMATOR_*_ENV variables override each. Returns 0 on success. */
-static int choose_launch(const ClDevice *device, EstimatorLaunch *launch)
+/* The launch configuration. On CPUs: several pixels a work item, as CPU
+ * OpenCL runtimes do not vectorize this kernel across work items: 8, or one
+ * per float lane of a wider native vector register (16 with AVX-512) where
+ * the estimates' arithmetic outweighs reading the sums (estimates beyond the
+ * default set, or standard errors). Measured with bench_estimator at
+ * 1920x1080, M = 21: 16 lanes made all estimates with standard errors 1.4x
+ * (AMD EPYC, AVX-512) to 1.5x (Intel) faster than 8, but the default set
+ * 2.1x slower on the AMD machine (its fixed-point conversion alone 2x
+ * slower a pixel) while 1.3x faster on the Intel one. Then work groups of
+ * 256 pixels (a runtime may keep a copy of a work item's private data per
+ * item of a group), and the next work item's input prefetched (M * 3 input
+ * streams are more than hardware prefetchers follow). Elsewhere one pixel
+ * per work item (a GPU runs a work item per SIMD lane) and the runtime's
+ * work-group size. The ESTIMATOR_*_ENV variables override each. Returns 0
+ * on success. */
+static int choose_launch(const ClDevice *device, const EstimatorSettings *settings, EstimatorLaunch *launch)
 {
     int cpu = (device->info.type & CL_DEVICE_TYPE_CPU) != 0;
-    launch->vector_width = !cpu ? 1 : device->info.native_float_width >= 16 ? 16 : 8;
-    launch->local_size = cpu ? 32 : 0;
+    int arithmetic_bound = settings->with_stderr || (settings->passes & ~PASSES_DEFAULT) != 0;
+    launch->vector_width = !cpu ? 1 : arithmetic_bound && device->info.native_float_width >= 16 ? 16 : 8;
     launch->prefetch = cpu ? 1 : 0;
-    if (setting_from_environment(ESTIMATOR_VECTOR_WIDTH_ENV, 1, 16, 1, &launch->vector_width) != 0 ||
-        setting_from_environment(ESTIMATOR_LOCAL_SIZE_ENV, 0, 1 << 16, 0, &launch->local_size) != 0 ||
+    if (setting_from_environment(ESTIMATOR_VECTOR_WIDTH_ENV, 1, 16, 1, &launch->vector_width) != 0)
+        return -1;
+    /* PoCL keeps a work group's private arrays on one thread's stack: 256
+     * pixels a group fit at 8 and 16 lanes, while 16 lanes times 32 items
+     * crashed test_estimator_kernel (a stack overflow). */
+    launch->local_size = cpu ? 256 / launch->vector_width : 0;
+    if (setting_from_environment(ESTIMATOR_LOCAL_SIZE_ENV, 0, 1 << 16, 0, &launch->local_size) != 0 ||
         setting_from_environment(ESTIMATOR_PREFETCH_ENV, 0, 64, 0, &launch->prefetch) != 0)
         return -1;
     if (!cpu)
@@ -72,7 +82,7 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
     p->settings = *settings;
     p->settings.passes &= ~PASSES_SAMPLE; /* film_sample_cl.h's */
     settings = &p->settings;
-    if (choose_launch(device, &p->launch) != 0)
+    if (choose_launch(device, settings, &p->launch) != 0)
         goto fail;
     char options[256];
     snprintf(options, sizeof options,

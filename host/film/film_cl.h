@@ -18,10 +18,10 @@ void estimator_program_destroy(EstimatorProgram *program);
  * experiments). */
 typedef struct {
     int vector_width; /* pixels per work item, one per vector lane: 1, 2, 4, 8 or 16
-                         (ESTIMATOR_VECTOR_WIDTH_ENV; default on CPUs the floats of a native
-                         vector register, 16 or 8; 1 elsewhere) */
+                         (ESTIMATOR_VECTOR_WIDTH_ENV; default on CPUs 8, or 16 with AVX-512
+                         for estimates beyond the default set or standard errors; 1 elsewhere) */
     int local_size;   /* work items per work group, 0 for the runtime's choice
-                         (ESTIMATOR_LOCAL_SIZE_ENV; default 32 on CPUs, 0 elsewhere) */
+                         (ESTIMATOR_LOCAL_SIZE_ENV; default 256 / vector_width on CPUs, 0 elsewhere) */
     int prefetch;     /* CPUs: prefetch the input of the work item this many ahead, 0 for
                          none (ESTIMATOR_PREFETCH_ENV; default 1 on CPUs, 0 elsewhere) */
 } EstimatorLaunch;
