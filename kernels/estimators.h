@@ -858,60 +858,12 @@ EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m,
     return shared;
 }
 
-/* G (gini_sorted_offset's, with epsilon in the units of v added to every
- * value: gini_authors'; 0: the paper's G) of the m - 1 ascending values
- * left when v[r] is removed, for every r, in O(m), into g[r]. Removing an
- * end value may change the scale: those two are computed on their own.
- * Inside, the scale is that of all m values. The numerator, the sum of the
- * pairwise differences, is the sum of the gaps between neighbours, each
- * times the pairs it separates (below times above): removing v[r] merges
- * the two gaps around it and shifts the others' counts, so it is a prefix
- * of the gaps below r, the merged gap and a suffix of those above, every
- * term >= 0 (no cancellation); the denominator's differences to the
- * lowest value are a prefix and a suffix too. m >= 2. */
-EST_INLINE void leave_one_out_ginis(const est_float *v, int m, est_float epsilon, est_float *g)
+/* The paper's G of each channel of m sorted sets. */
+EST_INLINE void channel_ginis(const est_float (*v)[EST_CAPACITY], int m, est_float *gini)
 {
-    const int n = m - 1; /* values left */
-    g[0] = gini_authors(v + 1, n, epsilon);
-    g[m - 1] = gini_authors(v, n, epsilon);
-    if (n < 2)
-        return;
-    est_int e = sorted_range_exponent(v, 0, m - 1);
-    est_float down = power_of_two(-e), offset = scale_by_power(epsilon, -e);
-    est_float x[EST_CAPACITY];
     EST_UNROLL
-    for (int j = 0; j < m; ++j)
-        x[j] = scaled(v[j], down);
-    const est_float lowest = x[0], shift = EST_SELECT(lowest < 0.0f, lowest, EST_FLOATS(0.0f));
-    /* suffix[r]: the gaps i >= r + 2 (gap i lies between x[i - 1] and
-     * x[i]), each separating i - 1 below from m - i above once v[r] is
-     * gone; rest[r]: sum_{j > r} (x[j] - x[0]) */
-    est_float suffix[EST_CAPACITY], rest[EST_CAPACITY];
-    est_float sum = EST_FLOATS(0.0f), compensation = EST_FLOATS(0.0f);
-    est_float differences = EST_FLOATS(0.0f), differences_compensation = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int r = m - 2; r >= 1; --r) {
-        if (r + 2 <= m - 1)
-            compensated_add(&sum, &compensation, (float)((r + 1) * (m - 2 - r)) * (x[r + 2] - x[r + 1]));
-        compensated_add(&differences, &differences_compensation, x[r + 1] - lowest);
-        suffix[r] = sum + compensation;
-        rest[r] = differences + differences_compensation;
-    }
-    est_float prefix = EST_FLOATS(0.0f), prefix_compensation = EST_FLOATS(0.0f);
-    est_float below = EST_FLOATS(0.0f), below_compensation = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int r = 1; r <= m - 2; ++r) {
-        /* the merged gap x[r + 1] - x[r - 1] separates r below from n - r above */
-        est_float numerator = (prefix + prefix_compensation) + (float)(r * (n - r)) * (x[r + 1] - x[r - 1]) + suffix[r];
-        est_float total = (below + below_compensation) + rest[r];
-        est_float denominator = (float)n * (total + (float)n * (lowest - shift + offset));
-        est_float value = numerator / denominator;
-        value = EST_SELECT(value < 0.0f, EST_FLOATS(0.0f), EST_SELECT(value > 1.0f, EST_FLOATS(1.0f), value));
-        g[r] = EST_SELECT((denominator > 0.0f) & (denominator < INFINITY), value, EST_FLOATS(0.0f));
-        /* gap r lies below every later r: r below it, n - r above */
-        compensated_add(&prefix, &prefix_compensation, (float)(r * (n - r)) * (x[r] - x[r - 1]));
-        compensated_add(&below, &below_compensation, x[r] - lowest);
-    }
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        gini[c] = gini_of_sorted(v[c], m);
 }
 
 /* G-MoN (Gini per channel or per pixel) of m sorted sets, for the
@@ -1052,18 +1004,6 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             weiszfeld_add(&after[j], (const est_float(*)[EST_CAPACITY])points, j, full->ratio, gmedian_z);
         }
     }
-    /* the channels' G and the authors' G of the m - 1 sets left, by the
-     * rank of the one left out */
-    const int need_gini = (recomputed & (PASS_BIT(PASS_GMON) | PASS_BIT(PASS_GGMON))) || (jackknifed & gated);
-    const int need_authors = (recomputed & PASS_BIT(PASS_GMON_AUTHORS)) != 0;
-    est_float gini_by_rank[EST_CHANNELS][EST_CAPACITY], authors_by_rank[EST_CHANNELS][EST_CAPACITY];
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        if (need_gini)
-            leave_one_out_ginis(v[c], m, EST_FLOATS(0.0f), gini_by_rank[c]);
-        if (need_authors)
-            leave_one_out_ginis(v[c], m, epsilon, authors_by_rank[c]);
-    }
     KERNEL_NO_UNROLL
     for (int left_out = 0; left_out < m && (recomputed || (jackknifed & gated)); ++left_out) {
         est_float rest_v[EST_CHANNELS][EST_CAPACITY], rest_t[EST_CHANNELS][EST_CAPACITY];
@@ -1086,24 +1026,12 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             }
         }
         est_float value[PASS_COUNT][EST_CHANNELS];
-        est_float gini[EST_CHANNELS], authors[EST_CHANNELS], z[EST_CHANNELS];
-        EST_UNROLL
-        for (int c = 0; c < EST_CHANNELS; ++c) {
-            gini[c] = EST_FLOATS(0.0f);
-            authors[c] = EST_FLOATS(0.0f);
-            EST_UNROLL
-            for (int r = 0; r < m; ++r) {
-                if (need_gini)
-                    gini[c] = EST_SELECT(rank[c] == r, gini_by_rank[c][r], gini[c]);
-                if (need_authors)
-                    authors[c] = EST_SELECT(rank[c] == r, authors_by_rank[c][r], authors[c]);
-            }
-        }
+        est_float gini[EST_CHANNELS], z[EST_CHANNELS];
+        channel_ginis((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini);
         if (recomputed & PASS_BIT(PASS_GMON))
             gmon_of_sorted_sets((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini_mode, gini, value);
-        FamilyShared shared = family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1,
-                                            jackknifed & ~PASS_BIT(PASS_GMON_AUTHORS), epsilon, gini, z);
-        shared.authors_gbar = (authors[0] + authors[1] + authors[2]) / 3.0f;
+        FamilyShared shared =
+            family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1, jackknifed, epsilon, gini, z);
         if (jackknifed & gated) {
             EST_UNROLL
             for (int c = 0; c < EST_CHANNELS; ++c) {
