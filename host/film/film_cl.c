@@ -39,9 +39,9 @@ static int setting_from_environment(const char *name, long lo, long hi, int powe
  * the estimates' arithmetic outweighs reading the sums (estimates beyond the
  * default set, or standard errors). Measured with bench_estimator at
  * 1920x1080, M = 21: 16 lanes made all estimates with standard errors 1.4x
- * (AMD EPYC, AVX-512) to 1.5x (Intel) faster than 8, but the default set
- * 2.1x slower on the AMD machine (its fixed-point conversion alone 2x
- * slower a pixel) while 1.3x faster on the Intel one. Then work groups of
+ * to 1.5x faster than 8 on two AVX-512 machines, but the default set 2.1x
+ * slower on one (an AMD EPYC: its fixed-point conversion alone 2x slower a
+ * pixel) while 1.3x faster on the other. Then work groups of
  * 256 pixels (a runtime may keep a copy of a work item's private data per
  * item of a group), and the next work item's input prefetched (M * 3 input
  * streams are more than hardware prefetchers follow). Elsewhere one pixel
