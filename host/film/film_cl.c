@@ -42,12 +42,10 @@ static int setting_from_environment(const char *name, long lo, long hi, int powe
  * to 1.5x faster than 8 on two AVX-512 machines, but the default set 2.1x
  * slower on one (an AMD EPYC: its fixed-point conversion alone 2x slower a
  * pixel) while 1.3x faster on the other. Then work groups of 256 pixels
- * (a runtime may keep a copy of a work item's private data per item of a
- * group), and the next work item's input prefetched (M * 3 input streams
- * are more than hardware prefetchers follow). Elsewhere one pixel
- * per work item (a GPU runs a work item per SIMD lane) and the runtime's
- * work-group size. The ESTIMATOR_*_ENV variables override each. Returns 0
- * on success. */
+ * (below), and the next work item's input prefetched (M * 3 input streams
+ * are more than hardware prefetchers follow). Elsewhere one pixel per work
+ * item (a GPU runs a work item per SIMD lane) and the runtime's work-group
+ * size. The ESTIMATOR_*_ENV variables override each. Returns 0 on success. */
 static int choose_launch(const ClDevice *device, const EstimatorSettings *settings, EstimatorLaunch *launch)
 {
     int cpu = (device->info.type & CL_DEVICE_TYPE_CPU) != 0;
