@@ -105,11 +105,12 @@ static int render(const Options *o)
         return 1;
     }
     int status = 1;
-    if (!o->quiet && strcmp(summary.sampler, "independent") != 0 && summary.sampler[0])
-        fprintf(stderr,
-                "gmonrt: note: Sampler \"%s\" replaced by an independent sampler (median of means needs "
-                "independent samples)\n",
-                summary.sampler);
+    if (o->sampler >= 0)
+        scene.constants.integrator.sampler = (uint32_t)o->sampler;
+    else if (!o->quiet && summary.sampler[0] &&
+             strcmp(summary.sampler, sampler_name(scene.constants.integrator.sampler)) != 0)
+        fprintf(stderr, "gmonrt: note: Sampler \"%s\" is rendered with gmonrt's %s sampler (docs/sampling.md)\n",
+                summary.sampler, sampler_name(scene.constants.integrator.sampler));
     if (!o->quiet && summary.regularize)
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)

@@ -13,7 +13,7 @@
 
 #include "distribution.h"
 #include "feature_mask.h"
-#include "rng.h"
+#include "sampler.h"
 #include "scene_types.h"
 #include "vec3.h"
 
@@ -66,21 +66,23 @@ KERNEL_FN float filter_sample(const GLOBAL FilterData *filter, const GLOBAL floa
     return f < 0.0f ? -filter->weight : filter->weight;
 }
 
-/* The camera ray of the sample with random key `key` in pixel (x, y). */
+/* The camera ray of the sample drawing from `stream` in pixel (x, y). */
 KERNEL_FN CameraRay camera_ray(const GLOBAL CameraData *camera, const GLOBAL FilterData *filter,
-                               const GLOBAL float *distributions, uint32_t x, uint32_t y, uint64_t key)
+                               const GLOBAL float *distributions, uint32_t x, uint32_t y, const SampleStream *stream)
 {
     CameraRay ray;
     ray.weight = 1.0f;
     float px, py; /* the image position, in pixels from the top left */
+    float u, v;
+    sample_2d(stream, 0u, &u, &v);
     if (GMON_HAS_PIXEL_FILTER && filter->table_width > 0u) {
         float dx, dy;
-        ray.weight = filter_sample(filter, distributions, rng_uniform(key, 0), rng_uniform(key, 1), &dx, &dy);
+        ray.weight = filter_sample(filter, distributions, u, v, &dx, &dy);
         px = (float)x + 0.5f + dx;
         py = (float)y + 0.5f + dy;
     } else {
-        px = (float)x + rng_uniform(key, 0);
-        py = (float)y + rng_uniform(key, 1);
+        px = (float)x + u;
+        py = (float)y + v;
     }
     float sx = 2.0f * px / (float)camera->width - 1.0f;
     float sy = 1.0f - 2.0f * py / (float)camera->height;
@@ -101,8 +103,8 @@ KERNEL_FN CameraRay camera_ray(const GLOBAL CameraData *camera, const GLOBAL Fil
     }
     if (GMON_HAS_THIN_LENS && camera->lens_radius > 0.0f) {
         float lx, ly;
-        sample_disk_concentric(rng_uniform(key, CAMERA_LENS_DIMENSION), rng_uniform(key, CAMERA_LENS_DIMENSION + 1u),
-                               &lx, &ly);
+        sample_2d(stream, CAMERA_LENS_DIMENSION, &u, &v);
+        sample_disk_concentric(u, v, &lx, &ly);
         Vec3 focus = v_add(ray.origin, v_scale(direction, camera->focal_distance));
         ray.origin = v_add(position, v_add(v_scale(vec3_from_global(camera->lens_right), lx),
                                            v_scale(vec3_from_global(camera->lens_up), ly)));

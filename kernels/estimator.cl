@@ -247,8 +247,7 @@ static __attribute__((noinline)) void estimate_in_general(__global const void *i
     est_int grid = from_accumulators ? load_grid_exponents(input, first, count) : EST_INTS(0);
     estimate_lanes(sums, sample_count, EST_SETS, m, EST_PASSES, EST_STDERR, EST_GINI_MODE, params, grid,
                    from_accumulators, &e);
-    if (from_accumulators)
-        estimates_to_grid(&e, EST_PASSES, grid);
+    finish_estimates(&e, EST_PASSES, from_accumulators, grid);
     store_estimates(&e, pixel_count, first, count, images);
 }
 
@@ -285,8 +284,7 @@ EST_INLINE void estimate_common(__global const void *input, int from_accumulator
         estimate_lanes(sums, sample_count, EST_SETS, EST_SETS, EST_PASSES, EST_STDERR, EST_GINI_MODE, params, grid,
                        from_accumulators, &e);
     }
-    if (from_accumulators)
-        estimates_to_grid(&e, EST_PASSES, grid);
+    finish_estimates(&e, EST_PASSES, from_accumulators, grid);
     store_estimates(&e, pixel_count, first, LANES, images);
 }
 

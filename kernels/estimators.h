@@ -57,16 +57,33 @@ typedef struct {
     est_float error[PASS_COUNT][EST_CHANNELS]; /* standard errors of the estimates */
 } LaneEstimates;
 
-/* Estimates computed on sums in grid units, scaled to the pixel's values. */
-EST_INLINE void estimates_to_grid(LaneEstimates *out, uint32_t passes, est_int grid_exponent)
+/* Every NaN as one bit pattern, 0x7fc00000: arithmetic on a NaN keeps its
+ * payload on x86 but gives 0x7fffffff on NVIDIA's GPUs, and host and devices
+ * must agree bit for bit. */
+EST_INLINE est_float canonical_nan(est_float x)
+{
+    return EST_SELECT(x != x, EST_FLOAT_FROM_BITS(EST_UINT_FROM_INT(EST_INTS(0x7fc00000))), x);
+}
+
+/* The last step before the estimates are stored, on the host and on the
+ * devices alike: estimates computed on sums in grid units (from
+ * accumulators) scaled to the pixel's values, and NaNs made canonical (the
+ * trim count, an integer, aside). */
+EST_INLINE void finish_estimates(LaneEstimates *out, uint32_t passes, int from_accumulators, est_int grid_exponent)
 {
     EST_UNROLL
     for (int p = 0; p < PASS_COUNT; ++p)
-        if (passes & PASSES_ESTIMATES & PASS_BIT(p)) {
+        if ((passes & PASS_BIT(p)) && p != PASS_TRIM) {
+            const int scaled = from_accumulators && (PASSES_ESTIMATES & PASS_BIT(p));
             EST_UNROLL
             for (int c = 0; c < EST_CHANNELS; ++c) {
-                out->value[p][c] = scale_by_grid(out->value[p][c], grid_exponent);
-                out->error[p][c] = scale_by_grid(out->error[p][c], grid_exponent);
+                est_float value = out->value[p][c], error = out->error[p][c];
+                if (scaled) {
+                    value = scale_by_grid(value, grid_exponent);
+                    error = scale_by_grid(error, grid_exponent);
+                }
+                out->value[p][c] = canonical_nan(value);
+                out->error[p][c] = canonical_nan(error);
             }
         }
 }
@@ -1130,7 +1147,7 @@ EST_INLINE int channels_together(uint32_t passes, int with_stderr, int gini_mode
  *   grid_exponent : the sums count units of 2^grid_exponent (0 for plain
  *                   float sums); only the authors' 1e-11 depends on it
  *   finite        : see estimate_channel
- * Results are in the units of the sums (estimates_to_grid scales them).
+ * Results are in the units of the sums (finish_estimates scales them).
  * With only mean, MoN, G-MoN and diagnostics, in the default mode, a
  * channel needs only its own sums: a caller may run estimate_channel_alone
  * per channel instead (the same operations). */

@@ -20,7 +20,6 @@
 #include "bsdf.h"
 #include "camera.h"
 #include "lights.h"
-#include "rng.h"
 #include "scene.h"
 #if GMON_HAS_TEXTURES
 #include "surface_textures.h"
@@ -51,8 +50,19 @@
 #define EST_ZIRR_BASE 8.0f
 #endif
 
-/* Random dimensions: 2 for the image position, then DIMS_PER_BOUNCE a
- * bounce (and 2 for the lens, past them: camera.h). */
+#ifndef GMON_SAMPLER
+#define GMON_SAMPLER SAMPLER_INDEPENDENT
+#endif
+/* The M the sampler deals samples to: the render's --sets even where only
+ * the mean is kept (EST_SETS = 1), so that render draws the same samples. */
+#ifndef GMON_SAMPLER_SETS
+#define GMON_SAMPLER_SETS EST_SETS
+#endif
+
+/* Random dimensions (sampler.h): 2 for the image position, then
+ * DIMS_PER_BOUNCE a bounce: the light's pick, a point on it (2D), the
+ * BSDF's lobe, its direction (2D), Russian roulette (and 2 for the lens,
+ * past them: camera.h). */
 #define DIMS_PER_BOUNCE 7
 
 /* Radiance leaving area light `light` at normal n toward direction w (unit). */
@@ -115,7 +125,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
  * unit length from cone_width at the camera, along the whole path (as if
  * every bounce were a mirror's). */
 KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float cone_width, float cone_spread,
-                          uint64_t key, uint *rays, Vec3 *parts)
+                          const SampleStream *stream, uint *rays, Vec3 *parts)
 {
     __global const IntegratorData *integrator = &scene->constants->integrator;
     const int use_nee = GMON_HAS_NEE && (integrator->flags & RENDER_NEE) != 0;
@@ -183,8 +193,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         /* Next-event estimation (not for perfectly smooth surfaces). */
         if (use_nee && !bsdf_is_delta(material)) {
             LightSample ls;
-            if (sample_light(scene, p, n, rng_uniform(key, dim), rng_uniform(key, dim + 1), rng_uniform(key, dim + 2),
-                             &ls, rays)) {
+            float u1, u2;
+            sample_2d(stream, dim + 1, &u1, &u2);
+            if (sample_light(scene, p, n, sample_1d(stream, dim), u1, u2, &ls, rays)) {
                 Vec3 wi = vec3(v_dot(ls.wi, s), v_dot(ls.wi, t), v_dot(ls.wi, ns));
                 float bsdf_pdf = 0.0f;
                 Vec3 f = bsdf_eval(material, wo, wi, &bsdf_pdf);
@@ -195,8 +206,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         }
 
         BsdfSample bs;
-        if (!bsdf_sample(material, wo, rng_uniform(key, dim + 3), rng_uniform(key, dim + 4), rng_uniform(key, dim + 5),
-                         &bs))
+        float u1, u2;
+        sample_2d(stream, dim + 4, &u1, &u2);
+        if (!bsdf_sample(material, wo, sample_1d(stream, dim + 3), u1, u2, &bs))
             break;
         throughput = v_mul(throughput, v_scale(bs.f, fabs(bs.wi.z) / bs.pdf));
         previous_pdf = bs.pdf;
@@ -211,7 +223,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         float q = v_max_component(throughput) * eta_scale;
         if (depth >= 1 && q < integrator->rr_threshold) {
             float survive = fmax(q, 0.05f);
-            if (rng_uniform(key, dim + 6) >= survive)
+            if (sample_1d(stream, dim + 6) >= survive)
                 break;
             throughput = v_scale(throughput, 1.0f / survive);
         }
@@ -257,11 +269,12 @@ __kernel void render_samples(__global const SceneConstants *constants,
     uint nonfinite = 0, rounded = 0, rays = 0;
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
-        uint64_t key = rng_sample_key(constants->integrator.seed, pixel, sample_index);
-        CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, key);
+        SampleStream stream =
+            sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
+        CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, &stream);
         Vec3 parts[2] = {vec3(0.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 0.0f)};
         Vec3 L = film_response(&constants->film, trace_path(&scene, camera.origin, camera.direction, camera.cone_width,
-                                                            camera.cone_spread, key, &rays, parts));
+                                                            camera.cone_spread, &stream, &rays, parts));
         const uint set = set_of_sample(sample_index, EST_SETS);
 #if SAMPLE_PASSES
         SampleParts sample;

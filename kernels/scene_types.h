@@ -365,7 +365,8 @@ typedef struct {
     uint32_t light_count;
     uint32_t seed;
     float rr_threshold;
-    uint32_t pad[3];
+    uint32_t sampler; /* SAMPLER_* (sampler.h); the kernels are built for it */
+    uint32_t pad[2];
 } IntegratorData;
 
 /* The infinite lights: lights[0, infinite_count) of the light array. */

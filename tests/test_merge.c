@@ -247,11 +247,16 @@ static void test_mismatches_are_refused(void **state)
     shallow.constants.integrator.max_depth = scene.constants.integrator.max_depth;
     shallow.constants.integrator.flags = 0; /* --integrator bsdf */
     render_part_of(&shallow, "bsdf.exr", 4, 4, 5, 3);
-    const char *depth[] = {"m5.exr", "depth1.exr"}, *bsdf[] = {"m5.exr", "bsdf.exr"};
+    shallow.constants.integrator.flags = scene.constants.integrator.flags;
+    shallow.constants.integrator.sampler = SAMPLER_INDEPENDENT;
+    render_part_of(&shallow, "independent.exr", 4, 4, 5, 3);
+    const char *depth[] = {"m5.exr", "depth1.exr"}, *bsdf[] = {"m5.exr", "bsdf.exr"},
+               *independent[] = {"m5.exr", "independent.exr"};
     char expected[64];
     snprintf(expected, sizeof expected, "differ in maxdepth (%u vs 1)", scene.constants.integrator.max_depth);
     merge_refused(depth, 2, expected);
     merge_refused(bsdf, 2, "differ in integrator (path vs bsdf)");
+    merge_refused(independent, 2, "differ in sampler (sobol-sets vs independent)");
 
     /* Another scene (hash), ranges and counts that wrap 64 bits. */
     forge_part("m5.exr", "other-scene.exr", 4, 4, "0123456789abcdef");

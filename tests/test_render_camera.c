@@ -73,9 +73,11 @@ static int same_vec3(Vec3 a, Vec3 b)
     return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z);
 }
 
+/* The ray of the independent sampler's sample with key `key`. */
 static CameraRay ray_of(const RenderScene *scene, uint32_t x, uint32_t y, uint64_t key)
 {
-    return camera_ray(&scene->constants.camera, &scene->constants.filter, scene->distributions, x, y, key);
+    SampleStream stream = {key, 0u, SAMPLER_INDEPENDENT};
+    return camera_ray(&scene->constants.camera, &scene->constants.filter, scene->distributions, x, y, &stream);
 }
 
 /* The box filter of radius 0.5 and a pinhole: the camera constants and

@@ -176,7 +176,8 @@ static void test_mip_level_at_distance(void **state)
     const float position[3] = {0, 0, 0}, forward[3] = {0, 0, -1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
     RenderCamera camera = render_camera_pinhole(position, forward, right, up, 0.5f, 0.5f, 128, 128);
     render_scene_set_camera(&scene, &camera);
-    CameraRay ray = camera_ray(&scene.constants.camera, &scene.constants.filter, NULL, 64, 64, 1);
+    SampleStream stream = {1u, 0u, SAMPLER_INDEPENDENT};
+    CameraRay ray = camera_ray(&scene.constants.camera, &scene.constants.filter, NULL, 64, 64, &stream);
     assert_float_equal(ray.cone_spread, 1.0f / 128.0f, 1e-9f);
     assert_float_equal(ray.cone_width, 0.0f, 0.0f);
     /* A 4 x 4 plane with uv 0..1 (0.25 uv a unit) facing the camera at

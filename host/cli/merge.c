@@ -18,6 +18,13 @@ static int compatible(const char *a_path, const ExrImage *a, const char *b_path,
                 b_integrator);
         return 0;
     }
+    const char *a_sampler = a->metadata.sampler ? a->metadata.sampler : "independent";
+    const char *b_sampler = b->metadata.sampler ? b->metadata.sampler : "independent";
+    if (strcmp(a_sampler, b_sampler) != 0) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in sampler (%s vs %s)\n", a_path, b_path, a_sampler,
+                b_sampler);
+        return 0;
+    }
     if (a->metadata.max_depth != b->metadata.max_depth) {
         fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,
                 a->metadata.max_depth, b->metadata.max_depth);

@@ -1,6 +1,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/options.h"
 
+#include "render/render_scene.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <stdarg.h>
@@ -29,9 +31,12 @@ typedef struct {
 
 static const Flag flags[] = {
     {NULL, NULL, FOR_RENDER, "Sampling"},
-    {"--spp", "N", FOR_RENDER,
-     "samples per pixel (default: the scene's Sampler\n\"pixelsamples\", else 64). Sampling is always independent\n"
-     "uniform random, as median of means requires."},
+    {"--spp", "N", FOR_RENDER, "samples per pixel (default: the scene's Sampler\n\"pixelsamples\", else 64)"},
+    {"--sampler", "NAME", FOR_RENDER,
+     "sobol-sets: each of the M sets its own Owen-scrambled\nSobol sequence (sets independent, as MoN assumes);\n"
+     "sobol-pixel: one sequence over all of a pixel's samples\n(the best mean, but the sets' means are correlated);\n"
+     "independent: uniform random numbers. Default: the\nscene's Sampler \"independent\" or else sobol-sets\n"
+     "(docs/sampling.md)"},
     {"--seed", "N", FOR_RENDER,
      "random seed (default 0); the image depends only on the\nseed and the sample range, never on passes or devices"},
     {"--first-sample", "N", FOR_RENDER, "first sample index of the range rendered (default 0)"},
@@ -366,6 +371,10 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
     } else if (strcmp(flag, "--resolution") == 0) {
         if (parse_resolution(value, &o->width, &o->height))
             return fail(error, size, "--resolution: '%s' is not WIDTHxHEIGHT, each 1..65536 (e.g. 640x480)", value);
+    } else if (strcmp(flag, "--sampler") == 0) {
+        o->sampler = sampler_from_name(value);
+        if (o->sampler < 0)
+            return fail(error, size, "--sampler: '%s' is not sobol-sets, sobol-pixel or independent", value);
     } else if (strcmp(flag, "--maxdepth") == 0) {
         if (parse_u64(value, 10000, &number))
             return fail(error, size, "--maxdepth: '%s' is not an integer in 0..10000", value);
@@ -411,6 +420,7 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     o->preview = -1;
     o->exposure = 1.0f;
     o->max_depth = -1;
+    o->sampler = -1;
 
     int first = 1;
     if (argc > 1 && strcmp(argv[1], "estimate") == 0) {

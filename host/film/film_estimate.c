@@ -358,8 +358,7 @@ static EstimatorStatus estimate_all(const EstimatorSettings *requested, const fl
         PixelEstimates e;
         estimate_lanes(sums, sample_count, (int)m, sets, settings->passes, settings->with_stderr,
                        (int)settings->gini_mode, &settings->params, exponent, from_accumulators, &e);
-        if (from_accumulators)
-            estimates_to_grid(&e, settings->passes, exponent);
+        finish_estimates(&e, settings->passes, from_accumulators, exponent);
         store(settings, &e, p, images);
     }
     return ESTIMATOR_OK;

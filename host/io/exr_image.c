@@ -225,12 +225,12 @@ static exr_context_initializer_t context_initializer(IoContext *io)
 
 /* The gmon.* attributes this module reads and writes itself; any other
  * gmon.* string attribute is one of the film's. */
-static const char *const own_attributes[] = {METADATA_PREFIX "software",      METADATA_PREFIX "sets",
-                                             METADATA_PREFIX "samples",       METADATA_PREFIX "seed",
-                                             METADATA_PREFIX "firstSample",   METADATA_PREFIX "sceneFile",
-                                             METADATA_PREFIX "sceneHash",     METADATA_PREFIX "integrator",
-                                             METADATA_PREFIX "maxDepth",      METADATA_PREFIX "nonfiniteSamples",
-                                             METADATA_PREFIX "roundedSamples"};
+static const char *const own_attributes[] = {METADATA_PREFIX "software",         METADATA_PREFIX "sets",
+                                             METADATA_PREFIX "samples",          METADATA_PREFIX "seed",
+                                             METADATA_PREFIX "firstSample",      METADATA_PREFIX "sceneFile",
+                                             METADATA_PREFIX "sceneHash",        METADATA_PREFIX "integrator",
+                                             METADATA_PREFIX "sampler",          METADATA_PREFIX "maxDepth",
+                                             METADATA_PREFIX "nonfiniteSamples", METADATA_PREFIX "roundedSamples"};
 
 static int attribute_is_own(const char *key)
 {
@@ -462,6 +462,9 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
                     "cannot set attribute " METADATA_PREFIX "integrator") ||
          EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "maxDepth", meta->max_depth),
                     "cannot set attribute " METADATA_PREFIX "maxDepth")))
+        return IMAGE_IO_ERROR;
+    if (meta->sampler && EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sampler", meta->sampler),
+                                    "cannot set attribute " METADATA_PREFIX "sampler"))
         return IMAGE_IO_ERROR;
     for (size_t i = 0; i < meta->attribute_count; ++i) {
         char action[NAME_CAPACITY + 32];
@@ -736,7 +739,8 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
         read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "roundedSamples", &meta->rounded_samples) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneFile", &meta->scene_path) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0)
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0 ||
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sampler", &meta->sampler) < 0)
         return IMAGE_IO_ERROR;
     result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "maxDepth", &attribute);
     if (result != EXR_ERR_NO_ATTR_BY_NAME) {

@@ -30,6 +30,8 @@
  *                             camera, resolution, max depth, integrator,
  *                             seed, M), taken from the renderer's buffers
  *   gmon.integrator   string  path | bsdf
+ *   gmon.sampler      string  independent | sobol-pixel | sobol-sets; files
+ *                             without it: independent
  *   gmon.maxDepth     int
  *   gmon.nonfiniteSamples string  non-finite samples, decimal uint64
  *   gmon.roundedSamples   string  samples not added exactly, decimal uint64
@@ -65,6 +67,7 @@ typedef struct {
     const char *scene_path;     /* NULL: not written */
     const char *scene_hash;     /* NULL: not written */
     const char *integrator;     /* NULL: not written */
+    const char *sampler;        /* NULL: not written */
     int max_depth;              /* written with the integrator */
     uint64_t nonfinite_samples; /* totals over the image */
     uint64_t rounded_samples;

@@ -12,6 +12,7 @@ void render_scene_init(RenderScene *scene)
     scene->open_object = -1;
     scene->constants.integrator.max_depth = 5;
     scene->constants.integrator.flags = RENDER_NEE;
+    scene->constants.integrator.sampler = SAMPLER_DEFAULT;
     scene->constants.integrator.rr_threshold = 1.0f;
     for (int i = 0; i < 3; ++i)
         scene->constants.film.from_radiance[i][i] = 1.0f;
@@ -842,6 +843,26 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     scene->constants.integrator.light_count = (uint32_t)n;
     scene->constants.background.infinite_count = (uint32_t)infinite;
     return 0;
+}
+
+static const char *const sampler_names[SAMPLER_COUNT] = {"independent", "sobol-pixel", "sobol-sets"};
+
+const char *sampler_name(uint32_t sampler)
+{
+    return sampler < SAMPLER_COUNT ? sampler_names[sampler] : "unknown";
+}
+
+int sampler_from_name(const char *name)
+{
+    for (uint32_t i = 0; i < SAMPLER_COUNT; ++i)
+        if (strcmp(name, sampler_names[i]) == 0)
+            return (int)i;
+    return -1;
+}
+
+uint32_t sampler_for_scene(const char *name)
+{
+    return strcmp(name, "independent") == 0 ? SAMPLER_INDEPENDENT : SAMPLER_DEFAULT;
 }
 
 uint64_t render_scene_features(const RenderScene *scene)

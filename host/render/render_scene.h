@@ -8,6 +8,7 @@
 #include "feature_mask.h"
 #include "render/bvh.h"
 #include "render/pixel_filter.h"
+#include "sampler.h"
 #include "scene_types.h"
 
 #include <stddef.h>
@@ -210,6 +211,19 @@ int render_scene_finalize_textures(RenderScene *scene, char *error, size_t error
  * light sampler (infinite and distant lights by the power they send
  * through the scene's bounding sphere). Returns 0, or -1 with a message. */
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
+
+/* The samplers (kernels/sampler.h) by name, as --sampler and the EXR's
+ * gmon.sampler spell them: sampler_name of a SAMPLER_* value, and
+ * sampler_from_name of a name (-1: none). */
+const char *sampler_name(uint32_t sampler);
+int sampler_from_name(const char *name);
+
+/* The sampler that renders a scene whose Sampler directive names `name`
+ * ("" for none): "independent" is ours, every other (pbrt-v4's zsobol
+ * default, sobol, paddedsobol, halton, pmj02bn, stratified) becomes
+ * SAMPLER_DEFAULT, a low-discrepancy sampler whose sets stay independent. */
+#define SAMPLER_DEFAULT SAMPLER_SOBOL_SETS
+uint32_t sampler_for_scene(const char *name);
 
 /* The feature mask (kernels/feature_mask.h) of what rendering the scene uses. */
 uint64_t render_scene_features(const RenderScene *scene);

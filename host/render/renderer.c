@@ -823,9 +823,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     r.estimator.first_sample = s->first_sample;
     r.pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
     r.planes = accumulator_planes((uint32_t)r.sets);
-    scene_upload_hash(&r.upload, r.sets, out->scene_hash, sizeof out->scene_hash);
+    scene_upload_hash(&r.upload, m, out->scene_hash, sizeof out->scene_hash);
     out->max_depth = scene->constants.integrator.max_depth;
     out->integrator = (scene->constants.integrator.flags & RENDER_NEE) ? "path" : "bsdf";
+    out->sampler = scene->constants.integrator.sampler;
     r.worker_count = device_count;
     out->width = scene->constants.camera.width;
     out->height = scene->constants.camera.height;
@@ -849,8 +850,10 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
      * reassociate: about 10% faster on PoCL. */
     char options[1024], sample_options[768];
     film_sample_build_options(&r.estimator, sample_options, sizeof sample_options);
-    snprintf(options, sizeof options, "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -cl-unsafe-math-optimizations%s",
-             r.sets, out->features, sample_options);
+    snprintf(options, sizeof options,
+             "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -DGMON_SAMPLER=%u -DGMON_SAMPLER_SETS=%d "
+             "-cl-unsafe-math-optimizations%s",
+             r.sets, out->features, (unsigned)out->sampler, m, sample_options);
     if (s->dump_kernel && dump_kernel(s, options, error, error_size))
         goto done;
     for (int i = 0; i < device_count; ++i) {

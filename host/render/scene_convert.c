@@ -616,8 +616,10 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     const Scene scene = *in; /* a shallow copy: the body reads scene.field */
     if (scene.film_filename)
         snprintf(summary->film_filename, sizeof summary->film_filename, "%s", scene.film_filename);
-    if (scene.sampler)
+    if (scene.sampler) {
         snprintf(summary->sampler, sizeof summary->sampler, "%s", scene.sampler);
+        out->constants.integrator.sampler = sampler_for_scene(scene.sampler);
+    }
     summary->pixel_samples = scene.spp;
     summary->regularize = scene.regularize;
 

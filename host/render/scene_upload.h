@@ -31,7 +31,8 @@ void scene_upload_init(SceneUpload *u, const RenderScene *scene, uint32_t seed);
 size_t scene_upload_bytes(const SceneUpload *u);
 
 /* What determines every sample: the uploaded bytes (scene, camera, film,
- * resolution, max depth, integrator, seed) and M, as 16 hex digits. */
+ * resolution, max depth, integrator, seed) and the M the sampler deals
+ * samples to (--sets, even where only the mean is kept), as 16 hex digits. */
 void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t size);
 
 /* Creates the buffers on a context and binds them as the path tracer's

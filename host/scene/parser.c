@@ -1533,8 +1533,9 @@ static int on_sampler(Parser *p, Lexer *lex, const Token *d)
     if (result == 0 && spp < 1)
         result = scene_error(&p->diag, lex->path, d->line, "Sampler: pixelsamples must be at least 1");
     if (result == 0) {
-        /* Any sampler is accepted: the renderer uses its own independent
-         * one, so the other parameters (seed, jitter, ...) do not apply. */
+        /* Any sampler is accepted: its name picks one of the renderer's
+         * (sampler_for_scene), whose other parameters (seed, jitter, ...)
+         * do not apply. */
         char *name = scene_strndup(type.text, type.length);
         if (!name)
             result = out_of_memory(p, lex->path, d->line);

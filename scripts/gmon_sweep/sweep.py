@@ -40,14 +40,18 @@ def checkpoint_path(run_dir, spp):
     return Path(run_dir) / f"spp-{spp:06d}.exr"
 
 
-def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget, estimators):
+def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget, estimators,
+           sampler=None):
     """One progressive render with checkpoints; returns the command line run.
     A 1-spp render with the same settings first builds the OpenCL programs
     into PoCL's cache: gmonrt's `seconds` would otherwise include that build.
-    `estimators`: a --estimators list, or None for gmonrt's default."""
+    `estimators`: a --estimators list, or None for gmonrt's default;
+    `sampler`: a --sampler name, or None for the scene's."""
     settings = ["--sets", sets, "--resolution", resolution, "--seed", seed, "--integrator", integrator, "--quiet"]
     if estimators:
         settings += ["--estimators", estimators]
+    if sampler:
+        settings += ["--sampler", sampler]
     renderer.run(gmonrt, [scene, "--spp", 1, *settings, "--outfile", Path(run_dir) / "warm-up.exr"])
     arguments = [scene, "--spp", max_spp, "--checkpoints", run_dir, "--reference", reference, *settings,
                  "--outfile", Path(run_dir) / "final.exr"]
@@ -153,13 +157,14 @@ def sweep(args):
         for old in [*run_dir.glob("spp-*.exr"), run_dir / "checkpoints.csv"]:
             old.unlink(missing_ok=True)
         commands.append(render(args.gmonrt, args.scene, run_dir, args.max_spp, sets, reference_path, resolution,
-                               args.seed, args.integrator, args.time, args.estimators))
+                               args.seed, args.integrator, args.time, args.estimators, args.sampler))
         rows += measure_run(run_dir, scene, sets, reference, regions, floors)
         print(f"{scene}: M = {sets} done", file=sys.stderr)
     write_csv(rows, out / "sweep.csv")
     settings = {"scene": renderer.shown(args.scene), "reference": renderer.shown(reference_path),
                 "reference_record": record, "resolution": resolution, "max_spp": args.max_spp, "time_budget": args.time,
                 "sets": args.sets, "seed": args.seed, "integrator": args.integrator,
+                "sampler": args.sampler,
                 "crops": {name: region for name, region in regions.items() if region}, "commands": commands}
     (out / "sweep.json").write_text(json.dumps(settings, indent=2) + "\n")
     title = f"{scene}, {resolution}, {args.integrator}"
@@ -205,6 +210,8 @@ def parser():
     p.add_argument("--resolution", help="WIDTHxHEIGHT; must be the reference's (default: the reference's)")
     p.add_argument("--seed", type=int, default=0, help="seed (default 0; not the reference's)")
     p.add_argument("--integrator", choices=("nee", "bsdf"), default="nee", help="default nee")
+    p.add_argument("--sampler", choices=("independent", "sobol-pixel", "sobol-sets"),
+                   help="gmonrt --sampler (default: the scene's Sampler, docs/sampling.md)")
     p.add_argument("--crops", type=Path, default=ROOT / "scenes" / "crops.json", help="default scenes/crops.json")
     p.add_argument("--figure-spp", type=positive_list,
                    help="checkpoints shown in crops.png (default, and in place of any not reached: the last)")

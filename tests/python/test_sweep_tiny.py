@@ -7,6 +7,7 @@ Without an OpenCL device: exit 77 (skipped), or a failure under CI=true."""
 
 import contextlib
 import io
+import json
 import os
 import sys
 import unittest
@@ -30,7 +31,7 @@ class TinySweep(unittest.TestCase):
                                   ROOT / "scenes" / "crops.json", WORK)
         cls.out = WORK / "sweeps" / "cornell-diffuse"
         sweep.main([str(SCENE), "--reference", str(cls.reference), "--max-spp", "64", "--sets", "5,21",
-                    "--out", str(cls.out), "--gmonrt", str(GMONRT)])
+                    "--out", str(cls.out), "--gmonrt", str(GMONRT), "--sampler", "sobol-pixel"])
         cls.rows = sweep.read_csv(cls.out / "sweep.csv")
 
     def lines(self):
@@ -64,6 +65,9 @@ class TinySweep(unittest.TestCase):
         self.assertGreater(mean[-1]["ssim"], mean[0]["ssim"])
 
     def test_the_mean_is_the_same_for_every_m_up_to_rounding(self):
+        """sobol-pixel draws sample s of a pixel whatever M is (sobol-sets
+        gives each set its own sequence, so its samples depend on M)."""
+        self.assertEqual(json.loads((self.out / "sweep.json").read_text())["sampler"], "sobol-pixel")
         lines = self.lines()
         for region in ("image", "light"):
             for a, b in zip(lines[(5, "mean", region)], lines[(21, "mean", region)]):
