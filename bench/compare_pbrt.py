@@ -16,7 +16,9 @@ alternating with gmonrt's renders so both share the machine's conditions.
 The figures (the statistics functions below; tests/python/test_compare_pbrt.py):
 - Per-pixel variance of a renderer at N spp: half the squared difference of
   its two seeds' images, per channel, averaged over R, G and B (the mean of
-  the three channels' variances, not the luminance's). "var g/p" is the ratio
+  the three channels' variances; --variance-of luminance: the variance of
+  0.2126 R + 0.7152 G + 0.0722 B instead, which counts pbrt-v4's spectral
+  colour noise, strongest in B, less). "var g/p" is the ratio
   of the image averages, gmonrt over pbrt-v4 (>1: gmonrt noisier); its "+-"
   is a block standard error over 4x4 regions (regions taken as independent
   draws: it also counts the spread of the true ratio across the image, so it
@@ -69,7 +71,8 @@ REGION = 4  # pixels a region side
 REGION_MIN = 0.05  # regions compared: pbrt-v4 mean at least this fraction of the image mean
 LIT_MIN = 0.01  # lit pixels: pbrt-v4 mean at least this fraction of the image mean ...
 EMITTER = 50.0  # ... and at most this multiple of it
-MEDIA = ("cornell-box-volume",)  # folders whose scenes need participating media
+MEDIA = ("cornell-box-volume",)
+LUMINANCE = (0.2126, 0.7152, 0.0722)  # Rec. 709 / sRGB primaries' Y  # folders whose scenes need participating media
 
 
 # ---------------------------------------------------------------- statistics
@@ -80,10 +83,14 @@ def channel_mean(image):
     return image.mean(axis=-1) if image.ndim == 3 else image
 
 
-def pixel_variance(a, b):
+def pixel_variance(a, b, weights=None):
     """Per-pixel variance of one render from two seeds: half the squared
-    difference, per channel, averaged over the channels (H x W)."""
+    difference, per channel, averaged over the channels (H x W); with
+    `weights` (one a channel, e.g. LUMINANCE) the variance of that weighted sum."""
     d = np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)
+    if weights is not None:
+        d = d @ np.asarray(weights, dtype=np.float64)
+        return 0.5 * d * d
     return channel_mean(0.5 * d * d)
 
 
@@ -185,15 +192,17 @@ def region_ratios(var_g, var_p, reference, size=REGION, min_fraction=REGION_MIN)
     return result
 
 
-def compare(g1, g2, p1, p2, reference=None, reference_spp=None, spp=64, time_g=math.nan, time_p=math.nan):
-    """Every figure for one scene (a dict; see the module's docstring)."""
+def compare(g1, g2, p1, p2, reference=None, reference_spp=None, spp=64, time_g=math.nan, time_p=math.nan,
+            weights=None):
+    """Every figure for one scene (a dict; see the module's docstring);
+    `weights`: pixel_variance's (None: the channels' variances averaged)."""
     for name, image in (("gmonrt seed 2", g2), ("pbrt-v4 seed 1", p1), ("pbrt-v4 seed 2", p2)):
         if np.shape(image) != np.shape(g1):
             raise ValueError(f"{name} is {np.shape(image)}, gmonrt seed 1 {np.shape(g1)}")
     if reference is not None and np.shape(reference)[:2] != np.shape(g1)[:2]:
         reference = None  # a reference at another resolution is no reference
     ref = reference if reference is not None else 0.5 * (np.asarray(p1, np.float64) + np.asarray(p2, np.float64))
-    var_g, var_p = pixel_variance(g1, g2), pixel_variance(p1, p2)
+    var_g, var_p = pixel_variance(g1, g2, weights), pixel_variance(p1, p2, weights)
     ratio, se, mg, mp = mean_ratio(g1, g2, p1, p2, reference, reference_spp, spp)
     sg, _ = region_sums(var_g)
     sp, _ = region_sums(var_p)
@@ -217,6 +226,8 @@ def compare(g1, g2, p1, p2, reference=None, reference_spp=None, spp=64, time_g=m
         denominator = vg * time_g
         return float(vp * time_p / denominator) if denominator > 0 else math.nan
     out["efficiency"] = efficiency(out["var_gmonrt"], out["var_pbrt"])
+    for name, w in (("channels", None), ("luminance", LUMINANCE)):  # the whole-image ratio both ways
+        out[f"var_ratio_{name}"] = ratio_se(*(region_sums(pixel_variance(a, b, w))[0] for a, b in ((g1, g2), (p1, p2))))[0]
     out["efficiency_lit"] = efficiency(float(var_g[lit].mean()) if lit.any() else math.nan,
                                        float(var_p[lit].mean()) if lit.any() else math.nan)
     return out
@@ -401,20 +412,21 @@ def compare_scene(args, folder, scene, width, height, workdir, say):
     if ref_path.is_file() and not args.no_reference:
         reference, reference_spp = read_rgb(ref_path), 1024
     figures = compare(g[1], g[2], p[1], p[2], reference, reference_spp, spp,
-                      0.5 * (tg[1] + tg[2]), 0.5 * (tp[1] + tp[2]))
+                      0.5 * (tg[1] + tg[2]), 0.5 * (tp[1] + tp[2]),
+                      LUMINANCE if args.variance_of == "luminance" else None)
     figures.update(scene=folder, scene_file=str(scene), resolution=f"{width}x{height}", spp=spp,
                    pbrt_source="live" if args.pbrt else "stored",
                    pbrt_sampler=(args.pbrt_sampler or "as the scene asks"),
-                   gmonrt_args=args.gmonrt_args,
+                   gmonrt_args=args.gmonrt_args, variance_of=args.variance_of,
                    time_gmonrt_seed1=tg[1], time_gmonrt_seed2=tg[2], time_pbrt_seed1=tp[1], time_pbrt_seed2=tp[2])
     return figures
 
 
 # ---------------------------------------------------------------- output
 
-COLUMNS = ["scene", "resolution", "spp", "pbrt_source", "pbrt_sampler", "gmonrt_args", "mean_reference",
+COLUMNS = ["scene", "resolution", "spp", "pbrt_source", "pbrt_sampler", "gmonrt_args", "variance_of", "mean_reference",
            "mean_gmonrt", "mean_pbrt", "mean_ratio", "mean_ratio_se", "var_gmonrt", "var_pbrt", "var_ratio",
-           "var_ratio_se", "var_ratio_lit", "lit_pixels", "regions", "worst_region_ratio", "worst_region_x",
+           "var_ratio_se", "var_ratio_channels", "var_ratio_luminance", "var_ratio_lit", "lit_pixels", "regions", "worst_region_ratio", "worst_region_x",
            "worst_region_y", "regions_at_most_one", "chance_worst", "time_gmonrt", "time_gmonrt_seed1",
            "time_gmonrt_seed2", "time_pbrt", "time_pbrt_seed1", "time_pbrt_seed2", "efficiency",
            "efficiency_lit", "scene_file"]
@@ -431,7 +443,7 @@ def fmt(x, digits=3):
 
 
 def table(rows):
-    head = ["scene", "mean g/p", "var g/p", "lit", "worst 4x4 (x,y)", "chance", "<=1",
+    head = ["scene", "mean g/p", "var g/p", "Y only", "lit", "worst 4x4 (x,y)", "chance", "<=1",
             "t gmonrt", "t pbrt", "efficiency"]
     body = []
     for r in rows:
@@ -439,6 +451,7 @@ def table(rows):
             r["scene"],
             f"{r['mean_ratio']:.4f} +- {r['mean_ratio_se']:.4f}",
             f"{fmt(r['var_ratio'])} +- {fmt(r['var_ratio_se'], 2)}",
+            fmt(r["var_ratio_luminance"]),
             fmt(r["var_ratio_lit"]),
             f"{fmt(r['worst_region_ratio'])} ({r['worst_region_x']},{r['worst_region_y']})",
             fmt(r["chance_worst"], 2),
@@ -456,9 +469,12 @@ def table(rows):
 
 LEGEND = """\
 mean g/p: image mean, gmonrt (seeds 1+2) / pbrt-v4 (its 1024 spp image where stored), +- block SE (4x4 regions)
-var g/p: per-pixel variance (half the squared seed difference, channels averaged), image average,
-  gmonrt / pbrt-v4 (>1: gmonrt noisier), +- block SE over 4x4 regions (overstates: counts spatial spread)
-lit: the same without pixels below 1% or above 50x the image mean (pbrt-v4's), i.e. unlit and emitters
+var g/p: per-pixel variance (half the squared seed difference; channels averaged, or --variance-of luminance),
+  image average, gmonrt / pbrt-v4 (>1: gmonrt noisier), +- block SE over 4x4 regions (overstates: counts
+  spatial spread)
+Y only: the image's variance ratio for the luminance 0.2126 R + 0.7152 G + 0.0722 B alone (pbrt-v4's
+  spectral colour noise, strongest in B, counts less)
+lit: the var g/p ratio without pixels below 1% or above 50x the image mean (pbrt-v4's), i.e. unlit and emitters
 worst 4x4: largest region ratio among regions at >= 5% of the image mean, at pixel (x,y), y down;
   chance: the median worst of as many regions of equal variances (F(16,16)); <=1: regions with ratio <= 1
 t: wall seconds of one render (mean of 2 seeds, load and builds included); efficiency:
@@ -481,10 +497,22 @@ def parse_args(argv):
     p.add_argument("--pbrt-threads", type=int, default=2, help="live pbrt-v4's --nthreads (default 2)")
     p.add_argument("--renders", type=Path, default=SHARED / "pbrt-v4-renders", help="stored pbrt-v4 renders (default ../shared/pbrt-v4-renders)")
     p.add_argument("--scene-dir", type=Path, default=SHARED / "scenes", help="pbrt-v4 scenes (default ../shared/scenes)")
+    p.add_argument("--variance-of", choices=("channels", "luminance"), default="channels",
+                   help="per-pixel variance: of each channel, averaged (default), or of the luminance "
+                        "(0.2126 R + 0.7152 G + 0.0722 B; pbrt-v4's spectral colour noise then counts less)")
     p.add_argument("--no-reference", action="store_true", help="take pbrt-v4's mean from its 64 spp seeds, not the 1024 spp image")
     p.add_argument("--csv", type=Path, help="also write the figures to this CSV file")
     p.add_argument("--keep", type=Path, help="keep the renders (and live scene copies) in this folder")
-    args = p.parse_args(argv)
+    # argparse takes a value beginning with "--" for a flag: join the pass-through to its flag first
+    joined, i = [], 0
+    while i < len(argv):
+        if argv[i] == "--gmonrt-args" and i + 1 < len(argv):
+            joined.append(f"--gmonrt-args={argv[i + 1]}")
+            i += 2
+        else:
+            joined.append(argv[i])
+            i += 1
+    args = p.parse_args(joined)
     if args.pbrt_sampler and not (args.pbrt or args.build_pbrt):
         p.error("--pbrt-sampler needs a live pbrt-v4 (--pbrt PATH or --build-pbrt)")
     if args.spp < 1:
@@ -566,7 +594,8 @@ def main(argv=None):
                 return 1
 
     pbrt_side = f"live ({args.pbrt}, sampler: {args.pbrt_sampler or 'as the scene asks'})" if args.pbrt else f"stored ({args.renders})"
-    print(f"gmonrt {args.gmonrt_args or '(default flags)'} against pbrt-v4 {pbrt_side}, {args.spp} spp, seeds 1 and 2")
+    print(f"gmonrt {args.gmonrt_args or '(default flags)'} against pbrt-v4 {pbrt_side}, {args.spp} spp, seeds 1 and 2; "
+          f"variance of {'each channel, averaged' if args.variance_of == 'channels' else 'the luminance'}")
     print(table(rows))
     print()
     print(LEGEND)

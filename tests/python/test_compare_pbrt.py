@@ -26,6 +26,12 @@ class PixelVariance(unittest.TestCase):
         b[..., 0], b[..., 1], b[..., 2] = 1.0, 2.0, 3.0  # (1 + 4 + 9) / 2 / 3
         np.testing.assert_allclose(cp.pixel_variance(a, b), np.full((2, 2), 14 / 6))
 
+    def test_luminance_weights(self):
+        a = np.zeros((1, 1, 3))
+        b = np.array([[[1.0, -1.0, 2.0]]])  # luminance difference 0.2126 - 0.7152 + 0.1444
+        d = 0.2126 - 0.7152 + 2 * 0.0722
+        np.testing.assert_allclose(cp.pixel_variance(a, b, cp.LUMINANCE), [[0.5 * d * d]])
+
 
 class VarianceRatios(unittest.TestCase):
     def setUp(self):
@@ -47,6 +53,7 @@ class VarianceRatios(unittest.TestCase):
         self.assertAlmostEqual(out["efficiency"], 2.0 / 6.0, places=12)  # (1 x 2) / (6 x 1)
         self.assertAlmostEqual(out["mean_ratio"], 1.0, places=12)
         self.assertGreater(out["chance_worst"], 1.0)
+        self.assertAlmostEqual(out["var_ratio_channels"], 6.0, places=12)
 
     def test_dark_regions_are_left_out(self):
         for image in (self.p1, self.p2, self.g1, self.g2):
