@@ -7,8 +7,10 @@
  * must lie within 5 standard errors (from the pixels) of the value. */
 #include "cl/cl_device.h"
 #include "equal_area.h"
+#include "lights.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
+#include "sample_streams.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -341,10 +343,230 @@ static void test_equal_area_mapping(void **state)
     assert_true(equal_area_square_to_sphere(0.0f, 0.0f).z < -0.9999f);
 }
 
+/* --- Sphere lights: cone sampling (lights.h) on the host. --- */
+
+typedef struct {
+    double x, y, z;
+} Vec3d;
+
+static Vec3d vec3d(Vec3 v)
+{
+    Vec3d d = {v.x, v.y, v.z};
+    return d;
+}
+
+static Vec3d d_sub(Vec3d a, Vec3d b)
+{
+    Vec3d d = {a.x - b.x, a.y - b.y, a.z - b.z};
+    return d;
+}
+
+static double d_dot(Vec3d a, Vec3d b)
+{
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+static double d_length(Vec3d a)
+{
+    return sqrt(d_dot(a, a));
+}
+
+/* The angle between a and b, by atan2 of |a x b| and a . b: precise for the
+ * tiny angles of a far sphere's cone, where acos of the dot product is not. */
+static double d_angle(Vec3d a, Vec3d b)
+{
+    Vec3d c = {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+    return atan2(d_length(c), d_dot(a, b));
+}
+
+/* One emitting sphere (the only primitive) as light_sample sees it. */
+typedef struct {
+    Primitive sphere;
+    Light light;
+    Scene scene;
+} SphereLight;
+
+static void sphere_light(SphereLight *l, const float centre[3], float radius, int two_sided)
+{
+    memset(l, 0, sizeof *l);
+    memcpy(l->sphere.a, centre, sizeof l->sphere.a);
+    l->sphere.b[0] = radius;
+    l->sphere.kind = PRIM_SPHERE;
+    l->sphere.light = 0;
+    l->light.type = LIGHT_AREA;
+    l->light.primitive = 0;
+    l->light.area = (float)(4.0 * PI * radius * radius);
+    l->light.two_sided = two_sided ? 1u : 0u;
+    l->light.pick_probability = 1.0f;
+    l->light.radiance[0] = l->light.radiance[1] = l->light.radiance[2] = 1.0f;
+    l->scene.primitives = &l->sphere;
+}
+
+/* The first hit (t > 0) along the ray p + t w (w unit) of the sphere, in
+ * double, and the square root of the discriminant (small for a grazing ray,
+ * whose t rounding moves far); 0 if it misses. */
+static int hit_sphere(const SphereLight *l, Vec3 p, Vec3 w, double *t, double *root)
+{
+    Vec3d to_centre = d_sub(vec3d(vec3_from(l->sphere.a)), vec3d(p)), wd = vec3d(w);
+    double r = l->sphere.b[0], b = d_dot(wd, to_centre) / d_length(wd);
+    double c = (d_length(to_centre) - r) * (d_length(to_centre) + r);
+    double discriminant = b * b - c;
+    if (discriminant < 0.0 || (c > 0.0 && b <= 0.0))
+        return 0;
+    *root = sqrt(discriminant);
+    /* Outside, the nearer root without cancellation; inside, the positive one. */
+    *t = c > 0.0 ? c / (b + *root) : b + *root;
+    return 1;
+}
+
+/* From points at distances d (in radii) from a sphere light, from the
+ * margin of its surface (d^2 = 1.0002) to 10^5 (a cone of 10^-5 radians):
+ * every sample lies in the cone of directions the sphere subtends and
+ * reaches its near side at the reported distance; the density is the cone's
+ * uniform 1 / (2 pi (1 - cos theta_max)) and is the one area_light_pdf gives
+ * the hit (as MIS needs); and (1 - cos theta) / (1 - cos theta_max) and phi
+ * are uniform over the cone (8 x 8 cells of a stratified grid of samples
+ * hold within 15% of their share). */
+static void test_sphere_light_cone_sampling(void **state)
+{
+    (void)state;
+    const float centre[3] = {0.3f, -0.2f, 0.5f}, radius = 0.25f;
+    const double distances[] = {sqrt(1.0002), 1.01, 1.5, 3.0, 30.0, 1e3, 1e5};
+    SphereLight l;
+    sphere_light(&l, centre, radius, 0);
+    const Vec3d c = vec3d(vec3_from(centre));
+    for (size_t k = 0; k < sizeof distances / sizeof *distances; ++k) {
+        /* p along an arbitrary direction from the centre. */
+        Vec3d away = {0.48, -0.6, 0.64};
+        Vec3 p = vec3((float)(c.x + radius * distances[k] * away.x), (float)(c.y + radius * distances[k] * away.y),
+                      (float)(c.z + radius * distances[k] * away.z));
+        Vec3d to_centre = d_sub(c, vec3d(p));
+        double d = d_length(to_centre), sin_max = radius / d;
+        double theta_max = asin(sin_max), one_minus_cos_max = 2.0 * sin(theta_max / 2.0) * sin(theta_max / 2.0);
+        double expected_pdf = 1.0 / (2.0 * PI * one_minus_cos_max);
+        Vec3d s_axis, t_axis;
+        {
+            Vec3 axis = v_normalize(vec3((float)to_centre.x, (float)to_centre.y, (float)to_centre.z)), s, t;
+            v_basis(axis, &s, &t);
+            s_axis = vec3d(s);
+            t_axis = vec3d(t);
+        }
+        enum { GRID = 128, CELLS = 8 };
+        int counts[CELLS][CELLS] = {{0}};
+        double worst_angle = 0.0, worst_distance = 0.0, worst_pdf = 0.0;
+        for (int i = 0; i < GRID; ++i)
+            for (int j = 0; j < GRID; ++j) {
+                LightSample ls;
+                float u1 = (i + 0.5f) / GRID, u2 = (j + 0.5f) / GRID;
+                assert_int_equal(light_sample(&l.scene, &l.light, p, u1, u2, &ls), 1);
+                Vec3d wi = vec3d(ls.wi);
+                double theta = d_angle(wi, to_centre);
+                /* Inside the cone, to float rounding of wi (about 1e-7). */
+                worst_angle = fmax(worst_angle, theta - theta_max);
+                assert_true(theta <= theta_max * (1.0 + 1e-3) + 3e-7);
+                /* The reported distance is the near side's: the ray, in
+                 * double, hits the sphere first there (checked where not
+                 * grazing; a grazing ray may even miss by rounding: then
+                 * the point must be on the silhouette). */
+                double t, root;
+                Vec3d q = {p.x + ls.distance * wi.x, p.y + ls.distance * wi.y, p.z + ls.distance * wi.z};
+                Vec3d normal = d_sub(q, c);
+                double on_sphere = fabs(d_length(normal) - radius) / radius;
+                assert_true(on_sphere < 1e-6 * (1.0 + d / radius));
+                /* The near side: no farther than the silhouette's tangent
+                 * points (the far side is all farther). */
+                assert_true(ls.distance <= sqrt(d * d - (double)radius * radius) * (1.0 + 1e-5));
+                if (!hit_sphere(&l, p, ls.wi, &t, &root))
+                    assert_true(theta >= theta_max * (1.0 - 1e-3) - 3e-7);
+                else if (root > 0.1 * radius)
+                    /* Relative, or to the sphere's size where p nearly touches it
+                     * (the rounding of p's coordinates alone is 1e-3 of the
+                     * distance there). */
+                    worst_distance = fmax(worst_distance, fabs(t - ls.distance) / (ls.distance + 1e-2 * radius));
+                /* The density: the cone's, and area_light_pdf's for the hit. */
+                worst_pdf = fmax(worst_pdf, fabs(ls.pdf - expected_pdf) / expected_pdf);
+                Vec3 n = v_normalize(vec3((float)normal.x, (float)normal.y, (float)normal.z));
+                float cos_light = -v_dot(n, ls.wi);
+                assert_true(area_light_pdf(&l.scene, &l.light, p, ls.distance, fmaxf(cos_light, 1e-6f)) == ls.pdf);
+                /* The cell of (1 - cos theta) / (1 - cos theta_max), phi. */
+                double one_minus_cos = 2.0 * sin(theta / 2.0) * sin(theta / 2.0);
+                double phi = atan2(d_dot(wi, t_axis), d_dot(wi, s_axis));
+                int a = (int)(one_minus_cos / one_minus_cos_max * CELLS);
+                int b = (int)((phi < 0.0 ? phi + 2.0 * PI : phi) / (2.0 * PI) * CELLS);
+                ++counts[a < CELLS ? a : CELLS - 1][b < CELLS ? b : CELLS - 1];
+            }
+        int fewest = GRID * GRID, most = 0;
+        for (int a = 0; a < CELLS; ++a)
+            for (int b = 0; b < CELLS; ++b) {
+                fewest = counts[a][b] < fewest ? counts[a][b] : fewest;
+                most = counts[a][b] > most ? counts[a][b] : most;
+            }
+        const double share = (double)(GRID * GRID) / (CELLS * CELLS);
+        printf("  d = %-9.6g r: theta_max %.3g, pdf error %.2g, distance error %.2g, past the cone by %.2g rad, "
+               "cells %d..%d of %.0f\n",
+               distances[k], theta_max, worst_pdf, worst_distance, worst_angle, fewest, most, share);
+        assert_true(worst_pdf < 1e-5);
+        assert_true(worst_distance < 1e-3);
+        assert_true(fewest >= 0.85 * share && most <= 1.15 * share);
+    }
+}
+
+/* The cone density integrates to 1 over the directions that reach the
+ * sphere: the mean of 4 pi area_light_pdf over uniform directions (0 for
+ * those that miss it) is 1 within 5 standard errors. Inside the sphere the
+ * density is the area one, light_sample's and area_light_pdf's alike. */
+static void test_sphere_light_density(void **state)
+{
+    (void)state;
+    const float centre[3] = {0.3f, -0.2f, 0.5f}, radius = 0.25f;
+    SphereLight l;
+    sphere_light(&l, centre, radius, 0);
+    const double distances[] = {1.01, 1.5, 3.0};
+    TestRng rng = test_rng(5);
+    for (size_t k = 0; k < sizeof distances / sizeof *distances; ++k) {
+        Vec3 p = vec3(centre[0], centre[1] + (float)(radius * distances[k]), centre[2]);
+        const int n = 400000;
+        double sum = 0.0, sum2 = 0.0;
+        for (int i = 0; i < n; ++i) {
+            double z = 1.0 - 2.0 * test_rng_uniform(&rng), phi = 2.0 * PI * test_rng_uniform(&rng);
+            double r = sqrt(fmax(0.0, 1.0 - z * z));
+            Vec3 w = vec3((float)(r * cos(phi)), (float)(r * sin(phi)), (float)z);
+            double t, root;
+            if (!hit_sphere(&l, p, w, &t, &root))
+                continue;
+            Vec3 q = v_add(p, v_scale(w, (float)t));
+            float cos_light = -v_dot(surface_normal(&l.sphere, q), w);
+            double f = 4.0 * PI * area_light_pdf(&l.scene, &l.light, p, (float)t, fmaxf(cos_light, 1e-6f));
+            sum += f;
+            sum2 += f * f;
+        }
+        double mean = sum / n, standard_error = sqrt((sum2 / n - mean * mean) / n);
+        printf("  d = %.2f r: integral of the density %.5f (standard error %.5f)\n", distances[k], mean,
+               standard_error);
+        assert_true(fabs(mean - 1.0) <= 5.0 * standard_error);
+    }
+
+    /* Inside: area sampling, the same density both ways. */
+    Vec3 inside = vec3(centre[0] + 0.1f, centre[1], centre[2] - 0.05f);
+    for (int i = 0; i < 64; ++i) {
+        LightSample ls;
+        l.light.two_sided = 1u;
+        if (!light_sample(&l.scene, &l.light, inside, (i + 0.5f) / 64.0f, (float)test_rng_uniform(&rng), &ls))
+            continue;
+        Vec3 q = v_add(inside, v_scale(ls.wi, ls.distance));
+        float cos_light = fabsf(v_dot(surface_normal(&l.sphere, q), ls.wi));
+        float pdf = area_light_pdf(&l.scene, &l.light, inside, ls.distance, cos_light);
+        assert_true(fabsf(pdf - ls.pdf) <= 1e-4f * ls.pdf);
+        assert_true(fabsf(ls.pdf - ls.distance * ls.distance / (cos_light * l.light.area)) <= 1e-4f * ls.pdf);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_equal_area_mapping),
+        cmocka_unit_test(test_sphere_light_cone_sampling),
+        cmocka_unit_test(test_sphere_light_density),
         cmocka_unit_test(test_point_light),
         cmocka_unit_test(test_spot_light),
         cmocka_unit_test(test_distant_light),
