@@ -678,11 +678,13 @@ static int ray_triangle(const TriangleLight *l, Vec3d p, Vec3d w, double *b1, do
 
 /* From points whose view of a triangle light spans 1e-5 to 2 pi - 0.01
  * steradians: light_sample's density is area_light_pdf's for the same hit
- * (as MIS needs); between pbrt-v4's limits (3e-4 and 6.22 sr) it is
- * uniform in solid angle, 1 / (solid angle), and the samples reach the
- * triangle's four half-size corner and middle triangles in proportion to
- * their solid angles (to 0.01, on a stratified 128 x 128 grid); outside
- * them it is the area density. */
+ * (as MIS needs); where it samples by solid angle (between pbrt-v4's limits,
+ * 3e-4 and 6.22 sr, and close: area > 0.1 distance^2) it is uniform in
+ * solid angle, 1 / (solid angle), and the samples reach the triangle's four
+ * half-size corner and middle triangles in proportion to their solid
+ * angles (to 0.01, on a stratified 128 x 128 grid); elsewhere it is the
+ * area density, and they reach each a quarter. The spherical triangle
+ * sampler alone is checked the same way wherever pbrt-v4 would use it. */
 static void test_triangle_light_sampling(void **state)
 {
     (void)state;
@@ -700,45 +702,66 @@ static void test_triangle_light_sampling(void **state)
         Vec3 p = vec3((float)pd.x, (float)pd.y, (float)pd.z);
         pd = vec3d(p);
         double solid_angle = solid_angle_d(pd, l.v[0], l.v[1], l.v[2]);
-        int spherical = solid_angle >= 3e-4 && solid_angle <= 6.22;
+        int in_range = solid_angle >= 3e-4 && solid_angle <= 6.22;
+        int close = l.light.area > 0.1 * d_dot(d_sub(centroid, pd), d_sub(centroid, pd));
         /* The corner triangles (at v0, v1, v2) and the middle one. */
         Vec3d m01 = d_mid(l.v[0], l.v[1]), m12 = d_mid(l.v[1], l.v[2]), m20 = d_mid(l.v[2], l.v[0]);
         double parts[4] = {solid_angle_d(pd, l.v[0], m01, m20), solid_angle_d(pd, m01, l.v[1], m12),
                            solid_angle_d(pd, m20, m12, l.v[2]), solid_angle_d(pd, m01, m12, m20)};
-        enum { GRID = 128 };
-        int counts[4] = {0};
-        double worst_pdf = 0.0, worst_outside = 0.0, worst_match = 0.0;
-        for (int i = 0; i < GRID; ++i)
-            for (int j = 0; j < GRID; ++j) {
-                LightSample ls;
-                assert_int_equal(light_sample(&l.scene, &l.light, p, (i + 0.5f) / GRID, (j + 0.5f) / GRID, &ls), 1);
-                double b1, b2, t;
-                assert_true(ray_triangle(&l, pd, vec3d(ls.wi), &b1, &b2, &t));
-                /* The sample's ray meets the triangle at the sample. */
-                worst_outside = fmax(worst_outside, fmax(-fmin(b1, b2), b1 + b2 - 1.0));
-                worst_match = fmax(worst_match, fabs(t - ls.distance) / ls.distance);
-                float cos_light =
-                    fabsf(v_dot(surface_normal(&l.triangle, v_add(p, v_scale(ls.wi, ls.distance))), ls.wi));
-                float pdf = area_light_pdf(&l.scene, &l.light, p, ls.distance, cos_light);
-                double expected =
-                    spherical ? 1.0 / solid_angle : ls.distance * ls.distance / (cos_light * l.light.area);
-                assert_true(fabsf(pdf - ls.pdf) <= 1e-6f * ls.pdf);
-                worst_pdf = fmax(worst_pdf, fabs(ls.pdf - expected) / expected);
-                double b0 = 1.0 - b1 - b2;
-                ++counts[b0 > 0.5 ? 0 : b1 > 0.5 ? 1 : b2 > 0.5 ? 2 : 3];
+        /* light_sample, then (sampler_alone) the spherical sampler. */
+        for (int sampler_alone = 0; sampler_alone <= in_range; ++sampler_alone) {
+            int spherical = sampler_alone || (in_range && close);
+            Vec3 dirs[3];
+            for (int c = 0; c < 3; ++c)
+                dirs[c] = v_normalize(v_sub(vec3((float)l.v[c].x, (float)l.v[c].y, (float)l.v[c].z), p));
+            enum { GRID = 128 };
+            int counts[4] = {0};
+            double worst_pdf = 0.0, worst_outside = 0.0, worst_match = 0.0;
+            for (int i = 0; i < GRID; ++i)
+                for (int j = 0; j < GRID; ++j) {
+                    LightSample ls;
+                    float u1 = (i + 0.5f) / GRID, u2 = (j + 0.5f) / GRID;
+                    if (sampler_alone) {
+                        assert_true(sample_spherical_triangle(dirs[0], dirs[1], dirs[2], u1, u2, &ls.wi));
+                        Vec3 to_light = v_sub(triangle_point_along(&l.triangle, p, ls.wi), p);
+                        ls.distance = v_length(to_light);
+                        ls.wi = v_scale(to_light, 1.0f / ls.distance);
+                        ls.pdf = (float)(1.0 / solid_angle);
+                    } else {
+                        assert_int_equal(light_sample(&l.scene, &l.light, p, u1, u2, &ls), 1);
+                    }
+                    double b1, b2, t;
+                    assert_true(ray_triangle(&l, pd, vec3d(ls.wi), &b1, &b2, &t));
+                    /* The sample's ray meets the triangle at the sample. */
+                    worst_outside = fmax(worst_outside, fmax(-fmin(b1, b2), b1 + b2 - 1.0));
+                    worst_match = fmax(worst_match, fabs(t - ls.distance) / ls.distance);
+                    float cos_light =
+                        fabsf(v_dot(surface_normal(&l.triangle, v_add(p, v_scale(ls.wi, ls.distance))), ls.wi));
+                    float pdf = area_light_pdf(&l.scene, &l.light, p, ls.distance, cos_light);
+                    double expected =
+                        spherical ? 1.0 / solid_angle : ls.distance * ls.distance / (cos_light * l.light.area);
+                    if (!sampler_alone)
+                        assert_true(fabsf(pdf - ls.pdf) <= 1e-6f * ls.pdf);
+                    worst_pdf = fmax(worst_pdf, fabs(ls.pdf - expected) / expected);
+                    double b0 = 1.0 - b1 - b2;
+                    ++counts[b0 > 0.5 ? 0 : b1 > 0.5 ? 1 : b2 > 0.5 ? 2 : 3];
+                }
+            double worst_share = 0.0;
+            for (int c = 0; c < 4; ++c) {
+                double share = spherical ? parts[c] / solid_angle : 0.25;
+                worst_share = fmax(worst_share, fabs(counts[c] / (double)(GRID * GRID) - share));
             }
-        double worst_share = 0.0;
-        for (int c = 0; c < 4; ++c) {
-            double share = spherical ? parts[c] / solid_angle : 0.25;
-            worst_share = fmax(worst_share, fabs(counts[c] / (double)(GRID * GRID) - share));
+            printf("  height %-7g: solid angle %.3g sr (%s), pdf error %.2g, outside by %.2g, distance error %.2g, "
+                   "shares off by %.3f\n",
+                   heights[k], solid_angle,
+                   sampler_alone ? "the spherical sampler alone"
+                   : spherical   ? "spherical"
+                                 : "by area",
+                   worst_pdf, worst_outside, worst_match, worst_share);
+            assert_true(worst_pdf < (spherical ? 2e-3 : 1e-4));
+            assert_true(worst_outside < 1e-4 && worst_match < 1e-3);
+            assert_true(worst_share < 0.01);
         }
-        printf("  height %-7g: solid angle %.3g sr (%s), pdf error %.2g, outside by %.2g, distance error %.2g, "
-               "shares off by %.3f\n",
-               heights[k], solid_angle, spherical ? "spherical" : "by area", worst_pdf, worst_outside, worst_match,
-               worst_share);
-        assert_true(worst_pdf < (spherical ? 2e-3 : 1e-4));
-        assert_true(worst_outside < 1e-4 && worst_match < 1e-3);
-        assert_true(worst_share < 0.01);
     }
 
     /* One-sided: dark from behind, lit from the front, either way. */
@@ -807,10 +830,10 @@ static double polygon_irradiance(const double (*v)[3], int count, double L)
 
 /* A rectangle light of two one-sided triangles facing down at height h
  * over the plane, beside the point seen: rho / pi times its irradiance
- * (polygon_irradiance). Close and at a middle distance it is sampled by
- * solid angle (spherical triangles), far away by area; by light sampling
- * with MIS (the densities must agree for the sum to be right) and by BSDF
- * sampling alone; facing up instead, it leaves the plane dark. */
+ * (polygon_irradiance). Close it is sampled by solid angle (spherical
+ * triangles), farther by area; by light sampling with MIS (the densities
+ * must agree for the sum to be right) and, close, by BSDF sampling alone;
+ * facing up instead, it leaves the plane dark. */
 static void test_triangle_light(void **state)
 {
     (void)state;
