@@ -132,6 +132,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
 
     Vec3 radiance = vec3(0.0f, 0.0f, 0.0f), throughput = vec3(1.0f, 1.0f, 1.0f);
     float previous_pdf = 1.0f, eta_scale = 1.0f;
+    /* The last bounce's shading point: light sampling there set the density
+     * MIS weighs a light hit against (for a sphere, the cone it saw). */
+    Vec3 previous_point = origin;
     int specular_bounce = 0;
     for (uint depth = 0;; ++depth) {
         Ray ray = make_ray(origin, direction);
@@ -155,7 +158,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             if (!unweighted) {
                 float cos_light = fabs(v_dot(n, wo_world));
                 weight =
-                    cos_light > 0.0f ? power_heuristic(previous_pdf, area_light_pdf(light, hit.t, cos_light)) : 0.0f;
+                    cos_light > 0.0f
+                        ? power_heuristic(previous_pdf, area_light_pdf(scene, light, previous_point, hit.t, cos_light))
+                        : 0.0f;
             }
             ADD_LIGHT(v_scale(v_mul(throughput, le), weight), depth <= 1);
         }
@@ -212,6 +217,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             break;
         throughput = v_mul(throughput, v_scale(bs.f, fabs(bs.wi.z) / bs.pdf));
         previous_pdf = bs.pdf;
+        previous_point = p;
         specular_bounce = bs.is_delta;
         if (bs.is_transmission)
             eta_scale *= bs.etap * bs.etap;

@@ -8,15 +8,15 @@
 #include "scene_types.h"
 #include "vec3.h"
 
-#define SCENE_ARRAY_MEMBER(name, type) __global const type *name;
+#define SCENE_ARRAY_MEMBER(name, type) GLOBAL const type *name;
 typedef struct {
-    __global const SceneConstants *constants;
+    GLOBAL const SceneConstants *constants;
     GMON_SCENE_ARRAYS(SCENE_ARRAY_MEMBER)
 } Scene;
 #undef SCENE_ARRAY_MEMBER
 
 /* The kernel parameters for the list, each followed by a comma. */
-#define SCENE_ARRAY_PARAMETER(name, type) __global const type *name,
+#define SCENE_ARRAY_PARAMETER(name, type) GLOBAL const type *name,
 #define SCENE_ARRAY_ASSIGN(name, type) scene.name = name;
 
 KERNEL_FN Geometry scene_geometry(const Scene *scene)
@@ -32,7 +32,7 @@ KERNEL_FN int scene_intersect(const Scene *scene, const Ray *ray, float t_min, f
     return bvh_intersect(&g, ray, t_min, t_max, any_hit, hit);
 }
 
-KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
+KERNEL_FN Vec3 surface_normal(GLOBAL const Primitive *p, Vec3 position)
 {
     Vec3 n;
     if (is_sphere(p))
@@ -43,7 +43,7 @@ KERNEL_FN Vec3 surface_normal(__global const Primitive *p, Vec3 position)
 }
 
 #if GMON_HAS_INSTANCING
-KERNEL_FN Vec3 instance_normal_v(__global const Instance *instance, Vec3 n)
+KERNEL_FN Vec3 instance_normal_v(GLOBAL const Instance *instance, Vec3 n)
 {
     float object[3] = {n.x, n.y, n.z}, world[3];
     instance_normal(instance, object, world);
@@ -57,11 +57,11 @@ KERNEL_FN Vec3 instance_normal_v(__global const Instance *instance, Vec3 n)
  * does exactly (power-of-two scales, axis swaps, mirrors) it is then the
  * very normal of the flattened triangle. (pbrt-v4's rule on handedness
  * holds without a flag: the transformed cross product turns with it.) */
-KERNEL_FN Vec3 hit_normal(const Scene *scene, const Hit *hit, __global const Primitive *p, Vec3 position)
+KERNEL_FN Vec3 hit_normal(const Scene *scene, const Hit *hit, GLOBAL const Primitive *p, Vec3 position)
 {
 #if GMON_HAS_INSTANCING
     if (hit->instance >= 0) {
-        __global const Instance *instance = scene->instances + hit->instance;
+        GLOBAL const Instance *instance = scene->instances + hit->instance;
         Vec3 n;
         if (is_sphere(p)) {
             float world[3] = {position.x, position.y, position.z}, object[3];
@@ -83,11 +83,11 @@ KERNEL_FN Vec3 hit_normal(const Scene *scene, const Hit *hit, __global const Pri
  * at the hit's barycentrics, turned to the side of the geometric normal n
  * (pbrt-v4 turns the geometric one; the two agree on which side is the
  * front, as the scene reader orients meshes by their vertex normals), or n. */
-KERNEL_FN Vec3 shading_normal(const Scene *scene, const Hit *hit, __global const Primitive *p, Vec3 n)
+KERNEL_FN Vec3 shading_normal(const Scene *scene, const Hit *hit, GLOBAL const Primitive *p, Vec3 n)
 {
     if (!GMON_HAS_SHADING_NORMALS || !(p->kind & PRIM_SHADING_NORMAL))
         return n;
-    __global const float *v = scene->shading_normals + 9 * (size_t)hit->primitive;
+    GLOBAL const float *v = scene->shading_normals + 9 * (size_t)hit->primitive;
     float b0 = 1.0f - hit->u - hit->v;
     Vec3 ns = vec3(b0 * v[0] + hit->u * v[3] + hit->v * v[6], b0 * v[1] + hit->u * v[4] + hit->v * v[7],
                    b0 * v[2] + hit->u * v[5] + hit->v * v[8]);
@@ -103,7 +103,7 @@ KERNEL_FN Vec3 shading_normal(const Scene *scene, const Hit *hit, __global const
 }
 
 /* A point uniformly distributed over a primitive's area. */
-KERNEL_FN Vec3 sample_primitive(__global const Primitive *p, float u1, float u2)
+KERNEL_FN Vec3 sample_primitive(GLOBAL const Primitive *p, float u1, float u2)
 {
     if (is_sphere(p)) {
         float z = 1.0f - 2.0f * u1;

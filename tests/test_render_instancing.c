@@ -237,8 +237,12 @@ static void render_cornell(const char *name, const char *occluder, uint64_t samp
 /* Alpha 0 and 1 decide without the hash: the quad with a checkerboard alpha
  * casts the shadow of the squares it keeps, for camera, shadow and BSDF
  * rays alike (depth 1: the light is reached by both of the latter). Rays
- * meet the two in different triangles, so values may differ by rounding:
- * compared within 1e-5 relative, all but rays grazing the squares' edges. */
+ * meet the two in different triangles, so values may differ by rounding,
+ * which the light's spherical triangle sampling (lights.h) amplifies: for
+ * u1 near 0 its point moves by up to 1e-3 of the light's size when the
+ * shading point moves by an ulp. Compared within 1e-2 relative, all but
+ * rays grazing the squares' edges (a square cast wrongly differs by all
+ * the light it blocks). */
 static void test_checkerboard_alpha_is_the_cut_geometry(void **state)
 {
     (void)state;
@@ -256,7 +260,7 @@ static void test_checkerboard_alpha_is_the_cut_geometry(void **state)
     size_t n = 3 * (size_t)cut.width * cut.height, differ = 0, shadowed = 0;
     const float *x = textured.pass[PASS_MEAN], *y = cut.pass[PASS_MEAN], *o = open.pass[PASS_MEAN];
     for (size_t i = 0; i < n; ++i) {
-        differ += fabs((double)x[i] - y[i]) > 1e-5 * fmax(fabs((double)y[i]), 1e-3);
+        differ += fabs((double)x[i] - y[i]) > 1e-2 * fmax(fabs((double)y[i]), 1e-3);
         shadowed += y[i] < o[i];
     }
     printf("  checkerboard alpha vs the cut squares: %zu of %zu values differ (%zu shadowed by the squares)\n", differ,
