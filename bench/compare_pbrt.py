@@ -12,6 +12,11 @@ pbrt-v4's side is by default the stored renders of ../shared/pbrt-v4-renders
 times); with --pbrt PATH (or --build-pbrt) it is rendered live from a copy of
 the scene with the Film resolution (and optionally the Sampler) replaced,
 alternating with gmonrt's renders so both share the machine's conditions.
+pbrt-v4's "halton" and "sobol" samplers (veach-mis, the killeroos,
+caustic-glass ask for them) place a pixel's film samples alike for every
+seed, so the two seeds' difference leaves out the variance those positions
+add, most of it at edges (a visible light's rim): the script notes it, and
+--pbrt-sampler zsobol with a live pbrt-v4 measures it.
 
 The figures (the statistics functions below; tests/python/test_compare_pbrt.py):
 - Per-pixel variance of a renderer at N spp: half the squared difference of
@@ -320,6 +325,18 @@ def rewrite_scene(text, width, height, sampler=None):
     return text
 
 
+# pbrt-v4's samplers whose pixel positions (the film sample, GetPixel2D) do
+# not depend on the seed: two seeds' renders then share them, and their
+# difference leaves out the variance that comes from them (at edges).
+UNSEEDED_PIXEL_SAMPLERS = ("halton", "sobol")
+
+
+def scene_sampler(text):
+    """The Sampler a pbrt scene's text names (pbrt-v4's default: zsobol)."""
+    samplers = [body for name, _, _, body in _directives(text) if name == "Sampler"]
+    return samplers[0][0][0].strip('"') if samplers and samplers[0] else "zsobol"
+
+
 def scene_copy(scene, directory, width, height, sampler=None):
     """Writes the rewritten scene into `directory` beside symbolic links to
     everything else in the scene's folder (pbrt-v4 resolves Include, PLY and
@@ -407,6 +424,11 @@ def compare_scene(args, folder, scene, width, height, workdir, say):
             if not path.is_file():
                 raise FileNotFoundError(f"{path} is missing (stored renders are 64 spp: use --pbrt for another --spp)")
             p[seed], tp[seed] = read_rgb(path), read_seconds(path.with_suffix(".seconds"))
+    pbrt_sampler = args.pbrt_sampler if args.pbrt else None
+    pbrt_sampler = pbrt_sampler or scene_sampler(scene.read_text(errors="replace"))
+    if pbrt_sampler in UNSEEDED_PIXEL_SAMPLERS:
+        say(f"  note: {folder}: pbrt-v4's Sampler \"{pbrt_sampler}\" places a pixel's film samples alike for every "
+            "seed: its variance at edges is left out (compare live with --pbrt-sampler zsobol)\n")
     reference, reference_spp = None, None
     ref_path = stored / "spp1024-seed100.exr"
     if ref_path.is_file() and not args.no_reference:

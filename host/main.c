@@ -111,6 +111,8 @@ static int render(const Options *o)
              strcmp(summary.sampler, sampler_name(scene.constants.integrator.sampler)) != 0)
         fprintf(stderr, "gmonrt: note: Sampler \"%s\" is rendered with gmonrt's %s sampler (docs/sampling.md)\n",
                 summary.sampler, sampler_name(scene.constants.integrator.sampler));
+    if (o->light_sampler >= 0)
+        render_scene_set_light_sampler(&scene, (uint32_t)o->light_sampler);
     if (!o->quiet && summary.regularize)
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)

@@ -2,13 +2,15 @@
  * (light_sample), the radiance a ray escaping the scene receives from the
  * infinite ones (infinite_radiance) and their densities, for MIS. Types a
  * scene does not use are compiled out (feature_mask.h). The light to sample
- * is picked in proportion to power (pick_light; chances computed by the
- * host, host/render/render_scene.c). */
+ * is picked by the light sampler (pick_light_at): with a fixed chance each
+ * (uniform or by power, computed by the host, host/render/render_scene.c),
+ * or by the light tree (light_tree.h). */
 #ifndef KERNELS_LIGHTS_H
 #define KERNELS_LIGHTS_H
 
 #include "distribution.h"
 #include "equal_area.h"
+#include "light_tree.h"
 #include "mis.h"
 #include "scene.h"
 
@@ -32,6 +34,49 @@ KERNEL_FN int pick_light(GLOBAL const Light *lights, uint32_t count, float u)
             lo = mid + 1;
     }
     return lo;
+}
+
+/* With the light tree, as pbrt-v4's "bvh" sampler: the tree (if there are
+ * bounded lights) and each unbounded light have equal chances. */
+KERNEL_FN float light_tree_share(const Scene *scene)
+{
+    GLOBAL const IntegratorData *integrator = &scene->constants->integrator;
+    return integrator->light_count > integrator->unbounded_lights ? 1.0f / (float)(integrator->unbounded_lights + 1u)
+                                                                  : 0.0f;
+}
+
+/* The light to sample for shading point p of geometric normal n, and the
+ * chance it was picked (*pmf); -1 if none may light p. */
+KERNEL_FN int pick_light_at(const Scene *scene, Vec3 p, Vec3 n, float u, float *pmf)
+{
+    GLOBAL const IntegratorData *integrator = &scene->constants->integrator;
+    if (integrator->light_sampler != LIGHT_SAMPLER_TREE) {
+        int i = pick_light(scene->lights, integrator->light_count, u);
+        *pmf = scene->lights[i].pick_probability;
+        return i;
+    }
+    float share = light_tree_share(scene);
+    if (u < share) {
+        int i = light_tree_sample(scene->light_nodes, p, n, fmin(u / share, 0x1.fffffep-1f), pmf);
+        *pmf *= share;
+        return i;
+    }
+    uint32_t unbounded = integrator->unbounded_lights;
+    uint32_t i = (uint32_t)((u - share) / (1.0f - share) * (float)unbounded);
+    i = i < unbounded ? i : unbounded - 1u;
+    *pmf = scene->lights[i].pick_probability;
+    return (int)i;
+}
+
+/* The chance pick_light_at picks `light` for shading point p of normal n. */
+KERNEL_FN float light_pick_pmf(const Scene *scene, GLOBAL const Light *light, Vec3 p, Vec3 n)
+{
+    GLOBAL const IntegratorData *integrator = &scene->constants->integrator;
+    uint32_t index = (uint32_t)(light - scene->lights);
+    if (integrator->light_sampler != LIGHT_SAMPLER_TREE || index < integrator->unbounded_lights)
+        return light->pick_probability;
+    return light_tree_share(scene) *
+           light_tree_pmf(scene->light_nodes, scene->light_trails[index - integrator->unbounded_lights], p, n);
 }
 
 KERNEL_FN Vec3 rotate_rows(const GLOBAL float (*rows)[3], Vec3 w)
@@ -384,7 +429,7 @@ KERNEL_FN int light_sample(const Scene *scene, GLOBAL const Light *light, Vec3 p
 }
 
 /* The density (solid angle) with which light_sample from point `from`
- * reaches area light `light`, with the pick, at a hit at distance t and
+ * reaches area light `light`, without the pick, at a hit at distance t and
  * cosine cos_light (> 0) with its normal. */
 KERNEL_FN float area_light_pdf(const Scene *scene, GLOBAL const Light *light, Vec3 from, float t, float cos_light)
 {
@@ -394,14 +439,14 @@ KERNEL_FN float area_light_pdf(const Scene *scene, GLOBAL const Light *light, Ve
     if (is_sphere(prim)) {
         float sin2_max = sphere_cone_sin2(vec3_from_global(prim->a), prim->b[0], from);
         if (sin2_max > 0.0f)
-            return light->pick_probability * sphere_cone_pdf(sin2_max);
+            return sphere_cone_pdf(sin2_max);
     } else {
         Vec3 dirs[3];
         float solid_angle = triangle_sampled_solid_angle(prim, light->area, from, dirs);
         if (solid_angle > 0.0f)
-            return light->pick_probability / solid_angle;
+            return 1.0f / solid_angle;
     }
-    return light->pick_probability * t * t / (cos_light * light->area);
+    return t * t / (cos_light * light->area);
 }
 
 /* What a ray leaving along w (unit) receives from the infinite lights,

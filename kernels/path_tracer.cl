@@ -73,19 +73,22 @@ KERNEL_FN Vec3 emitted(__global const Light *light, Vec3 n, Vec3 w)
     return vec3_from_global(light->radiance);
 }
 
-/* Next-event estimation at a surface: picks a light by power and samples
- * it; its unoccluded radiance and density (solid angle, with the pick).
- * Returns 0 if none. */
+/* Next-event estimation at a surface: picks a light (pick_light_at) and
+ * samples it; its unoccluded radiance and density (solid angle, with the
+ * pick). Returns 0 if none. */
 KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, float u1, float u2, LightSample *s,
                            uint *rays)
 {
-    uint count = scene->constants->integrator.light_count;
-    if (count == 0)
+    if (scene->constants->integrator.light_count == 0)
         return 0;
-    __global const Light *light = scene->lights + pick_light(scene->lights, count, u_pick);
+    float pick;
+    int index = pick_light_at(scene, p, n, u_pick, &pick);
+    if (index < 0)
+        return 0;
+    __global const Light *light = scene->lights + index;
     if (!light_sample(scene, light, p, u1, u2, s))
         return 0;
-    s->pdf *= light->pick_probability;
+    s->pdf *= pick;
     if (!(s->pdf > 0.0f) || v_max_component(s->radiance) <= 0.0f)
         return 0;
     ++*rays;
@@ -132,9 +135,10 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
 
     Vec3 radiance = vec3(0.0f, 0.0f, 0.0f), throughput = vec3(1.0f, 1.0f, 1.0f);
     float previous_pdf = 1.0f, eta_scale = 1.0f;
-    /* The last bounce's shading point: light sampling there set the density
-     * MIS weighs a light hit against (for a sphere, the cone it saw). */
-    Vec3 previous_point = origin;
+    /* The last bounce's shading point and normal: light sampling there set
+     * the density MIS weighs a light hit against (the light's chance, and
+     * for a sphere the cone it saw). */
+    Vec3 previous_point = origin, previous_normal = vec3(0.0f, 0.0f, 0.0f);
     int specular_bounce = 0;
     for (uint depth = 0;; ++depth) {
         Ray ray = make_ray(origin, direction);
@@ -157,10 +161,10 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             float weight = 1.0f;
             if (!unweighted) {
                 float cos_light = fabs(v_dot(n, wo_world));
-                weight =
-                    cos_light > 0.0f
-                        ? power_heuristic(previous_pdf, area_light_pdf(scene, light, previous_point, hit.t, cos_light))
-                        : 0.0f;
+                float light_pdf = cos_light > 0.0f ? light_pick_pmf(scene, light, previous_point, previous_normal) *
+                                                         area_light_pdf(scene, light, previous_point, hit.t, cos_light)
+                                                   : 0.0f;
+                weight = cos_light > 0.0f ? power_heuristic(previous_pdf, light_pdf) : 0.0f;
             }
             ADD_LIGHT(v_scale(v_mul(throughput, le), weight), depth <= 1);
         }
@@ -218,6 +222,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         throughput = v_mul(throughput, v_scale(bs.f, fabs(bs.wi.z) / bs.pdf));
         previous_pdf = bs.pdf;
         previous_point = p;
+        previous_normal = n;
         specular_bounce = bs.is_delta;
         if (bs.is_transmission)
             eta_scale *= bs.etap * bs.etap;

@@ -281,6 +281,36 @@ typedef struct {
     float screen_half[2]; /* projection */
 } Light;
 
+/* The light tree (light_tree.h): a binary tree over the bounded lights
+ * (all but the infinite and distant ones), each node the bounds of the
+ * light it holds or of its two children: a box, the luminous power, and
+ * the cone of directions the emitters face (axis and half-angle theta_o,
+ * plus theta_e: how far past theta_o they still emit). Node 0 is the root,
+ * an inner node's first child is the next node and `second` the other; a
+ * leaf's `second` is its light's index, as ~index. 64 bytes. Each bounded
+ * light's leaf is found from the root by its trail (light_trails, indexed
+ * by the light's index less the unbounded count): bit k is the side taken
+ * at depth k, above a leading 1. */
+typedef struct {
+    float lower[3];
+    float power;
+    float upper[3];
+    float cos_theta_o;
+    float axis[3];
+    float cos_theta_e;
+    int32_t second;
+    uint32_t two_sided;
+    uint32_t pad[2];
+} LightNode;
+
+/* The light samplers (IntegratorData.light_sampler; pbrt-v4's
+ * "lightsampler"): each light's fixed chance (uniform or by power), or the
+ * light tree's chances at the shading point. */
+#define LIGHT_SAMPLER_UNIFORM 0u
+#define LIGHT_SAMPLER_POWER 1u
+#define LIGHT_SAMPLER_TREE 2u
+#define LIGHT_SAMPLER_COUNT 3u
+
 /* An image light's sampling distribution over the square, at
  * distributions[distribution_offset...]: [0] the mean of the function f
  * over the square, then the marginal CDF of the rows (height + 1 values),
@@ -365,8 +395,9 @@ typedef struct {
     uint32_t light_count;
     uint32_t seed;
     float rr_threshold;
-    uint32_t sampler; /* SAMPLER_* (sampler.h); the kernels are built for it */
-    uint32_t pad[2];
+    uint32_t sampler;          /* SAMPLER_* (sampler.h); the kernels are built for it */
+    uint32_t light_sampler;    /* LIGHT_SAMPLER_* */
+    uint32_t unbounded_lights; /* lights[0, this): the infinite, then the distant ones */
 } IntegratorData;
 
 /* The infinite lights: lights[0, infinite_count) of the light array. */
@@ -403,6 +434,8 @@ typedef struct {
     ARRAY(primitives, Primitive)                                                                                       \
     ARRAY(materials, Material)                                                                                         \
     ARRAY(lights, Light)                                                                                               \
+    ARRAY(light_nodes, LightNode)                                                                                      \
+    ARRAY(light_trails, uint64_t)                                                                                      \
     ARRAY(distributions, float)                                                                                        \
     ARRAY(texels, float)                                                                                               \
     ARRAY(shading_normals, float)                                                                                      \
@@ -423,6 +456,7 @@ _Static_assert(sizeof(MaterialTextures) == 80, "MaterialTextures must match the 
 _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout");
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
+_Static_assert(sizeof(LightNode) == 64, "LightNode must match the kernel's layout");
 _Static_assert(sizeof(SceneConstants) == 240, "SceneConstants must match the kernel's layout");
 #endif
 

@@ -2,6 +2,7 @@
  * code 2 for bad flags and values, and for flags a subcommand does not take. */
 #include "cli/options.h"
 #include "sampler.h"
+#include "scene_types.h"
 
 #include <setjmp.h>
 #include <stdarg.h>
@@ -41,9 +42,9 @@ static void test_every_flag(void **state)
     assert_int_equal(PARSE(&o, error, "--spp", "128", "--seed=9", "--sets", "5", "--estimators", "mean,gmon",
                            "--gini-mode", "luminance", "--preview", "mean", "--exposure", "2.5", "--time", "30",
                            "--resolution", "320x200", "--maxdepth", "7", "--integrator", "bsdf", "--sampler",
-                           "sobol-pixel", "--device", "cpu", "--outfile", "x.exr", "--first-sample", "64",
-                           "--diagnostics", "--write-sets", "--quiet", "--allow-unsupported", "--kernel-dir", "k",
-                           "scene.pbrt"),
+                           "sobol-pixel", "--light-sampler", "power", "--device", "cpu", "--outfile", "x.exr",
+                           "--first-sample", "64", "--diagnostics", "--write-sets", "--quiet", "--allow-unsupported",
+                           "--kernel-dir", "k", "scene.pbrt"),
                      0);
     assert_int_equal(o.spp, 128);
     assert_int_equal(o.seed, 9);
@@ -58,6 +59,7 @@ static void test_every_flag(void **state)
     assert_int_equal(o.max_depth, 7);
     assert_int_equal(o.bsdf_only, 1);
     assert_int_equal(o.sampler, SAMPLER_SOBOL_PIXEL);
+    assert_int_equal(o.light_sampler, LIGHT_SAMPLER_POWER);
     assert_int_equal(o.devices.kind, DEVICES_CPU);
     assert_string_equal(o.devices.spec, "cpu");
     assert_string_equal(o.outfile, "x.exr");
@@ -210,6 +212,7 @@ static void test_bad_flags_and_values(void **state)
     expect_error("--preview", "median", "--preview");
     expect_error("--maxdepth", "many", "--maxdepth");
     expect_error("--sampler", "halton", "--sampler");
+    expect_error("--light-sampler", "spatial", "--light-sampler");
     expect_error("--quiet=yes", NULL, "takes no value");
     /* 4294967304 is 2^32 + 8: read as 32 bits it would render 8x8. */
     expect_error("--resolution", "4294967304x8", "WIDTHxHEIGHT");

@@ -360,20 +360,21 @@ static void test_integrators(void **state)
     assert_true(has_warning(&s, "; \"path\" is used"));
     scene_destroy(&s);
 
-    /* lightsampler: recorded, with a note unless it is "power". */
-    static const char *const samplers[] = {"bvh", "uniform", "power"};
-    for (size_t i = 0; i < 3; ++i) {
+    /* lightsampler: recorded; exhaustive, which the light tree renders,
+     * with a note. */
+    static const char *const samplers[] = {"bvh", "uniform", "power", "exhaustive"};
+    for (size_t i = 0; i < 4; ++i) {
         char text[256];
         snprintf(text, sizeof text, "Integrator \"path\" \"string lightsampler\" \"%s\"\n" WORLD, samplers[i]);
         load_ok(text, &s);
         assert_string_equal(s.light_sampler, samplers[i]);
-        assert_int_equal(s.note_count, i < 2 ? 1 : 0);
-        if (i < 2)
-            assert_non_null(strstr(s.notes[0], "in proportion to their power"));
+        assert_int_equal(s.note_count, i == 3 ? 1 : 0);
+        if (i == 3)
+            assert_non_null(strstr(s.notes[0], "rendered with gmonrt's light tree"));
         scene_destroy(&s);
     }
     load_fails("Integrator \"path\" \"string lightsampler\" \"spatial\"\n" WORLD, 1,
-               "\"lightsampler\" \"spatial\" is not bvh, power or uniform");
+               "\"lightsampler\" \"spatial\" is not bvh, exhaustive, power or uniform");
 
     /* rrthreshold: path and volpath (transparent-machines sets 0). */
     load_ok("Integrator \"volpath\" \"float rrthreshold\" 0\n" WORLD, &s);

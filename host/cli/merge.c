@@ -25,6 +25,13 @@ static int compatible(const char *a_path, const ExrImage *a, const char *b_path,
                 b_sampler);
         return 0;
     }
+    const char *a_lights = a->metadata.light_sampler ? a->metadata.light_sampler : "power";
+    const char *b_lights = b->metadata.light_sampler ? b->metadata.light_sampler : "power";
+    if (strcmp(a_lights, b_lights) != 0) {
+        fprintf(stderr, "gmonrt: merge: %s and %s differ in light sampler (%s vs %s)\n", a_path, b_path, a_lights,
+                b_lights);
+        return 0;
+    }
     if (a->metadata.max_depth != b->metadata.max_depth) {
         fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,
                 a->metadata.max_depth, b->metadata.max_depth);

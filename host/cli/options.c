@@ -37,6 +37,9 @@ static const Flag flags[] = {
      "sobol-pixel: one sequence over all of a pixel's samples\n(the best mean, but the sets' means are correlated);\n"
      "independent: uniform random numbers. Default: the\nscene's Sampler \"independent\" or else sobol-sets\n"
      "(docs/sampling.md)"},
+    {"--light-sampler", "NAME", FOR_RENDER,
+     "how next-event estimation picks a light: bvh (the light\ntree: by power, distance and facing at each point),\n"
+     "power or uniform. Default: the scene's Integrator\n\"lightsampler\", else bvh, as pbrt-v4"},
     {"--seed", "N", FOR_RENDER,
      "random seed (default 0); the image depends only on the\nseed and the sample range, never on passes or devices"},
     {"--first-sample", "N", FOR_RENDER, "first sample index of the range rendered (default 0)"},
@@ -375,6 +378,10 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
         o->sampler = sampler_from_name(value);
         if (o->sampler < 0)
             return fail(error, size, "--sampler: '%s' is not sobol-sets, sobol-pixel or independent", value);
+    } else if (strcmp(flag, "--light-sampler") == 0) {
+        o->light_sampler = light_sampler_from_name(value);
+        if (o->light_sampler < 0)
+            return fail(error, size, "--light-sampler: '%s' is not bvh, exhaustive, power or uniform", value);
     } else if (strcmp(flag, "--maxdepth") == 0) {
         if (parse_u64(value, 10000, &number))
             return fail(error, size, "--maxdepth: '%s' is not an integer in 0..10000", value);
@@ -421,6 +428,7 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     o->exposure = 1.0f;
     o->max_depth = -1;
     o->sampler = -1;
+    o->light_sampler = -1;
 
     int first = 1;
     if (argc > 1 && strcmp(argv[1], "estimate") == 0) {

@@ -48,6 +48,7 @@ typedef struct {
     unsigned width, height;      /* --resolution, 0: the scene's */
     int max_depth;               /* --maxdepth, -1: the scene's */
     int sampler;                 /* --sampler: SAMPLER_*, -1: the scene's */
+    int light_sampler;           /* --light-sampler: LIGHT_SAMPLER_*, -1: the scene's */
     int bsdf_only;               /* --integrator bsdf */
     DeviceSelection devices;     /* --device */
     uint64_t first_sample;       /* --first-sample: start of the sample range */

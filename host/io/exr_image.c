@@ -225,12 +225,12 @@ static exr_context_initializer_t context_initializer(IoContext *io)
 
 /* The gmon.* attributes this module reads and writes itself; any other
  * gmon.* string attribute is one of the film's. */
-static const char *const own_attributes[] = {METADATA_PREFIX "software",         METADATA_PREFIX "sets",
-                                             METADATA_PREFIX "samples",          METADATA_PREFIX "seed",
-                                             METADATA_PREFIX "firstSample",      METADATA_PREFIX "sceneFile",
-                                             METADATA_PREFIX "sceneHash",        METADATA_PREFIX "integrator",
-                                             METADATA_PREFIX "sampler",          METADATA_PREFIX "maxDepth",
-                                             METADATA_PREFIX "nonfiniteSamples", METADATA_PREFIX "roundedSamples"};
+static const char *const own_attributes[] = {
+    METADATA_PREFIX "software",      METADATA_PREFIX "sets",        METADATA_PREFIX "samples",
+    METADATA_PREFIX "seed",          METADATA_PREFIX "firstSample", METADATA_PREFIX "sceneFile",
+    METADATA_PREFIX "sceneHash",     METADATA_PREFIX "integrator",  METADATA_PREFIX "sampler",
+    METADATA_PREFIX "lightSampler",  METADATA_PREFIX "maxDepth",    METADATA_PREFIX "nonfiniteSamples",
+    METADATA_PREFIX "roundedSamples"};
 
 static int attribute_is_own(const char *key)
 {
@@ -465,6 +465,10 @@ static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part,
         return IMAGE_IO_ERROR;
     if (meta->sampler && EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sampler", meta->sampler),
                                     "cannot set attribute " METADATA_PREFIX "sampler"))
+        return IMAGE_IO_ERROR;
+    if (meta->light_sampler &&
+        EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "lightSampler", meta->light_sampler),
+                   "cannot set attribute " METADATA_PREFIX "lightSampler"))
         return IMAGE_IO_ERROR;
     for (size_t i = 0; i < meta->attribute_count; ++i) {
         char action[NAME_CAPACITY + 32];
@@ -740,7 +744,8 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneFile", &meta->scene_path) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0 ||
         read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sampler", &meta->sampler) < 0)
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sampler", &meta->sampler) < 0 ||
+        read_string_attribute(io, ctxt, image, METADATA_PREFIX "lightSampler", &meta->light_sampler) < 0)
         return IMAGE_IO_ERROR;
     result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "maxDepth", &attribute);
     if (result != EXR_ERR_NO_ATTR_BY_NAME) {

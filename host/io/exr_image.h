@@ -32,6 +32,7 @@
  *   gmon.integrator   string  path | bsdf
  *   gmon.sampler      string  independent | sobol-pixel | sobol-sets; files
  *                             without it: independent
+ *   gmon.lightSampler string  bvh | power | uniform; files without it: power
  *   gmon.maxDepth     int
  *   gmon.nonfiniteSamples string  non-finite samples, decimal uint64
  *   gmon.roundedSamples   string  samples not added exactly, decimal uint64
@@ -68,6 +69,7 @@ typedef struct {
     const char *scene_hash;     /* NULL: not written */
     const char *integrator;     /* NULL: not written */
     const char *sampler;        /* NULL: not written */
+    const char *light_sampler;  /* NULL: not written */
     int max_depth;              /* written with the integrator */
     uint64_t nonfinite_samples; /* totals over the image */
     uint64_t rounded_samples;

@@ -17,6 +17,7 @@ void render_output_file(FilmFile *file, const RenderOutput *out)
     image->metadata.max_depth = (int)out->max_depth;
     image->metadata.integrator = out->integrator;
     image->metadata.sampler = sampler_name(out->sampler);
+    image->metadata.light_sampler = light_sampler_name(out->light_sampler);
     image->metadata.nonfinite_samples = out->rejected_total;
     image->metadata.rounded_samples = out->rounded_total;
 }

@@ -1,5 +1,7 @@
 #include "render/render_scene.h"
 
+#include "render/light_tree_build.h"
+
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -13,6 +15,7 @@ void render_scene_init(RenderScene *scene)
     scene->constants.integrator.max_depth = 5;
     scene->constants.integrator.flags = RENDER_NEE;
     scene->constants.integrator.sampler = SAMPLER_DEFAULT;
+    scene->constants.integrator.light_sampler = LIGHT_SAMPLER_TREE;
     scene->constants.integrator.rr_threshold = 1.0f;
     for (int i = 0; i < 3; ++i)
         scene->constants.film.from_radiance[i][i] = 1.0f;
@@ -38,6 +41,8 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->instance_inputs);
     free(scene->alphas);
     free(scene->instances);
+    free(scene->light_nodes);
+    free(scene->light_trails);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -53,6 +58,11 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.materials_count = (size_t)scene->material_count;
     a.lights = scene->lights;
     a.lights_count = (size_t)scene->light_count;
+    a.light_nodes = scene->light_nodes;
+    a.light_nodes_count = (size_t)scene->light_node_count;
+    a.light_trails = scene->light_trails;
+    a.light_trails_count =
+        scene->light_trails ? (size_t)(scene->light_count - scene->constants.integrator.unbounded_lights) : 0;
     a.distributions = scene->distributions;
     a.distributions_count = scene->distribution_count;
     a.texels = scene->texels;
@@ -481,6 +491,13 @@ static int is_infinite(const Light *light)
     return light->type == LIGHT_UNIFORM_INFINITE || light->type == LIGHT_IMAGE_INFINITE;
 }
 
+/* The order of render_scene_finalize's light array: infinite, distant,
+ * bounded. */
+static int light_rank(const Light *light)
+{
+    return is_infinite(light) ? 0 : light->type == LIGHT_DISTANT ? 1 : 2;
+}
+
 static double luminance(const float rgb[3])
 {
     return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
@@ -777,8 +794,9 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     } else if (build_instanced_bvh(scene, error, error_size)) {
         return -1;
     }
-    /* Infinite lights first (the kernel loops over them on escape), the
-     * others after, each keeping its order. */
+    /* Infinite lights first (the kernel loops over them on escape), then
+     * the distant ones (the other lights the tree does not hold), then the
+     * bounded ones, each keeping its order. */
     int n = scene->light_count;
     int *new_index = malloc((size_t)(n ? n : 1) * sizeof *new_index);
     Light *ordered = malloc((size_t)(n ? n : 1) * sizeof *ordered);
@@ -788,13 +806,14 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
         snprintf(error, error_size, "out of memory ordering the lights");
         return -1;
     }
-    int next = 0, infinite = 0;
-    for (int pass = 0; pass < 2; ++pass)
+    int next = 0, infinite = 0, unbounded = 0;
+    for (int rank = 0; rank < 3; ++rank)
         for (int i = 0; i < n; ++i)
-            if (is_infinite(&scene->lights[i]) == (pass == 0)) {
+            if (light_rank(&scene->lights[i]) == rank) {
                 new_index[i] = next;
                 ordered[next++] = scene->lights[i];
-                infinite += pass == 0;
+                infinite += rank == 0;
+                unbounded += rank < 2;
             }
     if (n > 0)
         memcpy(scene->lights, ordered, (size_t)n * sizeof *ordered);
@@ -828,21 +847,76 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
     if (render_scene_finalize_textures(scene, error, error_size))
         return -1;
 
-    /* Pick lights in proportion to their power. */
-    double radius = scene_radius(scene), total = 0.0;
-    for (int i = 0; i < n; ++i)
-        total += light_power(scene, &scene->lights[i], radius);
-    double running = 0.0;
+    scene->constants.integrator.light_count = (uint32_t)n;
+    scene->constants.integrator.unbounded_lights = (uint32_t)unbounded;
+    scene->constants.background.infinite_count = (uint32_t)infinite;
+
+    int bounded = n - unbounded;
+    LightBounds *bounds = malloc((size_t)(bounded ? bounded : 1) * sizeof *bounds);
+    if (!bounds) {
+        snprintf(error, error_size, "out of memory bounding the lights");
+        return -1;
+    }
+    double radius = scene_radius(scene);
+    for (int i = 0; i < bounded; ++i) {
+        const Light *light = &scene->lights[unbounded + i];
+        bounds[i] = light_bounds(light, scene->bvh.primitives, light_power(scene, light, radius));
+    }
+    free(scene->light_nodes);
+    free(scene->light_trails);
+    int failed = light_tree_build(bounds, bounded, unbounded, &scene->light_nodes, &scene->light_node_count,
+                                  &scene->light_trails);
+    free(bounds);
+    if (failed) {
+        snprintf(error, error_size, "out of memory for the light tree of %d lights", bounded);
+        return -1;
+    }
+    render_scene_set_light_sampler(scene, scene->constants.integrator.light_sampler);
+    return 0;
+}
+
+void render_scene_set_light_sampler(RenderScene *scene, uint32_t light_sampler)
+{
+    IntegratorData *integrator = &scene->constants.integrator;
+    integrator->light_sampler = light_sampler;
+    int n = scene->light_count, unbounded = (int)integrator->unbounded_lights;
+    double radius = scene_radius(scene), total = 0.0, unbounded_total = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double power = light_power(scene, &scene->lights[i], radius);
+        total += power;
+        unbounded_total += i < unbounded ? power : 0.0;
+    }
+    double tree_share = n > unbounded ? 1.0 / (unbounded + 1) : 0.0, running = 0.0;
     for (int i = 0; i < n; ++i) {
         Light *light = &scene->lights[i];
-        double p = total > 0.0 ? light_power(scene, light, radius) / total : 1.0 / n;
+        double p = 1.0 / n, power = light_power(scene, light, radius);
+        if (light_sampler == LIGHT_SAMPLER_POWER && total > 0.0)
+            p = power / total;
+        else if (light_sampler == LIGHT_SAMPLER_TREE)
+            p = i < unbounded ? (1.0 - tree_share) / unbounded
+                              : tree_share * (total > unbounded_total ? power / (total - unbounded_total)
+                                                                      : 1.0 / (n - unbounded));
         running += p;
         light->pick_probability = (float)p;
         light->pick_cdf = i + 1 == n ? 2.0f : (float)running; /* the last catches u = 1 - eps */
     }
-    scene->constants.integrator.light_count = (uint32_t)n;
-    scene->constants.background.infinite_count = (uint32_t)infinite;
-    return 0;
+}
+
+static const char *const light_sampler_names[LIGHT_SAMPLER_COUNT] = {"uniform", "power", "bvh"};
+
+const char *light_sampler_name(uint32_t light_sampler)
+{
+    return light_sampler < LIGHT_SAMPLER_COUNT ? light_sampler_names[light_sampler] : "unknown";
+}
+
+int light_sampler_from_name(const char *name)
+{
+    if (strcmp(name, "exhaustive") == 0)
+        return LIGHT_SAMPLER_TREE;
+    for (uint32_t i = 0; i < LIGHT_SAMPLER_COUNT; ++i)
+        if (strcmp(name, light_sampler_names[i]) == 0)
+            return (int)i;
+    return -1;
 }
 
 static const char *const sampler_names[SAMPLER_COUNT] = {"independent", "sobol-pixel", "sobol-sets"};

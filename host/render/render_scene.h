@@ -30,8 +30,11 @@ typedef struct {
     int material_count, material_capacity;
     Primitive *primitives;
     int primitive_count, primitive_capacity;
-    Light *lights; /* as added; render_scene_finalize puts the infinite ones first */
+    Light *lights; /* as added; render_scene_finalize puts the infinite, then the distant ones first */
     int light_count, light_capacity;
+    LightNode *light_nodes; /* the light tree over the others (render_scene_finalize) */
+    int light_node_count;
+    uint64_t *light_trails;
     float *distributions;
     size_t distribution_count, distribution_capacity;
     float *texels;
@@ -206,11 +209,26 @@ size_t render_scene_texture_bytes(const RenderScene *scene);
  * and the uvs in the BVH's order. Returns 0, or -1 with a message. */
 int render_scene_finalize_textures(RenderScene *scene, char *error, size_t error_size);
 
-/* Builds the BVH, orders the lights (infinite first) and gives each its
- * chance of being picked, in proportion to its power as pbrt-v4's "power"
- * light sampler (infinite and distant lights by the power they send
- * through the scene's bounding sphere). Returns 0, or -1 with a message. */
+/* Builds the BVH, orders the lights (infinite, then distant first: the
+ * unbounded ones), builds the light tree over the others and gives each
+ * light its chance of being picked (render_scene_set_light_sampler).
+ * Returns 0, or -1 with a message. */
 int render_scene_finalize(RenderScene *scene, char *error, size_t error_size);
+
+/* Sets the light sampler (LIGHT_SAMPLER_*) of a finalized scene and each
+ * light's fixed chance: uniform; by power as pbrt-v4's "power" (infinite
+ * and distant lights by the power they send through the scene's bounding
+ * sphere); with the tree, the tree and each unbounded light an equal
+ * share, as pbrt-v4's "bvh" (a bounded light's recorded chance is then its
+ * power's share of the tree's: the kernel asks the tree at each point). */
+void render_scene_set_light_sampler(RenderScene *scene, uint32_t light_sampler);
+
+/* The light samplers by name, as pbrt-v4's "lightsampler" and
+ * --light-sampler spell them ("bvh" is the tree): light_sampler_name of a
+ * LIGHT_SAMPLER_* value, light_sampler_from_name of a name ("exhaustive",
+ * pbrt-v4's exact form of bvh, is the tree too; -1: none). */
+const char *light_sampler_name(uint32_t light_sampler);
+int light_sampler_from_name(const char *name);
 
 /* The samplers (kernels/sampler.h) by name, as --sampler and the EXR's
  * gmon.sampler spell them: sampler_name of a SAMPLER_* value, and

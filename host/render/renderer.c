@@ -827,6 +827,7 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
     out->max_depth = scene->constants.integrator.max_depth;
     out->integrator = (scene->constants.integrator.flags & RENDER_NEE) ? "path" : "bsdf";
     out->sampler = scene->constants.integrator.sampler;
+    out->light_sampler = scene->constants.integrator.light_sampler;
     r.worker_count = device_count;
     out->width = scene->constants.camera.width;
     out->height = scene->constants.camera.height;

@@ -620,6 +620,8 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         snprintf(summary->sampler, sizeof summary->sampler, "%s", scene.sampler);
         out->constants.integrator.sampler = sampler_for_scene(scene.sampler);
     }
+    if (scene.light_sampler && light_sampler_from_name(scene.light_sampler) >= 0)
+        out->constants.integrator.light_sampler = (uint32_t)light_sampler_from_name(scene.light_sampler);
     summary->pixel_samples = scene.spp;
     summary->regularize = scene.regularize;
 

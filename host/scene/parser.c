@@ -1604,26 +1604,28 @@ static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token 
                              shown);
 }
 
-/* Integrator "lightsampler": pbrt-v4's bvh (its default), power or uniform.
- * Recorded; gmonrt's next-event estimation picks lights by power. */
+/* Integrator "lightsampler": pbrt-v4's bvh (its default), exhaustive,
+ * power or uniform. bvh is gmonrt's light tree, exhaustive too (the same
+ * chances from each light's own bounds, which the tree's walk
+ * approximates): the expected image is the same. */
 static int read_light_sampler(Parser *p, Lexer *lex, const Token *d, ParamList *params)
 {
     const char *light_sampler = NULL;
     int found = params_get_string(params, "lightsampler", &light_sampler);
     if (found <= 0)
         return found; /* absent, or an error */
-    if (strcmp(light_sampler, "bvh") != 0 && strcmp(light_sampler, "power") != 0 &&
-        strcmp(light_sampler, "uniform") != 0)
+    if (strcmp(light_sampler, "bvh") != 0 && strcmp(light_sampler, "exhaustive") != 0 &&
+        strcmp(light_sampler, "power") != 0 && strcmp(light_sampler, "uniform") != 0)
         return scene_error(&p->diag, lex->path, d->line,
-                           "Integrator: \"lightsampler\" \"%s\" is not bvh, power or uniform", light_sampler);
+                           "Integrator: \"lightsampler\" \"%s\" is not bvh, exhaustive, power or uniform",
+                           light_sampler);
     if (replace_string(p, lex->path, d->line, &p->scene->light_sampler, light_sampler))
         return -1;
-    if (strcmp(light_sampler, "power") == 0)
+    if (strcmp(light_sampler, "exhaustive") != 0)
         return 0;
     return scene_note(&p->diag, lex->path, d->line,
-                      "Integrator: \"lightsampler\" \"%s\" is replaced by picking lights in proportion to their "
-                      "power (pbrt-v4's \"power\"): the expected image is the same",
-                      light_sampler);
+                      "Integrator: \"lightsampler\" \"exhaustive\" is rendered with gmonrt's light tree (bvh): "
+                      "the expected image is the same");
 }
 
 static int on_integrator(Parser *p, Lexer *lex, const Token *d)

@@ -345,7 +345,7 @@ typedef struct {
     int max_depth;             /* Integrator maxdepth */
     int regularize;            /* Integrator "regularize": recorded, not applied */
     float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
-    char *light_sampler;       /* Integrator "lightsampler" as written (default "bvh"); gmonrt picks lights by power */
+    char *light_sampler;       /* Integrator "lightsampler" as written (NULL: pbrt-v4's default, bvh) */
 
     SceneMaterial *materials;
     size_t material_count;

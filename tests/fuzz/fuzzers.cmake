@@ -24,6 +24,7 @@ add_library(fuzz_code STATIC
   ${GMON_SCENE_SOURCES}
   host/render/scene_convert.c
   host/render/render_scene.c
+  host/render/light_tree_build.c
   host/render/render_textures.c
   host/render/pixel_filter.c
   host/render/bvh.c

@@ -138,6 +138,11 @@ Include "geometry/a.pbrt"
         text = cp.rewrite_scene(without, 8, 8, "independent")
         self.assertIn('Sampler "independent"\nWorldBegin', text)
 
+    def test_scene_sampler(self):
+        self.assertEqual(cp.scene_sampler(self.SCENE), "halton")
+        self.assertIn("halton", cp.UNSEEDED_PIXEL_SAMPLERS)
+        self.assertEqual(cp.scene_sampler('Film "rgb"\nWorldBegin\n'), "zsobol")
+
     def test_film_resolution_added(self):
         text = cp.rewrite_scene('Film "rgb"\nWorldBegin\n', 5, 7)
         self.assertIn('Film "rgb"\n    "integer xresolution" [ 5 ] "integer yresolution" [ 7 ]\nWorldBegin', text)
