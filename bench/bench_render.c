@@ -4,7 +4,8 @@
  *
  *   bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N]
  *                [--repeats R] [--device I] [--integrator nee|bsdf]
- *                [--sampler NAME] [--allow-unsupported] [--estimators LIST]
+ *                [--sampler NAME] [--light-sampler NAME] [--allow-unsupported]
+ *                [--estimators LIST]
  *                [--estimator-param NAME=VALUE]...
  * (--estimators as gmonrt's, e.g. the per-sample estimators' cost:
  * mean,mon,gmon against mean,mon,gmon,clamp,clamp-sum,abmm,gabmm).
@@ -32,11 +33,11 @@ static int usage(const char *message)
         fprintf(stderr, "bench_render: %s\n", message);
     fprintf(message ? stderr : stdout,
             "usage: bench_render [--scene FILE] [--spp N] [--resolution WxH] [--maxdepth N] [--repeats R]\n"
-            "                    [--device I] [--integrator nee|bsdf] [--sampler NAME] [--allow-unsupported]\n"
-            "                    [--estimators LIST] [--estimator-param NAME=VALUE]...\n"
+            "                    [--device I] [--integrator nee|bsdf] [--sampler NAME] [--light-sampler NAME]\n"
+            "                    [--allow-unsupported] [--estimators LIST] [--estimator-param NAME=VALUE]...\n"
             "defaults: the diffuse Cornell box, 64 spp, 256x256, maxdepth 8, 5 repeats, device 0, nee,\n"
-            "the scene's sampler (as gmonrt's), mean,mon,gmon; --allow-unsupported: skip or substitute\n"
-            "what gmonrt lacks, as gmonrt's option\n");
+            "the scene's sampler and light sampler (as gmonrt's), mean,mon,gmon; --allow-unsupported:\n"
+            "skip or substitute what gmonrt lacks, as gmonrt's option\n");
     return message ? 2 : 0;
 }
 
@@ -44,7 +45,7 @@ int main(int argc, char **argv)
 {
     const char *scene_path = GMON_SOURCE_DIR "/scenes/cornell-diffuse.pbrt";
     unsigned long spp = 64, width = 256, height = 256, max_depth = 8, repeats = 5, device_index = 0;
-    int bsdf_only = 0, allow_unsupported = 0, sampler = -1;
+    int bsdf_only = 0, allow_unsupported = 0, sampler = -1, light_sampler = -1;
     RenderSettings settings;
     render_settings_default(&settings);
     char message[640];
@@ -79,6 +80,9 @@ int main(int argc, char **argv)
         } else if (strcmp(flag, "--resolution") == 0) {
             if (sscanf(value, "%lux%lu", &width, &height) != 2 || width == 0 || height == 0)
                 return usage("--resolution takes WIDTHxHEIGHT");
+        } else if (strcmp(flag, "--light-sampler") == 0) {
+            if ((light_sampler = light_sampler_from_name(value)) < 0)
+                return usage("--light-sampler takes bvh, power or uniform");
         } else if (strcmp(flag, "--sampler") == 0) {
             if ((sampler = sampler_from_name(value)) < 0)
                 return usage("--sampler takes sobol-sets, sobol-pixel or independent");
@@ -118,6 +122,8 @@ int main(int argc, char **argv)
     scene.constants.integrator.flags = bsdf_only ? 0u : RENDER_NEE;
     if (sampler >= 0)
         scene.constants.integrator.sampler = (uint32_t)sampler;
+    if (light_sampler >= 0)
+        scene.constants.integrator.light_sampler = (uint32_t)light_sampler;
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "bench_render: %s\n", error);
         return 1;
@@ -127,9 +133,10 @@ int main(int argc, char **argv)
 
     printf("device:     %s (%s, %u compute units)\n", device.info.name, device.info.platform_name,
            device.info.compute_units);
-    printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, %s sampler, M = %d\n", scene_path, width, height,
-           max_depth, spp, bsdf_only ? "BSDF sampling only" : "NEE + MIS",
-           sampler_name(scene.constants.integrator.sampler), settings.estimator.set_count);
+    printf("scene:      %s, %lux%lu, maxdepth %lu, %lu spp, %s, %s sampler, %s light sampler, M = %d\n", scene_path,
+           width, height, max_depth, spp, bsdf_only ? "BSDF sampling only" : "NEE + MIS",
+           sampler_name(scene.constants.integrator.sampler),
+           light_sampler_name(scene.constants.integrator.light_sampler), settings.estimator.set_count);
     printf("estimators: 0x%x (%zu bytes of per-sample state a pixel)\n", (unsigned)settings.estimator.passes,
            film_sample_planes(&settings.estimator) * sizeof(uint64_t));
     printf("primitives: %d, BVH nodes %d, depth %d; loaded and built in %.2f s, %.1f MiB of texels\n",

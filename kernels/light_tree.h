@@ -71,14 +71,13 @@ KERNEL_FN float light_tree_first_chance(GLOBAL const LightNode *nodes, int32_t n
 }
 
 /* Walks down from the root with u in [0, 1): the bounded light picked
- * (its index in the light array), and its chance in *pmf; -1 if no light
- * may light p. */
+ * (its index in the light array), and its chance in *pmf; -1 if the walk
+ * reaches a node neither of whose children may light p. (The root's own
+ * bounds are not asked: a tree of one light picks it anywhere.) */
 KERNEL_FN int light_tree_sample(GLOBAL const LightNode *nodes, Vec3 p, Vec3 n, float u, float *pmf)
 {
     int32_t node = 0;
     float chance = 1.0f;
-    if (light_node_importance(nodes, p, n) <= 0.0f)
-        return -1;
     while (nodes[node].second >= 0) {
         float first = light_tree_first_chance(nodes, node, p, n);
         if (first < 0.0f)
@@ -100,8 +99,6 @@ KERNEL_FN int light_tree_sample(GLOBAL const LightNode *nodes, Vec3 p, Vec3 n, f
 /* The chance light_tree_sample picks the bounded light with this trail. */
 KERNEL_FN float light_tree_pmf(GLOBAL const LightNode *nodes, uint64_t trail, Vec3 p, Vec3 n)
 {
-    if (light_node_importance(nodes, p, n) <= 0.0f)
-        return 0.0f;
     int32_t node = 0;
     float chance = 1.0f;
     for (; trail > 1u; trail >>= 1) {

@@ -304,6 +304,83 @@ static void test_sphere_light(void **state)
             }
 }
 
+/* Renders with the given light sampler and returns the green channel's
+ * image mean, checked against `expected` (render_and_check), and its
+ * per-pixel variance in *variance. */
+static double render_light_sampler(RenderScene *scene, uint32_t light_sampler, double expected, const char *name,
+                                   double *variance)
+{
+    char error[256];
+    scene->constants.integrator.max_depth = 1;
+    scene->constants.integrator.flags = RENDER_NEE;
+    scene->constants.integrator.light_sampler = light_sampler;
+    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
+    RenderSettings settings;
+    render_settings_default(&settings);
+    settings.sample_count = 16;
+    settings.seed = 11;
+    RenderOutput out;
+    if (renderer_run(&test_device, 1, scene, &settings, &out, error, sizeof error) != 0)
+        fail_msg("%s: %s", name, error);
+    size_t pixels = (size_t)out.width * out.height;
+    double sum = 0.0, sum2 = 0.0;
+    for (size_t p = 0; p < pixels; ++p) {
+        double v = ((const float *)out.pass[PASS_MEAN])[3 * p + 1];
+        sum += v;
+        sum2 += v * v;
+    }
+    double mean = sum / (double)pixels;
+    *variance = fmax(sum2 / (double)pixels - mean * mean, 0.0);
+    double standard_error = sqrt(*variance / (double)pixels);
+    printf("  %-44s mean %.6f expected %.6f (standard error %.6f)\n", name, mean, expected, standard_error);
+    assert_true(fabs(mean - expected) <= 5.0 * standard_error + 2e-4 * expected);
+    render_output_free(&out);
+    return mean;
+}
+
+/* Veach's row: a diffuse plane lit by two small close spheres and one far
+ * sphere 200 times as powerful as both, beside a one-sided triangle light
+ * facing away. Picking by power sends nearly every light sample to the far
+ * sphere; the light tree (pbrt-v4's bvh) weighs the close ones by their
+ * distance and leaves the triangle out. Both find each sphere's closed
+ * form (test_sphere_light), the tree with at least 4 times less variance. */
+static void test_light_tree_on_veach_row(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const struct {
+        float x, y, h, radius;
+        double power; /* relative: L r^2 */
+    } spheres[] = {{0.3f, 0.0f, 0.25f, 0.05f, 1.0}, {-0.6f, 0.4f, 0.7f, 0.15f, 1.0}, {8.0f, 0.0f, 10.0f, 1.0f, 400.0}};
+    double variance[2], expected = 0.0;
+    for (int tree = 0; tree <= 1; ++tree) {
+        RenderScene scene;
+        plane_scene(&scene, 0.0f);
+        Material m;
+        memset(&m, 0, sizeof m);
+        m.type = MAT_DIFFUSE;
+        int material = render_scene_add_material(&scene, &m);
+        expected = 0.0;
+        for (size_t k = 0; k < sizeof spheres / sizeof *spheres; ++k) {
+            double d = sqrt((double)spheres[k].x * spheres[k].x + (double)spheres[k].y * spheres[k].y +
+                            (double)spheres[k].h * spheres[k].h);
+            float L = (float)(spheres[k].power / (spheres[k].radius * spheres[k].radius));
+            const float centre[3] = {spheres[k].x, spheres[k].y, spheres[k].h}, emission[3] = {L, L, L};
+            assert_int_equal(render_scene_add_sphere(&scene, centre, spheres[k].radius, material, emission, 0, 0), 0);
+            expected += RHO * spheres[k].radius * spheres[k].radius * spheres[k].h / (d * d * d) * L;
+        }
+        const float a[3] = {-2.0f, 0.0f, 1.0f}, b[3] = {-1.5f, 0.0f, 1.0f}, c[3] = {-2.0f, 0.5f, 1.0f};
+        const float bright[3] = {1e3f, 1e3f, 1e3f};
+        assert_int_equal(render_scene_add_triangle(&scene, a, b, c, material, bright, 0, 0), 0); /* faces +z */
+        render_light_sampler(&scene, tree ? LIGHT_SAMPLER_TREE : LIGHT_SAMPLER_POWER, expected,
+                             tree ? "Veach's row, light tree" : "Veach's row, by power", &variance[tree]);
+        render_scene_destroy(&scene);
+    }
+    printf("  per-pixel variance: by power %.4g, light tree %.4g (%.1fx less)\n", variance[0], variance[1],
+           variance[0] / variance[1]);
+    assert_true(variance[1] * 4.0 < variance[0]);
+}
+
 /* An N x N environment image: `background` everywhere, one texel `bright`. */
 static float *environment(int n, float background, int bright_x, int bright_y, float bright)
 {
@@ -889,6 +966,7 @@ int main(void)
         cmocka_unit_test(test_goniometric_and_projection_lights),
         cmocka_unit_test(test_environment_image),
         cmocka_unit_test(test_sphere_light),
+        cmocka_unit_test(test_light_tree_on_veach_row),
         cmocka_unit_test(test_triangle_light),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
