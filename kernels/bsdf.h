@@ -501,7 +501,7 @@ KERNEL_FN int layered_has_medium(const Material *m)
  * in the build the test folds away. */
 KERNEL_FN int layered_base_is_conductor(const Material *m)
 {
-    return GMON_HAS_COATED_CONDUCTOR && (!GMON_HAS_COATED_DIFFUSE || m->type == MAT_COATED_CONDUCTOR);
+    return !GMON_HAS_COATED_CONDUCTOR ? 0 : !GMON_HAS_COATED_DIFFUSE ? 1 : m->type == MAT_COATED_CONDUCTOR;
 }
 
 KERNEL_FN int layered_base_is_smooth(const Material *m)
@@ -930,7 +930,7 @@ KERNEL_FN const GLOBAL Material *mix_resolve(const GLOBAL Material *materials, c
 /* Whether every lobe of m is a delta (no next-event estimation there). */
 KERNEL_FN int bsdf_is_delta(const Material *m)
 {
-    if (m->type == MAT_DIFFUSE || (GMON_HAS_DIFFUSE_TRANSMISSION && m->type == MAT_DIFFUSE_TRANSMISSION))
+    if ((GMON_HAS_DIFFUSE_TRANSMISSION && m->type == MAT_DIFFUSE_TRANSMISSION) || m->type == MAT_DIFFUSE)
         return 0;
     if (GMON_HAS_THIN_DIELECTRIC && m->type == MAT_THIN_DIELECTRIC)
         return 1;

@@ -121,7 +121,7 @@ KERNEL_FN Vec3 image_light_radiance(const Scene *scene, GLOBAL const Light *ligh
  * density with which light_sample samples it. */
 KERNEL_FN Vec3 infinite_light_radiance(const Scene *scene, GLOBAL const Light *light, Vec3 w, float *pdf)
 {
-    if (GMON_HAS_ENVIRONMENT_MAP && (!GMON_HAS_ENVIRONMENT || light->type == LIGHT_IMAGE_INFINITE))
+    if (!GMON_HAS_ENVIRONMENT_MAP ? 0 : !GMON_HAS_ENVIRONMENT ? 1 : light->type == LIGHT_IMAGE_INFINITE)
         return image_light_radiance(scene, light, v_normalize(rotate_rows(light->light_from_world, w)), pdf);
     *pdf = 1.0f / (4.0f * PI_F);
     return vec3_from_global(light->radiance);
@@ -131,7 +131,7 @@ KERNEL_FN Vec3 infinite_light_radiance(const Scene *scene, GLOBAL const Light *l
 KERNEL_FN Vec3 light_image_factor(const Scene *scene, GLOBAL const Light *light, Vec3 w)
 {
     float u, v;
-    if (GMON_HAS_PROJECTION_LIGHTS && (!GMON_HAS_GONIOMETRIC_LIGHTS || light->type == LIGHT_PROJECTION)) {
+    if (!GMON_HAS_PROJECTION_LIGHTS ? 0 : !GMON_HAS_GONIOMETRIC_LIGHTS ? 1 : light->type == LIGHT_PROJECTION) {
         if (w.z < 1e-3f)
             return vec3(0.0f, 0.0f, 0.0f);
         float x = w.x / (w.z * light->screen_half[0]), y = w.y / (w.z * light->screen_half[1]);
@@ -333,9 +333,12 @@ KERNEL_FN int light_sample(const Scene *scene, GLOBAL const Light *light, Vec3 p
     s->is_delta = 0;
     s->distance = INFINITY;
     uint32_t type = light->type;
-    if ((GMON_HAS_POINT_LIGHTS && type == LIGHT_POINT) || (GMON_HAS_SPOT_LIGHTS && type == LIGHT_SPOT) ||
-        (GMON_HAS_GONIOMETRIC_LIGHTS && type == LIGHT_GONIOMETRIC) ||
-        (GMON_HAS_PROJECTION_LIGHTS && type == LIGHT_PROJECTION)) {
+    /* | rather than ||: a feature left out folds its term to a constant,
+     * which a logical operator's right side would be warned about. */
+    int point_like = (GMON_HAS_POINT_LIGHTS && type == LIGHT_POINT) | (GMON_HAS_SPOT_LIGHTS && type == LIGHT_SPOT) |
+                     (GMON_HAS_GONIOMETRIC_LIGHTS && type == LIGHT_GONIOMETRIC) |
+                     (GMON_HAS_PROJECTION_LIGHTS && type == LIGHT_PROJECTION);
+    if (point_like) {
         Vec3 to_light = v_sub(vec3_from_global(light->position), p);
         float distance2 = v_dot(to_light, to_light);
         if (distance2 == 0.0f)

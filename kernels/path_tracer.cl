@@ -144,7 +144,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         Ray ray = make_ray(origin, direction);
         Hit hit;
         ++*rays;
-        int unweighted = depth == 0 || specular_bounce || !use_nee;
+        int unweighted = !use_nee || depth == 0 || specular_bounce;
         if (!scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit)) {
             if (GMON_HAS_INFINITE_LIGHTS)
                 ADD_LIGHT(v_mul(throughput, infinite_radiance(scene, direction, previous_pdf, unweighted)), depth <= 1);
@@ -185,7 +185,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
 #else
         const int textured = 0;
 #endif
-        if (GMON_HAS_MIX && !textured)
+        if (GMON_HAS_MIX ? !textured : 0) /* not &&: textured may be the constant 0 */
             material_stored = mix_resolve(scene->materials, material_stored, p, wo_world);
         /* A private copy: textures give some of its parameters. */
         Material material_at_hit = *material_stored;

@@ -88,7 +88,7 @@ typedef struct {
 /* With one shape kind in the build (feature_mask.h) the test folds away. */
 KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
 {
-    return GMON_HAS_SPHERES && (!GMON_HAS_TRIANGLES || (p->kind & PRIM_KIND_MASK) == PRIM_SPHERE);
+    return !GMON_HAS_SPHERES ? 0 : !GMON_HAS_TRIANGLES ? 1 : (p->kind & PRIM_KIND_MASK) == PRIM_SPHERE;
 }
 
 /* Material types. */
