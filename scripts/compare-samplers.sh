@@ -7,9 +7,4 @@
 # Every option: scripts/compare-samplers.sh --help.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-"$root/scripts/build.sh" >/dev/null
-python="$("$root/scripts/python-env.sh")"
-# PoCL shows no device at all without a writable cache directory.
-export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$root/build/pocl-cache}"
-mkdir -p "$POCL_CACHE_DIR"
-exec "$python" "$root/bench/compare_samplers.py" "$@"
+exec "$root/scripts/run-python.sh" "$root/bench/compare_samplers.py" "$@"

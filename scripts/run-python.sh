@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Runs a module of scripts/gmon_sweep with the scripts' Python environment,
-# after building gmonrt and setting up build/venv when needed:
+# Runs a module of scripts/gmon_sweep, or a Python file (bench/*.py), with
+# the scripts' Python environment, after building gmonrt and setting up
+# build/venv when needed:
 #   scripts/run-python.sh gmon_sweep.sweep ARGS...
+#   scripts/run-python.sh bench/compare_pbrt.py ARGS...
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/build.sh" >/dev/null
@@ -11,4 +13,7 @@ export POCL_CACHE_DIR="${POCL_CACHE_DIR:-$root/build/pocl-cache}"
 mkdir -p "$POCL_CACHE_DIR"
 module="$1"
 shift
-PYTHONPATH="$root/scripts" exec "$python" -m "$module" "$@"
+case "$module" in
+*.py) exec "$python" "$module" "$@" ;;
+*) PYTHONPATH="$root/scripts" exec "$python" -m "$module" "$@" ;;
+esac

@@ -55,9 +55,10 @@ static Light light_of(uint32_t type, float radiance)
     return light;
 }
 
-/* Renders (direct light only unless max_depth says more) and returns the
- * image mean of the green channel; checks it against `expected`. */
-static void render_and_check(RenderScene *scene, int nee, unsigned spp, double expected, const char *name)
+/* Renders (direct light only unless max_depth says more) and checks the
+ * image mean of the green channel against `expected`; returns its
+ * per-pixel variance. */
+static double render_checked(RenderScene *scene, int nee, unsigned spp, double expected, const char *name)
 {
     char error[256];
     scene->constants.integrator.max_depth = 1;
@@ -77,11 +78,18 @@ static void render_and_check(RenderScene *scene, int nee, unsigned spp, double e
         sum += v;
         sum2 += v * v;
     }
-    double mean = sum / (double)pixels, variance = sum2 / (double)pixels - mean * mean;
-    double standard_error = sqrt(variance > 0.0 ? variance / (double)pixels : 0.0);
+    double mean = sum / (double)pixels, variance = fmax(sum2 / (double)pixels - mean * mean, 0.0);
+    double standard_error = sqrt(variance / (double)pixels);
     printf("  %-44s mean %.6f expected %.6f (standard error %.6f)\n", name, mean, expected, standard_error);
     assert_true(fabs(mean - expected) <= 5.0 * standard_error + 2e-4 * expected);
     render_output_free(&out);
+    return variance;
+}
+
+/* render_checked, then the scene is destroyed. */
+static void render_and_check(RenderScene *scene, int nee, unsigned spp, double expected, const char *name)
+{
+    render_checked(scene, nee, spp, expected, name);
     render_scene_destroy(scene);
 }
 
@@ -304,40 +312,6 @@ static void test_sphere_light(void **state)
             }
 }
 
-/* Renders with the given light sampler and returns the green channel's
- * image mean, checked against `expected` (render_and_check), and its
- * per-pixel variance in *variance. */
-static double render_light_sampler(RenderScene *scene, uint32_t light_sampler, double expected, const char *name,
-                                   double *variance)
-{
-    char error[256];
-    scene->constants.integrator.max_depth = 1;
-    scene->constants.integrator.flags = RENDER_NEE;
-    scene->constants.integrator.light_sampler = light_sampler;
-    assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
-    RenderSettings settings;
-    render_settings_default(&settings);
-    settings.sample_count = 16;
-    settings.seed = 11;
-    RenderOutput out;
-    if (renderer_run(&test_device, 1, scene, &settings, &out, error, sizeof error) != 0)
-        fail_msg("%s: %s", name, error);
-    size_t pixels = (size_t)out.width * out.height;
-    double sum = 0.0, sum2 = 0.0;
-    for (size_t p = 0; p < pixels; ++p) {
-        double v = ((const float *)out.pass[PASS_MEAN])[3 * p + 1];
-        sum += v;
-        sum2 += v * v;
-    }
-    double mean = sum / (double)pixels;
-    *variance = fmax(sum2 / (double)pixels - mean * mean, 0.0);
-    double standard_error = sqrt(*variance / (double)pixels);
-    printf("  %-44s mean %.6f expected %.6f (standard error %.6f)\n", name, mean, expected, standard_error);
-    assert_true(fabs(mean - expected) <= 5.0 * standard_error + 2e-4 * expected);
-    render_output_free(&out);
-    return mean;
-}
-
 /* Veach's row: a diffuse plane lit by two small close spheres and one far
  * sphere 200 times as powerful as both, beside a one-sided triangle light
  * facing away. Picking by power sends nearly every light sample to the far
@@ -372,8 +346,9 @@ static void test_light_tree_on_veach_row(void **state)
         const float a[3] = {-2.0f, 0.0f, 1.0f}, b[3] = {-1.5f, 0.0f, 1.0f}, c[3] = {-2.0f, 0.5f, 1.0f};
         const float bright[3] = {1e3f, 1e3f, 1e3f};
         assert_int_equal(render_scene_add_triangle(&scene, a, b, c, material, bright, 0, 0), 0); /* faces +z */
-        render_light_sampler(&scene, tree ? LIGHT_SAMPLER_TREE : LIGHT_SAMPLER_POWER, expected,
-                             tree ? "Veach's row, light tree" : "Veach's row, by power", &variance[tree]);
+        scene.constants.integrator.light_sampler = tree ? LIGHT_SAMPLER_TREE : LIGHT_SAMPLER_POWER;
+        variance[tree] =
+            render_checked(&scene, 1, 16, expected, tree ? "Veach's row, light tree" : "Veach's row, by power");
         render_scene_destroy(&scene);
     }
     printf("  per-pixel variance: by power %.4g, light tree %.4g (%.1fx less)\n", variance[0], variance[1],

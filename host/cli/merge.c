@@ -8,30 +8,26 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Whether two parts' values of a string attribute agree (`absent`: the
+ * value of a file without it); prints why not. */
+static int same_setting(const char *a_path, const char *b_path, const char *what, const char *a, const char *b,
+                        const char *absent)
+{
+    a = a ? a : absent;
+    b = b ? b : absent;
+    if (strcmp(a, b) == 0)
+        return 1;
+    fprintf(stderr, "gmonrt: merge: %s and %s differ in %s (%s vs %s)\n", a_path, b_path, what, a, b);
+    return 0;
+}
+
 /* Checks that part b can join part a; prints why not. */
 static int compatible(const char *a_path, const ExrImage *a, const char *b_path, const ExrImage *b)
 {
-    const char *a_integrator = a->metadata.integrator ? a->metadata.integrator : "(unknown)";
-    const char *b_integrator = b->metadata.integrator ? b->metadata.integrator : "(unknown)";
-    if (strcmp(a_integrator, b_integrator) != 0) {
-        fprintf(stderr, "gmonrt: merge: %s and %s differ in integrator (%s vs %s)\n", a_path, b_path, a_integrator,
-                b_integrator);
+    if (!same_setting(a_path, b_path, "integrator", a->metadata.integrator, b->metadata.integrator, "(unknown)") ||
+        !same_setting(a_path, b_path, "sampler", a->metadata.sampler, b->metadata.sampler, "independent") ||
+        !same_setting(a_path, b_path, "light sampler", a->metadata.light_sampler, b->metadata.light_sampler, "power"))
         return 0;
-    }
-    const char *a_sampler = a->metadata.sampler ? a->metadata.sampler : "independent";
-    const char *b_sampler = b->metadata.sampler ? b->metadata.sampler : "independent";
-    if (strcmp(a_sampler, b_sampler) != 0) {
-        fprintf(stderr, "gmonrt: merge: %s and %s differ in sampler (%s vs %s)\n", a_path, b_path, a_sampler,
-                b_sampler);
-        return 0;
-    }
-    const char *a_lights = a->metadata.light_sampler ? a->metadata.light_sampler : "power";
-    const char *b_lights = b->metadata.light_sampler ? b->metadata.light_sampler : "power";
-    if (strcmp(a_lights, b_lights) != 0) {
-        fprintf(stderr, "gmonrt: merge: %s and %s differ in light sampler (%s vs %s)\n", a_path, b_path, a_lights,
-                b_lights);
-        return 0;
-    }
     if (a->metadata.max_depth != b->metadata.max_depth) {
         fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,
                 a->metadata.max_depth, b->metadata.max_depth);
