@@ -274,6 +274,39 @@ static void test_cone_union_holds_both(void **state)
     assert_true(checked > 5000);
 }
 
+/* The build splits by orientation cost (power x box area x cone), not at
+ * the median: Veach's row of four small lights and a far one 200 times as
+ * powerful puts the far one alone under the root, so that the close
+ * lights' subtree is not weighed with the far one's box. */
+static void test_split_isolates_the_far_light(void **state)
+{
+    (void)state;
+    LightBounds bounds[5];
+    const double x[5] = {-3.75, -1.25, 1.25, 3.75, 10.0}, radius[5] = {0.03, 0.1, 0.3, 0.9, 0.5};
+    for (int i = 0; i < 5; ++i) {
+        Light light;
+        memset(&light, 0, sizeof light);
+        light.type = LIGHT_POINT;
+        light.position[0] = (float)x[i];
+        light.position[1] = i == 4 ? 10.0f : 0.0f;
+        light.position[2] = i == 4 ? 4.0f : 0.0f;
+        bounds[i] = light_bounds(&light, NULL, i == 4 ? 200.0 : 1.0);
+        for (int k = 0; k < 3; ++k) {
+            bounds[i].lower[k] -= radius[i];
+            bounds[i].upper[k] += radius[i];
+        }
+    }
+    LightNode *nodes;
+    uint64_t *trails;
+    int node_count;
+    assert_int_equal(light_tree_build(bounds, 5, 0, &nodes, &node_count, &trails), 0);
+    assert_int_equal(node_count, 9);
+    printf("  the far light's trail: 0x%llx\n", (unsigned long long)trails[4]);
+    assert_true(trails[4] == 2u || trails[4] == 3u); /* depth 1, either side */
+    free(nodes);
+    free(trails);
+}
+
 /* The light sampler names, as pbrt-v4's "lightsampler" and --light-sampler
  * spell them. */
 static void test_names(void **state)
@@ -290,11 +323,9 @@ static void test_names(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_chances_sum_to_one),
-        cmocka_unit_test(test_picks_follow_the_chances),
-        cmocka_unit_test(test_bounds_are_conservative),
-        cmocka_unit_test(test_cone_union_holds_both),
-        cmocka_unit_test(test_names),
+        cmocka_unit_test(test_chances_sum_to_one),           cmocka_unit_test(test_picks_follow_the_chances),
+        cmocka_unit_test(test_bounds_are_conservative),      cmocka_unit_test(test_cone_union_holds_both),
+        cmocka_unit_test(test_split_isolates_the_far_light), cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -163,6 +163,75 @@ static void store_node(LightNode *node, const LightBounds *b)
     node->two_sided = b->two_sided ? 1u : 0u;
 }
 
+/* The surface area orientation heuristic's measure of a subtree (Conty
+ * Estevez and Kulla 2018): power times box area times the solid angle its
+ * emitters' cone (widened by theta_e) covers, weighted by cosine. */
+static double orientation_cost(const LightBounds *b)
+{
+    double d[3] = {b->upper[0] - b->lower[0], b->upper[1] - b->lower[1], b->upper[2] - b->lower[2]};
+    double area = 2.0 * (d[0] * d[1] + d[1] * d[2] + d[2] * d[0]);
+    double o = b->theta_o, w = fmin(o + b->theta_e, pi);
+    double cone =
+        2.0 * pi * (1.0 - cos(o)) + pi / 2.0 * (2.0 * w * sin(o) - cos(o - 2.0 * w) - 2.0 * o * sin(o) + cos(o));
+    return b->power * area * cone;
+}
+
+static void sort_along(const LightBounds *bounds, int *order, int count, int axis)
+{
+    sort_bounds = bounds;
+    sort_axis = axis;
+    qsort(order, (size_t)count, sizeof *order, by_centre);
+}
+
+/* Orders order[0, count) and returns where to split it: the split along
+ * an axis, between lights sorted by their centres, of least orientation
+ * cost; at the median along the widest axis where the costs say nothing
+ * (all zero: points) or where the depth left for the trail's 64 bits
+ * calls for a balanced tree. */
+static int split(const Build *b, int *order, int count, int depth)
+{
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < count; ++i)
+        for (int k = 0; k < 3; ++k) {
+            double c = b->bounds[order[i]].lower[k] + b->bounds[order[i]].upper[k];
+            lo[k] = fmin(lo[k], c);
+            hi[k] = fmax(hi[k], c);
+        }
+    int widest = 0;
+    for (int k = 1; k < 3; ++k)
+        if (hi[k] - lo[k] > hi[widest] - lo[widest])
+            widest = k;
+    int levels = 0;
+    while ((1 << levels) < count)
+        ++levels;
+    LightBounds *suffix = depth + levels < 56 ? malloc((size_t)count * sizeof *suffix) : NULL;
+    double best = INFINITY;
+    int best_axis = widest, best_split = count / 2;
+    for (int axis = 0; suffix && axis < 3; ++axis) {
+        sort_along(b->bounds, order, count, axis);
+        suffix[count - 1] = b->bounds[order[count - 1]];
+        for (int i = count - 2; i >= 0; --i)
+            suffix[i] = light_bounds_union(&b->bounds[order[i]], &suffix[i + 1]);
+        LightBounds prefix = b->bounds[order[0]];
+        for (int k = 1; k < count; ++k) {
+            double cost = orientation_cost(&prefix) + orientation_cost(&suffix[k]);
+            if (cost < best) {
+                best = cost;
+                best_axis = axis;
+                best_split = k;
+            }
+            prefix = light_bounds_union(&prefix, &b->bounds[order[k]]);
+        }
+    }
+    free(suffix);
+    if (!(best > 0.0 && best < INFINITY)) {
+        best_axis = widest;
+        best_split = count / 2;
+    }
+    sort_along(b->bounds, order, count, best_axis);
+    return best_split;
+}
+
 /* The node for lights order[0, count), at depth `depth` along `trail`;
  * returns its bounds. */
 static LightBounds build_node(Build *b, int *order, int count, uint64_t trail, int depth)
@@ -175,21 +244,7 @@ static LightBounds build_node(Build *b, int *order, int count, uint64_t trail, i
         b->trails[order[0]] = trail | (1ull << depth);
         return *leaf;
     }
-    /* Split at the median along the widest spread of the lights' centres. */
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < count; ++i)
-        for (int k = 0; k < 3; ++k) {
-            double c = b->bounds[order[i]].lower[k] + b->bounds[order[i]].upper[k];
-            lo[k] = fmin(lo[k], c);
-            hi[k] = fmax(hi[k], c);
-        }
-    sort_axis = 0;
-    for (int k = 1; k < 3; ++k)
-        if (hi[k] - lo[k] > hi[sort_axis] - lo[sort_axis])
-            sort_axis = k;
-    sort_bounds = b->bounds;
-    qsort(order, (size_t)count, sizeof *order, by_centre);
-    int half = count / 2;
+    int half = split(b, order, count, depth);
     LightBounds first = build_node(b, order, half, trail, depth + 1);
     b->nodes[index].second = b->node_count;
     LightBounds second = build_node(b, order + half, count - half, trail | (1ull << depth), depth + 1);
