@@ -175,7 +175,7 @@ static int render(const Options *o)
     if (out.rounded_total > 0)
         fprintf(stderr,
                 "gmonrt: warning: %llu samples in %llu pixels were rounded, not added exactly: those pixels' values "
-                "span more binary orders than a set sum holds (see the README, \"Exact sums\")\n",
+                "span more binary orders than a set sum holds (see docs/design.md, \"Exact sums\")\n",
                 (unsigned long long)out.rounded_total, (unsigned long long)out.rounded_pixels);
     if (interrupt_signal && !o->quiet)
         fprintf(stderr, "gmonrt: interrupted: writing the %llu samples per pixel done\n",

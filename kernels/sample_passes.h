@@ -185,7 +185,7 @@ KERNEL_FN int clamp_component_sum(float *rgb, float limit)
 /* ------------------------------------------------------------------------
  * zirr (Zirr, Hanika, Dachsbacher 2018): K cascades of scales
  * s_k = ZIRR_START b^k. The paper's rules as its authors' public code
- * (ic.js/rw: split.cpp, reweight.fs) applies them; README.md, "zirr",
+ * (ic.js/rw: split.cpp, reweight.fs) applies them; docs/estimators.md, "zirr",
  * says what was chosen where the paper leaves it open.
  * ---------------------------------------------------------------------- */
 #define ZIRR_START 1.0f

@@ -54,7 +54,7 @@ static const Flag flags[] = {
      "comma-separated estimators, or all (default mean,mon,gmon;\n`estimate`: the file's): mean, mon, gmon, amon, "
      "admon,\n"
      "ggmon, gmon-binary, gmon-partial, dmon-partial,\ngmon-authors, pakmon, trimmed, winsorized, gmedian;\n"
-     "per sample, renders only (not in all): clamp (a layer\nclamp-<V> per level), clamp-sum (README, \"Estimators\")"},
+     "per sample, renders only (not in all): clamp (a layer\nclamp-<V> per level), clamp-sum (docs/estimators.md)"},
     {"--estimator-param", "NAME=VALUE", FOR_ALL,
      "set an estimator parameter (repeatable): amon.alpha,\nadmon.alpha, gmon-binary.threshold,\n"
      "gmon-partial.threshold, gmon-partial.alpha,\ndmon-partial.threshold, dmon-partial.alpha, trimmed.c,\n"

@@ -2,7 +2,7 @@
 # CMakeLists.txt includes this file, and nothing else, with -DGMON_FUZZ=ON):
 # the scene reader with conversion and BVH, the PLY reader, the EXR reader.
 # No OpenCL. tests/fuzz/build_fuzzers.cmake and run_fuzzer.cmake build and
-# run them for the test suite; the README's developer options say how to run
+# run them for the test suite; docs/design.md's developer options say how to run
 # them longer by hand.
 if(NOT CMAKE_C_COMPILER_ID MATCHES "Clang")
   message(FATAL_ERROR "GMON_FUZZ needs clang: configure with -DCMAKE_C_COMPILER=clang")

@@ -70,7 +70,7 @@ r = np.interp(lam, [499, 501], [0.2, 0.8])
 print("step albedo", M @ xyz(r * d65) / xyz(d65)[1])
 
 
-# The README's metal comparison: pbrt-v4 renders a metal under white (D65)
+# host/scene/README.md's metal comparison ("Spectra"): pbrt-v4 renders a metal under white (D65)
 # light at normal incidence as the RGB of its spectral Fresnel reflectance
 # R(lambda); gmonrt applies the Fresnel equations to the RGB eta and k.
 def fresnel(n, k):
