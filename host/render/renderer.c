@@ -746,22 +746,27 @@ static int check_memory(const Render *r, ClDevice *devices, int device_count, ch
     const int images = pass_image_count(r->estimator.passes, r->estimator.with_stderr);
     const uint64_t state = pixel_state_bytes(r),
                    image = EST_CHANNELS * sizeof(float) * (images + film_sample_images(&r->estimator));
-    uint64_t scene = 0;
-    scene += scene_upload_bytes(&r->upload);
+    const uint64_t scene = scene_upload_bytes(&r->upload);
+    /* Where the scene is most of it, fewer pixels or sets would not help. */
+    char largest[256];
+    scene_upload_describe(&r->upload, 2, largest, sizeof largest);
+    const char *scene_hint = "the scene is most of it: smaller images (textures, environment maps) or less geometry";
     const int copies = host_copies(device_count);
-    uint64_t host = (copies * state + image) * r->pixels + scene;
+    uint64_t host = (copies * state + image) * r->pixels + scene, scene_on_host = scene;
     const uint64_t share = (r->pixels + (size_t)device_count - 1) / (size_t)device_count;
     for (int i = 0; i < device_count; ++i) {
         uint64_t device = (state + image) * share + scene;
-        if (devices[i].info.type & CL_DEVICE_TYPE_CPU)
+        if (devices[i].info.type & CL_DEVICE_TYPE_CPU) {
             host += device;
+            scene_on_host += scene;
+        }
         if (device > devices[i].info.global_memory) {
             snprintf(error, error_size,
                      "the render needs %.2f GiB on device '%s' (%llu B of set sums and counters and %llu B of images "
-                     "a pixel, M = %d, for %llu pixels), which has %.2f GiB: lower --resolution or --sets, or add "
-                     "devices",
+                     "a pixel, M = %d, for %llu pixels; the scene %.1f MiB: %s), which has %.2f GiB: %s",
                      gib(device), devices[i].info.name, (unsigned long long)state, (unsigned long long)image, r->sets,
-                     (unsigned long long)share, gib(devices[i].info.global_memory));
+                     (unsigned long long)share, 1024.0 * gib(scene), largest, gib(devices[i].info.global_memory),
+                     2 * scene > device ? scene_hint : "lower --resolution or --sets, or add devices");
             return -1;
         }
     }
@@ -770,11 +775,14 @@ static int check_memory(const Render *r, ClDevice *devices, int device_count, ch
     if (host > available) {
         snprintf(error, error_size,
                  "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, %s "
-                 "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels), but %.2f "
-                 "GiB is available (%s): lower --resolution or --sets, or ask for the mean alone (--estimators mean)",
+                 "on the host and once more on each CPU device, %llu B of images a pixel, %ux%u pixels; the scene "
+                 "%.1f MiB, as many times: %s), but %.2f GiB is available (%s): %s",
                  gib(host), (unsigned long long)state, r->sets, copies == 1 ? "once" : "twice",
                  (unsigned long long)image, r->scene->constants.camera.width, r->scene->constants.camera.height,
-                 gib(available), source);
+                 1024.0 * gib(scene), largest, gib(available), source,
+                 2 * scene_on_host > host
+                     ? scene_hint
+                     : "lower --resolution or --sets, or ask for the mean alone (--estimators mean)");
         return -1;
     }
     return 0;

@@ -26,6 +26,52 @@ size_t scene_upload_bytes(const SceneUpload *u)
     return total;
 }
 
+/* What each buffer holds, for messages. */
+#define BUFFER(name) [1 + SCENE_ARRAY_##name]
+static const char *const buffer_names[] = {
+    [0] = "the constants",
+    BUFFER(nodes) = "the BVH",
+    BUFFER(primitives) = "the primitives",
+    BUFFER(materials) = "the materials",
+    BUFFER(lights) = "the lights",
+    BUFFER(light_nodes) = "the light tree",
+    BUFFER(light_trails) = "the light tree's trails",
+    BUFFER(distributions) = "the image lights' sampling distributions",
+    BUFFER(texels) = "image texels",
+    BUFFER(shading_normals) = "the shading normals",
+    BUFFER(textures) = "the texture programs",
+    BUFFER(material_textures) = "the materials' texture table",
+    BUFFER(texture_bytes) = "texture bytes",
+    BUFFER(texture_floats) = "texture values",
+    BUFFER(surface_uvs) = "the triangles' uvs",
+    BUFFER(instances) = "the instances",
+    BUFFER(alphas) = "the alpha table",
+};
+#undef BUFFER
+_Static_assert(sizeof buffer_names / sizeof *buffer_names == SCENE_BUFFERS, "a name for each scene buffer");
+
+void scene_upload_describe(const SceneUpload *u, int most, char *out, size_t size)
+{
+    int used[SCENE_BUFFERS] = {0};
+    size_t length = 0;
+    out[0] = '\0';
+    for (int k = 0; k < most && length < size; ++k) {
+        int largest = -1;
+        for (int i = 0; i < SCENE_BUFFERS; ++i)
+            if (!used[i] && u->bytes[i] > 0 && (largest < 0 || u->bytes[i] > u->bytes[largest]))
+                largest = i;
+        if (largest < 0)
+            break;
+        used[largest] = 1;
+        const char *name = buffer_names[largest] ? buffer_names[largest] : "a scene array";
+        double mib = (double)u->bytes[largest] / 1048576.0;
+        int n = mib >= 1024.0
+                    ? snprintf(out + length, size - length, "%s%s %.2f GiB", k ? ", " : "", name, mib / 1024.0)
+                    : snprintf(out + length, size - length, "%s%s %.1f MiB", k ? ", " : "", name, mib);
+        length += n > 0 ? (size_t)n : 0;
+    }
+}
+
 static uint64_t fnv1a(uint64_t hash, const void *data, size_t size)
 {
     const unsigned char *bytes = data;

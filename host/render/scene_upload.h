@@ -30,6 +30,11 @@ void scene_upload_init(SceneUpload *u, const RenderScene *scene, uint32_t seed);
 /* The bytes all buffers take on a device (an empty array takes 8). */
 size_t scene_upload_bytes(const SceneUpload *u);
 
+/* Names the scene's largest buffers with their sizes, largest first (at
+ * most `most`), e.g. "image texels 1.50 GiB, the BVH 204.8 MiB", for
+ * messages about memory. */
+void scene_upload_describe(const SceneUpload *u, int most, char *out, size_t size);
+
 /* What determines every sample: the uploaded bytes (scene, camera, film,
  * resolution, max depth, integrator, seed) and the M the sampler deals
  * samples to (--sets, even where only the mean is kept), as 16 hex digits. */
