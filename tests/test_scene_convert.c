@@ -106,7 +106,9 @@ static void test_repository_scenes(void **state)
 
 #define CAMERA "LookAt 0 0 -5  0 0 0  0 1 0\nCamera \"perspective\"\nWorldBegin\n"
 
-/* An infinite radiance or emitter area made an all-black image. */
+/* An infinite radiance or emitter area made an all-black image; so did a
+ * "power" spread over an area so small (or large) that the radiance left
+ * single precision. */
 static void test_overflowing_emitters_are_errors(void **state)
 {
     (void)state;
@@ -119,6 +121,13 @@ static void test_overflowing_emitters_are_errors(void **state)
          ":5: Shape \"sphere\": the sphere (centre (0, 0, 0), radius 1e+20 in world space) reaches beyond 1e+18"},
         {CAMERA "LightSource \"infinite\" \"rgb L\" [ 3e38 3e38 3e38 ] \"float scale\" 10\n",
          ":4: LightSource \"infinite\": the radiance L * scale, 3e+39, overflows single precision"},
+        {CAMERA "AreaLightSource \"diffuse\" \"float power\" 10\nShape \"sphere\" \"float radius\" 1e-20\n",
+         ":4: AreaLightSource \"power\" 10 over its shape's area 1.25664e-39 gives a radiance of 2.53303e+39, which "
+         "overflows single precision"},
+        {CAMERA "AreaLightSource \"diffuse\" \"float power\" 1e-30\n"
+                "Shape \"trianglemesh\" \"point3 P\" [ 0 0 0  3e9 0 0  0 3e9 0 ] \"integer indices\" [ 0 1 2 ]\n",
+         ":4: AreaLightSource \"power\" 1e-30 over its shape's area 4.5e+18 gives a radiance of 7.07355e-50, which "
+         "underflows single precision"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         const char *path = write_scene("emitter.pbrt", cases[i].text);

@@ -6,6 +6,7 @@
 #include "scene/scene.h"
 #include "scene/textures.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -289,18 +290,22 @@ static int convert_textures(const Scene *scene, RenderScene *out, int *alpha_pro
     return failed ? -1 : 0;
 }
 
-/* Each area light's radiance, with "power" applied over its shape's area
- * (malloc'd; NULL when out of memory or there are none). */
-static float (*area_light_emission(const Scene *scene))[3]
+/* Each area light's radiance, with "power" applied over its shape's area,
+ * into *out (malloc'd; NULL when there are none). Returns 0, or -1 with a
+ * message: out of memory, or a power whose radiance over a shape's area
+ * overflows single precision or underflows it to 0 or a subnormal. */
+static int area_light_emission(const Scene *scene, float (**out)[3], char *error, size_t error_size)
 {
+    *out = NULL;
     if (scene->area_light_count == 0)
-        return NULL;
+        return 0;
     float(*emission)[3] = malloc(scene->area_light_count * sizeof *emission);
     double *area = calloc(scene->area_light_count, sizeof *area);
     if (!emission || !area) {
         free(emission);
         free(area);
-        return NULL;
+        snprintf(error, error_size, "out of memory for the area lights");
+        return -1;
     }
     for (size_t i = 0; i < scene->triangle_count; ++i) {
         const SceneTriangle *t = &scene->triangles[i];
@@ -328,11 +333,24 @@ static float (*area_light_emission(const Scene *scene))[3]
         double k = 1.0;
         if (light->power > 0.0f && area[i] > 0.0)
             k = light->power / (3.14159265358979323846 * (light->two_sided ? 2.0 : 1.0) * area[i]);
-        for (int c = 0; c < 3; ++c)
-            emission[i][c] = (float)(light->radiance[c] * k);
+        for (int c = 0; c < 3; ++c) {
+            double radiance = light->radiance[c] * k;
+            emission[i][c] = (float)radiance;
+            if (light->radiance[c] > 0.0f && (radiance > FLT_MAX || radiance < FLT_MIN)) {
+                snprintf(error, error_size,
+                         "%s: AreaLightSource \"power\" %g over its shape's area %g gives a radiance of %g, which "
+                         "%s single precision (%g to %g)",
+                         light->origin ? light->origin : "AreaLightSource", (double)light->power, area[i], radiance,
+                         radiance > FLT_MAX ? "overflows" : "underflows", (double)FLT_MIN, (double)FLT_MAX);
+                free(emission);
+                free(area);
+                return -1;
+            }
+        }
     }
     free(area);
-    return emission;
+    *out = emission;
+    return 0;
 }
 
 static int is_zero(const float v[3])
@@ -668,8 +686,12 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         render_scene_destroy(out);
         return -1;
     }
-    float(*emission)[3] = area_light_emission(&scene);
-    failed = scene.area_light_count > 0 && !emission;
+    float(*emission)[3] = NULL;
+    if (area_light_emission(&scene, &emission, error, error_size)) {
+        free(alpha_programs);
+        render_scene_destroy(out);
+        return -1;
+    }
     /* All triangles before all spheres, as the shapes' order in the primitive
      * array decides the lights' (whose order decides which a random number picks). */
     for (int spheres = 0; spheres < 2; ++spheres)

@@ -43,7 +43,8 @@ typedef struct {
     int has_area_light;
     float area_radiance[3];
     int area_two_sided;
-    float area_power; /* "power", or -1 */
+    float area_power;      /* "power", or -1 */
+    char area_origin[256]; /* "file:line" of the AreaLightSource */
     int reverse_orientation;
     /* Where this state was pushed (kept on the stack only). */
     PushKind kind;
@@ -389,6 +390,9 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
         light->two_sided = p->state.area_two_sided;
         light->power = p->state.area_power;
         light->shape = (int)s->shape_count;
+        light->origin = NULL;
+        if (light->power > 0.0f && !(light->origin = scene_strndup(p->state.area_origin, strlen(p->state.area_origin))))
+            return -1;
         shape->area_light = (int)s->area_light_count++;
     }
     s->shape_count++;
@@ -1947,6 +1951,7 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
             p->state.area_radiance[k] = (float)radiance[k];
         p->state.area_two_sided = two_sided;
         p->state.area_power = power;
+        snprintf(p->state.area_origin, sizeof p->state.area_origin, "%s:%d", lex->path, d->line);
     }
     params_free(&params);
     return result;

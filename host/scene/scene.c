@@ -29,6 +29,8 @@ void scene_destroy(Scene *scene)
     }
     free(scene->textures);
     free(scene->shapes);
+    for (size_t i = 0; i < scene->area_light_count; ++i)
+        free(scene->area_lights[i].origin);
     free(scene->area_lights);
     for (size_t i = 0; i < scene->light_count; ++i) {
         free(scene->lights[i].filename);

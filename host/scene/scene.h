@@ -287,8 +287,9 @@ typedef struct {
 typedef struct {
     float radiance[3];
     int two_sided;
-    float power; /* -1: none */
-    int shape;   /* index into Scene.shapes */
+    float power;  /* -1: none */
+    int shape;    /* index into Scene.shapes */
+    char *origin; /* with power: "file:line" of its AreaLightSource, for messages; else NULL */
 } SceneAreaLight;
 
 /* LightSource directives (area lights are SceneAreaLight). pbrt-v4's
