@@ -199,6 +199,12 @@ static int render(const Options *o)
     }
     if (!o->quiet)
         print_summary(o, &out);
+    /* Even with --quiet: such samples darken the image where they fall. */
+    if (out.rejected_total > 0)
+        fprintf(stderr,
+                "gmonrt: warning: %llu non-finite samples (infinite or NaN radiance) were counted as 0, darkening "
+                "the image where they fell (--diagnostics writes where)\n",
+                (unsigned long long)out.rejected_total);
     render_output_free(&out);
     if (status == 0 && (rendered == RENDER_INCOMPLETE || checkpoints_failed))
         status = 1;

@@ -307,6 +307,21 @@ static void test_split_isolates_the_far_light(void **state)
     free(trails);
 }
 
+/* The MIS weight light_pick_pmf's chances feed: a^2 / (a^2 + b^2), also
+ * for densities whose squares overflow single precision (a tiny light far
+ * away has a cone density past 1e19). */
+static void test_power_heuristic(void **state)
+{
+    (void)state;
+    assert_true(fabsf(power_heuristic(3.0f, 4.0f) - 9.0f / 25.0f) < 1e-7f);
+    assert_true(fabsf(power_heuristic(4.0f, 3.0f) - 16.0f / 25.0f) < 1e-7f);
+    assert_true(power_heuristic(1e30f, 1e30f) == 0.5f);
+    assert_true(fabsf(power_heuristic(3e25f, 4e25f) - 9.0f / 25.0f) < 1e-7f);
+    assert_true(power_heuristic(1e30f, 0.0f) == 1.0f);
+    assert_true(power_heuristic(0.0f, 1e30f) == 0.0f);
+    assert_true(power_heuristic(0.0f, 0.0f) == 0.0f);
+}
+
 /* The light sampler names, as pbrt-v4's "lightsampler" and --light-sampler
  * spell them. */
 static void test_names(void **state)
@@ -323,9 +338,13 @@ static void test_names(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_chances_sum_to_one),           cmocka_unit_test(test_picks_follow_the_chances),
-        cmocka_unit_test(test_bounds_are_conservative),      cmocka_unit_test(test_cone_union_holds_both),
-        cmocka_unit_test(test_split_isolates_the_far_light), cmocka_unit_test(test_names),
+        cmocka_unit_test(test_chances_sum_to_one),
+        cmocka_unit_test(test_picks_follow_the_chances),
+        cmocka_unit_test(test_bounds_are_conservative),
+        cmocka_unit_test(test_cone_union_holds_both),
+        cmocka_unit_test(test_split_isolates_the_far_light),
+        cmocka_unit_test(test_names),
+        cmocka_unit_test(test_power_heuristic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
