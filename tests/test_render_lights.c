@@ -27,16 +27,22 @@
 #define PI 3.14159265358979323846
 #define RHO 0.5f
 
+/* A diffuse material of reflectance rho (0 for emitters); its index. */
+static int diffuse_material(RenderScene *scene, float rho)
+{
+    Material m;
+    memset(&m, 0, sizeof m);
+    m.type = MAT_DIFFUSE;
+    m.reflectance[0] = m.reflectance[1] = m.reflectance[2] = rho;
+    return render_scene_add_material(scene, &m);
+}
+
 /* A diffuse square [-10, 10]^2 at z = 0 facing +z, seen from (x, 0, 2)
  * looking straight down through a narrow field of view. */
 static void plane_scene(RenderScene *scene, float x)
 {
     render_scene_init(scene);
-    Material m;
-    memset(&m, 0, sizeof m);
-    m.type = MAT_DIFFUSE;
-    m.reflectance[0] = m.reflectance[1] = m.reflectance[2] = RHO;
-    int material = render_scene_add_material(scene, &m);
+    int material = diffuse_material(scene, RHO);
     const float a[3] = {-10, -10, 0}, b[3] = {10, -10, 0}, c[3] = {10, 10, 0}, d[3] = {-10, 10, 0};
     assert_int_equal(render_scene_add_triangle(scene, a, b, c, material, NULL, 0, 0), 0);
     assert_int_equal(render_scene_add_triangle(scene, a, c, d, material, NULL, 0, 0), 0);
@@ -295,10 +301,7 @@ static void test_sphere_light(void **state)
                     continue;
                 RenderScene scene;
                 plane_scene(&scene, 0.0f);
-                Material m;
-                memset(&m, 0, sizeof m);
-                m.type = MAT_DIFFUSE;
-                int material = render_scene_add_material(&scene, &m);
+                int material = diffuse_material(&scene, 0.0f);
                 double d = sqrt((double)cases[k].x * cases[k].x + (double)cases[k].h * cases[k].h);
                 double lit = RHO * cases[k].radius * cases[k].radius * cases[k].h / (d * d * d);
                 const float L = (float)(0.1 / lit), centre[3] = {cases[k].x, 0.0f, cases[k].h}, emission[3] = {L, L, L};
@@ -330,10 +333,7 @@ static void test_light_tree_on_veach_row(void **state)
     for (int tree = 0; tree <= 1; ++tree) {
         RenderScene scene;
         plane_scene(&scene, 0.0f);
-        Material m;
-        memset(&m, 0, sizeof m);
-        m.type = MAT_DIFFUSE;
-        int material = render_scene_add_material(&scene, &m);
+        int material = diffuse_material(&scene, 0.0f);
         expected = 0.0;
         for (size_t k = 0; k < sizeof spheres / sizeof *spheres; ++k) {
             double d = sqrt((double)spheres[k].x * spheres[k].x + (double)spheres[k].y * spheres[k].y +
@@ -905,10 +905,7 @@ static void test_triangle_light(void **state)
                 double lit = RHO / PI * polygon_irradiance(corners, 4, 1.0);
                 RenderScene scene;
                 plane_scene(&scene, 0.0f);
-                Material m;
-                memset(&m, 0, sizeof m);
-                m.type = MAT_DIFFUSE;
-                int material = render_scene_add_material(&scene, &m);
+                int material = diffuse_material(&scene, 0.0f);
                 const float L = (float)(0.1 / lit), emission[3] = {L, L, L};
                 float c[4][3];
                 for (int i = 0; i < 4; ++i)
