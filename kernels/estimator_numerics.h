@@ -1,6 +1,6 @@
 /* Numerics of the estimators: compensated sums, exact power-of-two
  * scaling, and averages of ranges that neither overflow nor cancel
- * (ESTIMATORS.md, "Numerically stable form"), on lanes (lanes.h). Only
+ * (docs/estimators.md, "Stable Gini coefficient"), on lanes (lanes.h). Only
  * operations that round the same in C and OpenCL C: + - * / (correctly
  * rounded on both sides) and bit manipulation; no library exp, log, pow or
  * sqrt, whose results differ between implementations. */

@@ -1,4 +1,4 @@
-/* The per-pixel estimators of shared/ESTIMATORS.md, from the set sums:
+/* The per-pixel estimators of docs/estimators.md, from the set sums:
  * mean, MoN, G-MoN and the estimator family (passes.h lists them), with
  * their diagnostics and standard errors.
  *
@@ -18,7 +18,7 @@
 #include "estimator_sort.h"
 #include "passes.h"
 
-/* How G-MoN picks its trim count (ESTIMATORS.md, "Variants"). */
+/* How G-MoN picks its trim count (docs/estimators.md, "Mean, MoN and G-MoN"). */
 #define EST_GINI_PER_CHANNEL 0  /* default: one G and c per channel */
 #define EST_GINI_PER_PIXEL 1    /* G = mean of the three channel G's */
 #define EST_SORT_BY_LUMINANCE 2 /* order and trim whole RGB sets by luminance */
@@ -26,7 +26,7 @@
 /* ------------------------------------------------------------------------
  * Per-pixel estimators.
  *
- * Numerically stable form (ESTIMATORS.md). Set means t_j = S_j / n_j are
+ * Stable form (docs/estimators.md, "Stable Gini coefficient"). Set means t_j = S_j / n_j are
  * kept as they are (a single scale for all sets would flush means 2^126
  * below the largest to zero, and 1e-30 and 1e30 can share a pixel). Each
  * sum instead scales the values it adds by the power of two that brings the
@@ -296,7 +296,7 @@ EST_INLINE void clear_estimates(LaneEstimates *out)
 }
 
 /* ------------------------------------------------------------------------
- * The estimator family (ESTIMATORS.md, "From the set sums alone").
+ * The estimator family (docs/estimators.md, "The family's definitions").
  *
  * Most of them are weighted means of the sorted set means: each is a
  * choice of weights, and weighted_sorted_average computes them all the same
@@ -928,7 +928,7 @@ EST_INLINE void set_unknown_errors(LaneEstimates *out)
     }
 }
 
-/* Standard errors (ESTIMATORS.md, "Per-pixel uncertainty") of the
+/* Standard errors (docs/estimators.md, "Standard errors") of the
  * estimates in `passes` of a pixel of m >= 2 sets, sorted v, by set t, into
  * out->error, in the units of v (before the division by the set count).
  * The mean's: from the set means and counts. The others: the jackknife

@@ -78,7 +78,7 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
 /* zirr's cascades K (the parameter zirr.k) at most. */
 #define EST_ZIRR_CASCADES_MAX 16
 
-/* The estimators' parameters (ESTIMATORS.md, "The estimator family"):
+/* The estimators' parameters (docs/estimators.md, "Estimators"):
  * PARAM(type, field, name, default, lowest, highest), set per render as
  * --estimator-param <name>=<value> and written to the EXR metadata. An
  * integer c of -1 means floor(m / 4) sets. */

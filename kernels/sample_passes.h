@@ -1,6 +1,6 @@
 /* The per-sample estimators (passes.h, kind PASS_SAMPLE): the state the
  * path tracer updates with each sample beside the set sums, and the
- * estimates from it (ESTIMATORS.md, "Needing more per-pixel state").
+ * estimates from it (docs/estimators.md, "Estimators that see each sample").
  *
  *   clamp      pbrt-v4's Film "maxcomponentvalue": a sample whose largest
  *              component exceeds V is scaled by V / max, at each of the

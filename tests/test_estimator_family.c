@@ -1,4 +1,4 @@
-/* The estimator family (ESTIMATORS.md, "The estimator family") and its
+/* The estimator family (docs/estimators.md, "The family's definitions") and its
  * standard errors on the host, against the independent long-double
  * references of tests/support/family_reference.c, and the spec's
  * properties. (Kernel == host is test_estimator_kernel.)
@@ -272,7 +272,7 @@ static int same_bits(float a, float b)
     return memcmp(&a, &b, sizeof a) == 0;
 }
 
-/* ESTIMATORS.md's properties of the family: amon(0) = admon(0) = MoN;
+/* docs/estimators.md's properties of the family: amon(0) = admon(0) = MoN;
  * amon(1) = trimmed(0) = winsorized(0) = the mean of the set means (odd
  * m), bit for bit. */
 static void test_special_parameters_give_the_simple_estimators(void **state)

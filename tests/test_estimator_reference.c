@@ -1,7 +1,7 @@
 /* The host estimators against an independent long-double reference of the
  * formulas (tests/support/long_double_reference.c), and the properties that
- * shared/ESTIMATORS.md requires of every implementation; plus the exact
- * fixed-point accumulation and its conversion to float sums. */
+ * docs/estimators.md ("Required properties") asks of every implementation;
+ * plus the exact fixed-point accumulation and its conversion to float sums. */
 #include "film/film.h"
 #include "estimator_cases.h"
 #include "estimators.h"

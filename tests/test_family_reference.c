@@ -1,6 +1,6 @@
 /* The long-double reference of the estimator family and its stderr
  * (tests/support/family_reference.c) on hand-computed cases and on the
- * properties shared/ESTIMATORS.md lists, so that it can judge the float
+ * properties docs/estimators.md lists, so that it can judge the float
  * implementation.
  *
  * In the comments t_1 <= ... <= t_m are a channel's set means, k = m / 2.

@@ -1,6 +1,6 @@
 /* An independent long-double evaluation of the set-based estimator family of
- * shared/ESTIMATORS.md ("The estimator family", "From the set sums alone")
- * and of the per-pixel standard error ("Per-pixel uncertainty"), for tests.
+ * docs/estimators.md ("The family's definitions") and of the per-pixel
+ * standard error ("Standard errors"), for tests.
  *
  * Written from the spec's definitions, not from the shared float code: plain
  * sums, sorts and textbook formulas in long double. Every estimator is a

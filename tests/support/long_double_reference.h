@@ -1,5 +1,5 @@
 /* An independent long-double evaluation of the estimator formulas of
- * shared/ESTIMATORS.md, for tests.
+ * docs/estimators.md ("Mean, MoN and G-MoN"), for tests.
  *
  * It is written from the textbook definitions (set means S_j / n_j, sort,
  * median, the plain Gini formula, plain sums) and shares no code and no

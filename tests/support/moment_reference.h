@@ -1,5 +1,5 @@
 /* An independent long-double implementation of the moment-based estimators
- * (ESTIMATORS.md, "Needing more per-pixel state": abmm, gabmm, mean-or-mon), written from
+ * (docs/estimators.md, "Estimators that see each sample": abmm, gabmm, mean-or-mon), written from
  * the spec, not from kernels/sample_passes.h: two-pass central moments and
  * the paper's Gini of the set means. */
 #ifndef TESTS_SUPPORT_MOMENT_REFERENCE_H
