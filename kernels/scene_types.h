@@ -229,16 +229,26 @@ typedef struct {
     uint32_t pad[3];
 } MaterialTextures;
 
-/* Light types (Light.type). Area lights are emitting primitives; the
- * infinite lights come first in the light array (BackgroundData). */
-#define LIGHT_AREA 0u
-#define LIGHT_POINT 1u
-#define LIGHT_SPOT 2u
-#define LIGHT_DISTANT 3u
-#define LIGHT_UNIFORM_INFINITE 4u
-#define LIGHT_IMAGE_INFINITE 5u
-#define LIGHT_GONIOMETRIC 6u
-#define LIGHT_PROJECTION 7u
+/* Light types (Light.type), one row each: LIGHT(id, feature, sample)
+ *   id       LIGHT_<id>, the value of Light.type
+ *   feature  the FEATURE_* bit that compiles its code in (feature_mask.h)
+ *   sample   the kernel function that samples a direction toward it, in
+ *            its header kernels/light_<kind>.h (lights.h dispatches)
+ * Area lights are emitting primitives; the infinite lights come first in
+ * the light array (BackgroundData). */
+#define GMON_LIGHT_TYPES(LIGHT)                                                                                        \
+    LIGHT(AREA, FEATURE_AREA_LIGHTS, area_light_sample)                                                                \
+    LIGHT(POINT, FEATURE_POINT_LIGHTS, point_light_sample)                                                             \
+    LIGHT(SPOT, FEATURE_SPOT_LIGHTS, point_light_sample)                                                               \
+    LIGHT(DISTANT, FEATURE_DISTANT_LIGHTS, distant_light_sample)                                                       \
+    LIGHT(UNIFORM_INFINITE, FEATURE_ENVIRONMENT, uniform_infinite_light_sample)                                        \
+    LIGHT(IMAGE_INFINITE, FEATURE_ENVIRONMENT_MAP, image_infinite_light_sample)                                        \
+    LIGHT(GONIOMETRIC, FEATURE_GONIOMETRIC_LIGHTS, point_light_sample)                                                 \
+    LIGHT(PROJECTION, FEATURE_PROJECTION_LIGHTS, point_light_sample)
+
+#define LIGHT_ENUM_(id, feature, sample) LIGHT_##id,
+enum { GMON_LIGHT_TYPES(LIGHT_ENUM_) LIGHT_TYPE_COUNT };
+#undef LIGHT_ENUM_
 
 /* One light, any type. 128 bytes.
  * - area: `radiance` leaves `primitive` (of `area`) on its front, or both
@@ -255,7 +265,7 @@ typedef struct {
  *   equal-area octahedral square, row 0 at the top), looked up at the
  *   direction in light space (the rows light_from_world[0..2] rotate a world
  *   direction into it); its sampling distribution is at
- *   distributions[distribution_offset...] (lights.h);
+ *   distributions[distribution_offset...] (light_infinite.h);
  * - goniometric: a point light whose intensity `radiance` is scaled by its
  *   image (the same square, grey as RGB) at the light-space direction;
  * - projection: a point light projecting its image (image_width x

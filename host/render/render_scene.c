@@ -973,16 +973,9 @@ uint64_t render_scene_features(const RenderScene *scene)
             (m->type == MAT_COATED_CONDUCTOR && (m->base_alpha_x >= SMOOTH_ALPHA || m->base_alpha_y >= SMOOTH_ALPHA)))
             features |= FEATURE_ROUGH;
     }
-    static const uint32_t by_light[] = {
-        [LIGHT_AREA] = FEATURE_AREA_LIGHTS,
-        [LIGHT_POINT] = FEATURE_POINT_LIGHTS,
-        [LIGHT_SPOT] = FEATURE_SPOT_LIGHTS,
-        [LIGHT_DISTANT] = FEATURE_DISTANT_LIGHTS,
-        [LIGHT_UNIFORM_INFINITE] = FEATURE_ENVIRONMENT,
-        [LIGHT_IMAGE_INFINITE] = FEATURE_ENVIRONMENT_MAP,
-        [LIGHT_GONIOMETRIC] = FEATURE_GONIOMETRIC_LIGHTS,
-        [LIGHT_PROJECTION] = FEATURE_PROJECTION_LIGHTS,
-    };
+#define LIGHT_FEATURE_(id, feature, sample) [LIGHT_##id] = feature,
+    static const uint64_t by_light[LIGHT_TYPE_COUNT] = {GMON_LIGHT_TYPES(LIGHT_FEATURE_)};
+#undef LIGHT_FEATURE_
     for (int i = 0; i < scene->light_count; ++i)
         features |= by_light[scene->lights[i].type];
     if (scene->constants.integrator.flags & RENDER_NEE)
