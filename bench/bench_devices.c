@@ -11,7 +11,7 @@
  * so that the first build of each variant is cold. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
-#include "film/film_cl.h"
+#include "film/estimator_program.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 

@@ -30,7 +30,7 @@
 #include "cl/cl_check.h"
 #include "cl/cl_device.h"
 #include "film/film.h"
-#include "film/film_cl.h"
+#include "film/estimator_program.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "estimators.h"

@@ -5,7 +5,7 @@
  * every input case, plus sample streams with NaN and Inf accumulated on both. */
 #include "cl/cl_device.h"
 #include "film/film.h"
-#include "film/film_cl.h"
+#include "film/estimator_program.h"
 #include "estimator_cases.h"
 #include "estimator_images.h"
 #include "estimators.h"

@@ -13,7 +13,7 @@
  * reference (the mean without outliers, MoN with one firefly), and it is
  * bit for bit the set-based mean or MoN it chose. */
 #include "film/film_sample.h"
-#include "film/film_sample_cl.h"
+#include "film/sample_estimator_program.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 #include "moment_reference.h"
@@ -213,9 +213,9 @@ static void test_kernel_equals_host(void **state)
     hi.length = di.length = PIXELS * 3;
     assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, host_sets, PIXELS, LENGTH, &hi, NULL, 0),
                      ESTIMATOR_OK);
-    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    SampleEstimatorProgram *program = sample_estimator_program_new(&test_device, &s, NULL);
     assert_non_null(program);
-    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, device_sets, device, &di), 0);
+    assert_int_equal(sample_estimator_program_run_stream(program, parts, LENGTH, PIXELS, device_sets, device, &di), 0);
     assert_memory_equal(host_sets, device_sets, set_planes * PIXELS * sizeof(uint64_t));
     assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
     assert_memory_equal(host_clamp, device_clamp, sizeof host_clamp);
@@ -227,7 +227,7 @@ static void test_kernel_equals_host(void **state)
         for (int c = 0; c < 3; ++c)
             differ |= host_clamp[0][p][c] != host_clamp[2][p][c];
     assert_true(differ);
-    sample_estimator_destroy(program);
+    sample_estimator_program_destroy(program);
     free(parts);
     free(host);
     free(device);
@@ -377,12 +377,12 @@ static void test_moments_kernel_equals_host(void **state)
     assert_int_equal(film_sample_estimate(&s, host, planes * PIXELS, acc, PIXELS, LENGTH, &hi, NULL, 0), ESTIMATOR_OK);
     /* abmm alone (no -DEST_SETS) builds too. */
     EstimatorSettings alone = sample_settings(PASS_BIT(PASS_ABMM), NULL, 0);
-    SampleEstimatorProgram *abmm_alone = sample_estimator_new(&test_device, &alone, NULL);
+    SampleEstimatorProgram *abmm_alone = sample_estimator_program_new(&test_device, &alone, NULL);
     assert_non_null(abmm_alone);
-    sample_estimator_destroy(abmm_alone);
-    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    sample_estimator_program_destroy(abmm_alone);
+    SampleEstimatorProgram *program = sample_estimator_program_new(&test_device, &s, NULL);
     assert_non_null(program);
-    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, device_acc, device, &di), 0);
+    assert_int_equal(sample_estimator_program_run_stream(program, parts, LENGTH, PIXELS, device_acc, device, &di), 0);
     assert_memory_equal(acc, device_acc, sets * PIXELS * sizeof(uint64_t));
     assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
     assert_memory_equal(hc, dc, sizeof hc);
@@ -415,7 +415,7 @@ static void test_moments_kernel_equals_host(void **state)
     }
     printf("  mean-or-mon: %d pixels the mean, %d MoN\n", chose_mean, chose_mon);
     assert_true(chose_mean > 0 && chose_mon > 0);
-    sample_estimator_destroy(program);
+    sample_estimator_program_destroy(program);
     free(parts);
     free(host);
     free(device);
@@ -854,15 +854,16 @@ static void test_zirr_kernel_equals_host(void **state)
     memset(&di, 0, sizeof di);
     di.pass[PASS_CLAMP] = clamp_image;
     di.length = PIXELS * 3;
-    SampleEstimatorProgram *program = sample_estimator_new(&test_device, &s, NULL);
+    SampleEstimatorProgram *program = sample_estimator_program_new(&test_device, &s, NULL);
     assert_non_null(program);
-    assert_int_equal(sample_estimator_run_stream(program, parts, LENGTH, PIXELS, device_sets, device, &di), 0);
+    assert_int_equal(sample_estimator_program_run_stream(program, parts, LENGTH, PIXELS, device_sets, device, &di), 0);
     assert_memory_equal(host_sets, device_sets, set_planes * PIXELS * sizeof(uint64_t));
     assert_memory_equal(host, device, planes * PIXELS * sizeof(uint64_t));
     assert_int_equal(
         film_sample_estimate_zirr(&s, host, planes * PIXELS, host_sets, W, H, LENGTH, &host_image[0][0], NULL, 0),
         ESTIMATOR_OK);
-    assert_int_equal(sample_estimator_zirr(program, device, device_sets, W, H, LENGTH, &device_image[0][0], NULL), 0);
+    assert_int_equal(
+        sample_estimator_program_zirr(program, device, device_sets, W, H, LENGTH, &device_image[0][0], NULL), 0);
     assert_memory_equal(host_image, device_image, sizeof host_image);
     /* Not every cascade at full weight: the fireflies are weighed down
      * somewhere (against sum_k B_k, every reliability 1). */
@@ -879,7 +880,7 @@ static void test_zirr_kernel_equals_host(void **state)
     free(cascade_means);
     printf("  zirr kernel == host on %dx%d; %d pixels below half their unweighted cascades\n", W, H, lower);
     assert_true(lower > 0);
-    sample_estimator_destroy(program);
+    sample_estimator_program_destroy(program);
     free(parts);
     free(host);
     free(device);

@@ -154,6 +154,48 @@ fail:
     return NULL;
 }
 
+int cl_program_open(ClProgram *p, ClDevice *device, const char *name, const char *options, const char *kernel_dir,
+                    const char *const *kernel_names, int count)
+{
+    memset(p, 0, sizeof *p);
+    p->device = device;
+    if (count > CL_PROGRAM_KERNELS_MAX) {
+        fprintf(stderr, "OpenCL program '%s': more than %d kernels\n", name, CL_PROGRAM_KERNELS_MAX);
+        return -1;
+    }
+    p->program = cl_program_build(device, name, options, kernel_dir);
+    if (!p->program)
+        return -1;
+    for (int i = 0; i < count; ++i) {
+        if (!kernel_names[i])
+            continue;
+        cl_int err = CL_SUCCESS;
+        p->kernels[i] = clCreateKernel(p->program, kernel_names[i], &err);
+        CL_CHECK(err, fail);
+    }
+    return 0;
+fail:
+    cl_program_close(p);
+    return -1;
+}
+
+void cl_program_close(ClProgram *p)
+{
+    for (int i = 0; i < CL_PROGRAM_KERNELS_MAX; ++i)
+        if (p->kernels[i])
+            clReleaseKernel(p->kernels[i]);
+    if (p->program)
+        clReleaseProgram(p->program);
+    memset(p, 0, sizeof *p);
+}
+
+cl_int cl_program_enqueue(const ClProgram *p, cl_kernel kernel, size_t items, size_t local, cl_event *event)
+{
+    size_t global = local > 0 ? (items + local - 1) / local * local : items;
+    return clEnqueueNDRangeKernel(p->device->queue, kernel, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL,
+                                  event);
+}
+
 int cl_device_open_first(ClDevice *device, const char *cache_dir)
 {
     if (cache_dir && !getenv("POCL_CACHE_DIR"))

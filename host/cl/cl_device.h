@@ -44,6 +44,28 @@ void cl_device_close(ClDevice *device);
  * the build log, and returns NULL. kernel_dir may be NULL. */
 cl_program cl_program_build(ClDevice *device, const char *name, const char *options, const char *kernel_dir);
 
+/* A built program with its kernels: what the estimator programs
+ * (host/film/estimator_program.h, sample_estimator_program.h) wrap. */
+#define CL_PROGRAM_KERNELS_MAX 8
+typedef struct {
+    ClDevice *device;
+    cl_program program;
+    cl_kernel kernels[CL_PROGRAM_KERNELS_MAX];
+} ClProgram;
+
+/* Builds kernel file `name` (as cl_program_build) and creates the `count`
+ * kernels named in kernel_names, in that order (a NULL name leaves its
+ * kernel NULL). Returns 0, or -1 after reporting the error and releasing
+ * what was made. */
+int cl_program_open(ClProgram *p, ClDevice *device, const char *name, const char *options, const char *kernel_dir,
+                    const char *const *kernel_names, int count);
+void cl_program_close(ClProgram *p);
+
+/* Enqueues `kernel` over `items` work items in work groups of `local` (0:
+ * the runtime's choice), rounded up to whole groups: the kernels skip the
+ * items past the end. */
+cl_int cl_program_enqueue(const ClProgram *p, cl_kernel kernel, size_t items, size_t local, cl_event *event);
+
 /* Opens the first device, for tests and tools that need one. Sets
  * POCL_CACHE_DIR to `cache_dir` first if it is unset (PoCL lists no device
  * without a writable cache). Returns 0 on success, 1 if no device exists,

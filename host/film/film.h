@@ -3,7 +3,7 @@
  * one estimation code in kernels/estimators.h: the settings (with the only
  * check of M's range), the pass and parameter names, and the host
  * estimation, the reference the kernels are tested against and what
- * re-estimates a saved render. film_cl.h runs the same on a device,
+ * re-estimates a saved render. estimator_program.h runs the same on a device,
  * film_merge.h adds renders of sample ranges, film_file.h is the render
  * file's schema.
  *

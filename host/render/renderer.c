@@ -5,8 +5,8 @@
 #include "render/memory_check.h"
 
 #include "cl/kernel_sources.h"
-#include "film/film_cl.h"
-#include "film/film_sample_cl.h"
+#include "film/estimator_program.h"
+#include "film/sample_estimator_program.h"
 #include "estimators.h"
 #include "feature_mask.h"
 
@@ -149,7 +149,7 @@ static void release_worker(Worker *w)
         if (w->scene[i])
             clReleaseMemObject(w->scene[i]);
     estimator_program_destroy(w->estimator);
-    sample_estimator_destroy(w->sample_estimator);
+    sample_estimator_program_destroy(w->sample_estimator);
     w->sample_estimator = NULL;
     if (w->kernel)
         clReleaseKernel(w->kernel);
@@ -258,7 +258,7 @@ static int start_worker(Render *r, Worker *w, const char *options)
         }
     }
     if (r->sample_planes) {
-        w->sample_estimator = sample_estimator_new(w->device, &r->estimator, s->kernel_dir);
+        w->sample_estimator = sample_estimator_program_new(w->device, &r->estimator, s->kernel_dir);
         if (!w->sample_estimator) {
             drop_worker(r, w, "the per-sample estimator failed to build (build log above)");
             return -1;
@@ -324,7 +324,7 @@ static size_t slice_pixels(const Render *r, const Worker *w)
     size_t largest = r->planes * sizeof(uint64_t);
     size_t others[] = {r->sample_planes * sizeof(uint64_t), REJECTED_PLANES * sizeof(uint32_t),
                        w->estimator ? estimator_program_image_bytes(w->estimator, 1) : 0,
-                       w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, 1) : 0};
+                       w->sample_estimator ? sample_estimator_program_image_bytes(w->sample_estimator, 1) : 0};
     for (size_t i = 0; i < sizeof others / sizeof others[0]; ++i)
         largest = others[i] > largest ? others[i] : largest;
     uint64_t limit = w->device->info.max_allocation;
@@ -568,9 +568,9 @@ static int estimate_zirr_on_device(Render *r, uint64_t samples, RenderOutput *ou
                    ((film_sample_zirr_planes(&r->estimator) + r->planes) * sizeof(uint64_t) +
                     (size_t)(r->estimator.params.zirr_k + 1) * EST_CHANNELS * sizeof(float)) *
                        r->pixels);
-        if (sample_estimator_zirr(w->sample_estimator, r->saved.samples, r->saved.accumulators,
-                                  r->scene->constants.camera.width, r->scene->constants.camera.height, samples,
-                                  out->pass[PASS_ZIRR], &w->report->estimate_seconds) != 0) {
+        if (sample_estimator_program_zirr(w->sample_estimator, r->saved.samples, r->saved.accumulators,
+                                          r->scene->constants.camera.width, r->scene->constants.camera.height, samples,
+                                          out->pass[PASS_ZIRR], &w->report->estimate_seconds) != 0) {
             drop_on_cl_error(r, w, "the zirr estimator failed");
             return -1;
         }
@@ -602,19 +602,20 @@ static cl_int estimate_slice(const Render *r, Worker *w, const Slice *slice, uin
             clReleaseMemObject(images);
     }
     const size_t sample_image_bytes =
-        w->sample_estimator ? sample_estimator_image_bytes(w->sample_estimator, slice->count) : 0;
+        w->sample_estimator ? sample_estimator_program_image_bytes(w->sample_estimator, slice->count) : 0;
     if (err == CL_SUCCESS && sample_image_bytes) { /* zirr alone: estimate_zirr_on_device's */
         const size_t bytes = sample_image_bytes;
         cl_mem images = clCreateBuffer(w->device->context, CL_MEM_WRITE_ONLY, bytes, NULL, &err);
         cl_event done = NULL;
         if (err == CL_SUCCESS) {
             track_peak(r, w, bytes);
-            done = sample_estimator_enqueue(w->sample_estimator, slice->samples, slice->accumulators, slice->count,
-                                            samples, images);
+            done = sample_estimator_program_enqueue(w->sample_estimator, slice->samples, slice->accumulators,
+                                                    slice->count, samples, images);
             err = done ? CL_SUCCESS : CL_OUT_OF_RESOURCES;
         }
         if (err == CL_SUCCESS)
-            err = sample_estimator_read(w->sample_estimator, images, slice->first, slice->count, r->pixels, host);
+            err =
+                sample_estimator_program_read(w->sample_estimator, images, slice->first, slice->count, r->pixels, host);
         if (done) {
             w->report->estimate_seconds += cl_event_seconds(done);
             clReleaseEvent(done);

@@ -1,17 +1,17 @@
-#include "film/film_cl.h"
+#include "film/estimator_program.h"
 
 #include "estimators.h"
 
 #include <stdio.h>
 #include <stdlib.h>
 
+enum { FROM_SUMS, FROM_ACCUMULATORS, KERNEL_COUNT };
+
 struct EstimatorProgram {
     ClDevice *device;
     EstimatorSettings settings;
     EstimatorLaunch launch;
-    cl_program program;
-    cl_kernel from_sums;
-    cl_kernel from_accumulators;
+    ClProgram cl; /* kernels by the enum above */
 };
 
 /* An integer setting from the environment: *value is left alone when `name`
@@ -78,7 +78,7 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
         return NULL;
     p->device = device;
     p->settings = *settings;
-    p->settings.passes &= ~PASSES_SAMPLE; /* film_sample_cl.h's */
+    p->settings.passes &= ~PASSES_SAMPLE; /* sample_estimator_program.h's */
     settings = &p->settings;
     if (choose_launch(device, settings, &p->launch) != 0)
         goto fail;
@@ -89,14 +89,9 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
              settings->set_count, (int)(settings->first_sample % (uint64_t)settings->set_count),
              (int)settings->gini_mode, (unsigned)settings->passes, settings->with_stderr ? 1 : 0,
              p->launch.vector_width, p->launch.prefetch);
-    p->program = cl_program_build(device, "estimator", options, kernel_dir);
-    if (!p->program)
+    static const char *const kernels[KERNEL_COUNT] = {"estimate_from_sums", "estimate_from_accumulators"};
+    if (cl_program_open(&p->cl, device, "estimator", options, kernel_dir, kernels, KERNEL_COUNT) != 0)
         goto fail;
-    cl_int err = CL_SUCCESS;
-    p->from_sums = clCreateKernel(p->program, "estimate_from_sums", &err);
-    CL_CHECK(err, fail);
-    p->from_accumulators = clCreateKernel(p->program, "estimate_from_accumulators", &err);
-    CL_CHECK(err, fail);
     return p;
 fail:
     estimator_program_destroy(p);
@@ -112,12 +107,7 @@ void estimator_program_destroy(EstimatorProgram *p)
 {
     if (!p)
         return;
-    if (p->from_sums)
-        clReleaseKernel(p->from_sums);
-    if (p->from_accumulators)
-        clReleaseKernel(p->from_accumulators);
-    if (p->program)
-        clReleaseProgram(p->program);
+    cl_program_close(&p->cl);
     free(p);
 }
 
@@ -130,7 +120,7 @@ size_t estimator_program_image_bytes(const EstimatorProgram *p, size_t pixel_cou
 cl_event estimator_program_enqueue(EstimatorProgram *p, cl_mem input, int from_accumulators, size_t pixel_count,
                                    uint64_t sample_count, cl_mem images)
 {
-    cl_kernel k = from_accumulators ? p->from_accumulators : p->from_sums;
+    cl_kernel k = p->cl.kernels[from_accumulators ? FROM_ACCUMULATORS : FROM_SUMS];
     cl_ulong pixels = pixel_count, samples = sample_count;
     cl_event event = NULL;
     CL_CHECK(clSetKernelArg(k, 0, sizeof input, &input), fail);
@@ -138,14 +128,9 @@ cl_event estimator_program_enqueue(EstimatorProgram *p, cl_mem input, int from_a
     CL_CHECK(clSetKernelArg(k, 2, sizeof samples, &samples), fail);
     CL_CHECK(clSetKernelArg(k, 3, sizeof p->settings.params, &p->settings.params), fail);
     CL_CHECK(clSetKernelArg(k, 4, sizeof images, &images), fail);
-    /* A work item per vector_width pixels, rounded up to whole work groups
-     * (the kernels skip items past the end). */
-    size_t global = (pixel_count + (size_t)p->launch.vector_width - 1) / (size_t)p->launch.vector_width;
-    size_t local = (size_t)p->launch.local_size;
-    if (local > 0)
-        global = (global + local - 1) / local * local;
-    CL_CHECK(clEnqueueNDRangeKernel(p->device->queue, k, 1, NULL, &global, local > 0 ? &local : NULL, 0, NULL, &event),
-             fail);
+    /* A work item per vector_width pixels. */
+    size_t items = (pixel_count + (size_t)p->launch.vector_width - 1) / (size_t)p->launch.vector_width;
+    CL_CHECK(cl_program_enqueue(&p->cl, k, items, (size_t)p->launch.local_size, &event), fail);
     return event;
 fail:
     return NULL;

@@ -1,6 +1,6 @@
 /* The estimator kernels (kernels/estimator.cl) on an OpenCL device. */
-#ifndef HOST_ESTIMATOR_ESTIMATOR_CL_H
-#define HOST_ESTIMATOR_ESTIMATOR_CL_H
+#ifndef HOST_FILM_ESTIMATOR_PROGRAM_H
+#define HOST_FILM_ESTIMATOR_PROGRAM_H
 
 #include "cl/cl_device.h"
 #include "film/film.h"
