@@ -6,6 +6,7 @@
 #include "scene/lexer.h"
 #include "scene/params.h"
 #include "scene/ply.h"
+#include "scene/read_file.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 #include "scene/shapes.h"

@@ -42,16 +42,6 @@ static int shape_fail(ParamList *params, int line, const char *format, ...)
     return scene_error(params->diag, params->file, line, "%s: %s", params->owner, message);
 }
 
-void shape_mesh_free(ShapeMesh *mesh)
-{
-    free(mesh->positions);
-    free(mesh->normals);
-    free(mesh->uvs);
-    free(mesh->indices);
-    free(mesh->parts);
-    memset(mesh, 0, sizeof *mesh);
-}
-
 static int mesh_alloc(ShapeMesh *mesh, size_t vertices, size_t triangles, int with_normals)
 {
     memset(mesh, 0, sizeof *mesh);
