@@ -9,7 +9,7 @@
 #include "scene/read_file.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
-#include "scene/shapes.h"
+#include "scene/tessellate.h"
 #include "scene/spectrum.h"
 #include "scene/textures.h"
 
@@ -2313,7 +2313,7 @@ static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *para
     return result;
 }
 
-/* A shape built as a triangle mesh (shapes.c), through the mesh path. */
+/* A shape built as a triangle mesh (tessellate.c), through the mesh path. */
 static int shape_tessellated(Parser *p, Lexer *lex, const Token *d, ParamList *params, ShapeBuilder build)
 {
     ShapeMesh mesh = {0};

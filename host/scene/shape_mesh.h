@@ -1,5 +1,5 @@
 /* A shape as an object-space triangle mesh: what the shape builders
- * (shapes.c), Loop subdivision and the PLY reader make, and the parser
+ * (tessellate.c), Loop subdivision and the PLY reader make, and the parser
  * takes to world space. */
 #ifndef HOST_SCENE_SHAPE_MESH_H
 #define HOST_SCENE_SHAPE_MESH_H

@@ -1,7 +1,7 @@
 /* Disks, cylinders, bilinear patches and Loop subdivision surfaces as
  * triangle meshes in object space, with pbrt-v4's parameters, defaults,
  * (u, v) and facing. */
-#include "scene/shapes.h"
+#include "scene/tessellate.h"
 
 #include "scene/loop_subdiv.h"
 #include "scene/scene_internal.h"

@@ -2,8 +2,8 @@
  * "bilinearmesh", "loopsubdiv"), built as object-space triangle meshes for
  * the parser's mesh path (world transform, orientation, degenerate
  * triangles, area lights). Tessellation and accuracy: README.md here. */
-#ifndef HOST_SCENE_SHAPES_H
-#define HOST_SCENE_SHAPES_H
+#ifndef HOST_SCENE_TESSELLATE_H
+#define HOST_SCENE_TESSELLATE_H
 
 #include "scene/params.h"
 #include "scene/shape_mesh.h"
