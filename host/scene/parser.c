@@ -3,6 +3,8 @@
  * world space. See README.md in this directory for the supported subset. */
 #define _POSIX_C_SOURCE 200809L /* stat */
 
+#include "scene/directives.h"
+#include "scene/geometry.h"
 #include "scene/lexer.h"
 #include "scene/params.h"
 #include "scene/ply.h"
@@ -29,109 +31,6 @@
  * gets a warning: the renderer offsets rays leaving a surface by 1e-5 times
  * their distance from the origin, which is then over 1% of the scene's size. */
 #define PRECISION_RATIO 1e3
-
-typedef enum { PUSHED_ATTRIBUTES, PUSHED_TRANSFORM, PUSHED_OBJECT } PushKind;
-
-/* Which of the two transforms (at the shutter's start and end time) the
- * transform directives change: ActiveTransform StartTime, EndTime or All. */
-enum { ACTIVE_START = 1, ACTIVE_END = 2, ACTIVE_ALL = 3 };
-
-typedef struct {
-    mat4 ctm;     /* object to world (camera before WorldBegin), at the start time: what is rendered */
-    mat4 ctm_end; /* the same at the end time (pbrt-v4 animates between them); only compared with ctm */
-    int active_transforms;
-    int material; /* index into the scene's materials; -1: pbrt's default */
-    int has_area_light;
-    float area_radiance[3];
-    int area_two_sided;
-    float area_power;      /* "power", or -1 */
-    char area_origin[256]; /* "file:line" of the AreaLightSource */
-    int reverse_orientation;
-    /* Where this state was pushed (kept on the stack only). */
-    PushKind kind;
-    const char *file;
-    int line;
-} GraphicsState;
-
-/* A material name and its slot in Scene.materials. pbrt-v4 binds names
- * once the whole scene is read, so a NamedMaterial before its
- * MakeNamedMaterial gets a slot (not yet `defined`; file and line: that
- * first use) that the definition fills in later. */
-typedef struct {
-    char *name;
-    int material;
-    int defined;
-    const char *file;
-    int line;
-} NamedMaterial;
-
-/* CoordinateSystem "name", and pbrt-v4's own "camera" and "world". */
-typedef struct {
-    char *name;
-    mat4 start, end;
-} NamedTransform;
-
-typedef struct {
-    Scene *scene;
-    Diagnostics diag;
-    GraphicsState state;
-    GraphicsState *stack;
-    size_t depth, stack_capacity;
-    int in_world;
-    int object; /* the object being defined (Scene.objects), or -1 */
-    const char *object_file;
-    int object_line;
-    size_t object_capacity, instance_capacity, pending_capacity;
-    /* ObjectInstance names, resolved once the whole scene is read (pbrt-v4
-     * lets an instance come before its object's definition). */
-    struct PendingInstance {
-        char *name;
-        const char *file;
-        int line;
-    } * pending;
-    int include_depth;
-    NamedMaterial *named;
-    size_t named_count, named_capacity;
-    NamedTransform *coordinate_systems;
-    size_t coordinate_system_count, coordinate_system_capacity;
-    int motion_warned; /* one warning for all animated transforms */
-    int default_material;
-    size_t material_capacity, texture_capacity, shape_capacity, area_light_capacity, light_capacity, vertex_capacity,
-        triangle_capacity, sphere_capacity;
-    char **paths; /* every file read, alive until scene_load returns (messages point at them) */
-    size_t path_count, path_capacity;
-    const char *main_path;
-    mat4 camera_from_world, world_from_camera;
-    const char *camera_file;
-    int camera_line;
-    /* The film's sensor settings and the camera's shutter, combined into
-     * the film matrix at the end (Film may come before or after Camera). */
-    float film_iso, film_scale, film_white_balance, shutter_open, shutter_close;
-    char film_sensor[64];
-} Parser;
-
-typedef int (*Handler)(Parser *p, Lexer *lex, const Token *directive);
-
-/* ---------------------------------------------------------------- helpers */
-
-static void directive_name(const Token *t, char *out, size_t size)
-{
-    size_t n = t->length < size - 1 ? t->length : size - 1;
-    memcpy(out, t->text, n);
-    out[n] = '\0';
-}
-
-static int expect_string(Parser *p, Lexer *lex, const Token *directive, const char *what, Token *out)
-{
-    if (lexer_next(lex, out))
-        return -1;
-    if (out->kind == TOKEN_STRING)
-        return 0;
-    char name[32], shown[64];
-    directive_name(directive, name, sizeof name);
-    token_describe(out, shown, sizeof shown);
-    return scene_error(&p->diag, lex->path, out->line, "%s: expected %s as a quoted string, got %s", name, what, shown);
-}
 
 /* Reads `count` numbers; with `brackets`, optionally enclosed in [ ]. */
 static int read_numbers(Parser *p, Lexer *lex, const Token *directive, int count, int brackets, double *out)
@@ -165,77 +64,6 @@ static int read_numbers(Parser *p, Lexer *lex, const Token *directive, int count
     return 0;
 }
 
-static int out_of_memory(Parser *p, const char *file, int line)
-{
-    return scene_error(&p->diag, file, line, "out of memory");
-}
-
-static int require_world(Parser *p, Lexer *lex, const Token *directive, int inside)
-{
-    if (p->in_world == inside)
-        return 0;
-    char name[32];
-    directive_name(directive, name, sizeof name);
-    return scene_error(&p->diag, lex->path, directive->line, "%s must come %s WorldBegin", name,
-                       inside ? "after" : "before");
-}
-
-/* Reads a directive's type string and parameter list; `owner` receives e.g.
- * Shape "sphere" for messages. */
-static int read_typed_directive(Parser *p, Lexer *lex, const Token *directive, const char *what, Token *type,
-                                ParamList *params)
-{
-    memset(params, 0, sizeof *params);
-    if (expect_string(p, lex, directive, what, type))
-        return -1;
-    char name[32], shown[64], owner[100];
-    directive_name(directive, name, sizeof name);
-    token_describe(type, shown, sizeof shown);
-    snprintf(owner, sizeof owner, "%s %s", name, shown);
-    int result = params_parse(lex, owner, params);
-    params->main_file = p->main_path; /* after params_parse, which clears the list */
-    return result;
-}
-
-static void transform_point(mat4 m, const float in[3], float out[3])
-{
-    double x = in[0], y = in[1], z = in[2];
-    double r[4];
-    for (int row = 0; row < 4; ++row)
-        r[row] = m[0][row] * x + m[1][row] * y + m[2][row] * z + m[3][row];
-    double w = r[3];
-    for (int k = 0; k < 3; ++k)
-        out[k] = (float)(w == 1.0 ? r[k] : r[k] / w);
-}
-
-static double det3(mat4 m)
-{
-    return (double)m[0][0] * ((double)m[1][1] * m[2][2] - (double)m[2][1] * m[1][2]) -
-           (double)m[1][0] * ((double)m[0][1] * m[2][2] - (double)m[2][1] * m[0][2]) +
-           (double)m[2][0] * ((double)m[0][1] * m[1][2] - (double)m[1][1] * m[0][2]);
-}
-
-static void cross_d(const double a[3], const double b[3], double out[3])
-{
-    out[0] = a[1] * b[2] - a[2] * b[1];
-    out[1] = a[2] * b[0] - a[0] * b[2];
-    out[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-static double dot_d(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
-
-/* Scales v to unit length; returns its length before. */
-static double normalize_d(double v[3])
-{
-    double length = sqrt(dot_d(v, v));
-    for (int k = 0; length > 0.0 && k < 3; ++k)
-        v[k] /= length;
-    return length;
-}
-
 /* A triangle's edges from its first vertex, in double. */
 static void edges(const float *positions, const uint32_t *triangle, double e1[3], double e2[3])
 {
@@ -245,84 +73,6 @@ static void edges(const float *positions, const uint32_t *triangle, double e1[3]
         e2[k] = (double)c[k] - a[k];
     }
 }
-
-/* Whether m's linear part is a rotation (or reflection) times a uniform
- * scale; *scale receives that scale (the columns' mean length). */
-static int is_similarity(mat4 m, double *scale)
-{
-    double length[3], largest = 0.0;
-    for (int c = 0; c < 3; ++c) {
-        length[c] = sqrt((double)m[c][0] * m[c][0] + (double)m[c][1] * m[c][1] + (double)m[c][2] * m[c][2]);
-        largest = fmax(largest, length[c]);
-    }
-    *scale = (length[0] + length[1] + length[2]) / 3.0;
-    if (largest == 0.0)
-        return 0;
-    const double tolerance = 1e-4;
-    for (int a = 0; a < 3; ++a) {
-        int b = (a + 1) % 3;
-        double dot = (double)m[a][0] * m[b][0] + (double)m[a][1] * m[b][1] + (double)m[a][2] * m[b][2];
-        if (fabs(length[a] - length[b]) > tolerance * largest || fabs(dot) > tolerance * largest * largest)
-            return 0;
-    }
-    return 1;
-}
-
-static int is_affine(mat4 m)
-{
-    return m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f;
-}
-
-/* The inverse of m by Gauss-Jordan elimination in double (a float inverse
- * loses a camera's tiny Scale to underflow). Returns -1 when m is singular
- * or its inverse does not fit a float. */
-static int invert_in_double(mat4 m, mat4 inverse)
-{
-    double a[4][8]; /* [row][column]: m, then the identity */
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            a[r][c] = m[c][r];
-            a[r][c + 4] = r == c ? 1.0 : 0.0;
-        }
-    for (int c = 0; c < 4; ++c) {
-        int pivot = c;
-        for (int r = c + 1; r < 4; ++r)
-            if (fabs(a[r][c]) > fabs(a[pivot][c]))
-                pivot = r;
-        if (a[pivot][c] == 0.0)
-            return -1;
-        for (int k = 0; k < 8; ++k) {
-            double t = a[c][k];
-            a[c][k] = a[pivot][k];
-            a[pivot][k] = t;
-        }
-        double scale = 1.0 / a[c][c];
-        for (int k = 0; k < 8; ++k)
-            a[c][k] *= scale;
-        for (int r = 0; r < 4; ++r) {
-            double f = a[r][c];
-            for (int k = 0; r != c && k < 8; ++k)
-                a[r][k] -= f * a[c][k];
-        }
-    }
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            if (!(fabs(a[r][c + 4]) <= FLT_MAX))
-                return -1;
-            inverse[c][r] = (float)a[r][c + 4];
-        }
-    return 0;
-}
-
-/* Whether every coordinate of a world-space point is within the renderer's
- * range (false for NaN). */
-static int within_range(const float point[3])
-{
-    return fabsf(point[0]) <= SCENE_MAX_COORDINATE && fabsf(point[1]) <= SCENE_MAX_COORDINATE &&
-           fabsf(point[2]) <= SCENE_MAX_COORDINATE;
-}
-
-/* ------------------------------------------------------- scene building */
 
 static int add_material(Parser *p, const SceneMaterial *m)
 {
@@ -576,8 +326,6 @@ static int add_mesh(Parser *p, const char *file, int line, const char *owner, co
     free(kept_parts);
     return 0;
 }
-
-/* ------------------------------------------------------------ materials */
 
 /* A material parameter that may be a texture: 1 when it is one (its
  * index in m->textures[slot]), 0 when not (read the constant), -1 error. */
@@ -841,18 +589,7 @@ static int parse_material(Parser *p, const char *type, ParamList *params, int li
     return params_check_unused(params);
 }
 
-/* ----------------------------------------------------------- directives */
-
 static int parse_file(Parser *p, const char *path, const char *from_file, int from_line);
-
-static int same_matrix(mat4 a, mat4 b)
-{
-    for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r)
-            if (a[c][r] != b[c][r])
-                return 0;
-    return 1;
-}
 
 /* After a transform directive: products of finite numbers can overflow. */
 static int check_transform(Parser *p, Lexer *lex, const Token *d)
@@ -866,22 +603,6 @@ static int check_transform(Parser *p, Lexer *lex, const Token *d)
                                    "%s: the transform overflows single precision (an entry is not finite)", name);
             }
     return 0;
-}
-
-/* Before a shape, light or camera takes the CTM: when its start and end
- * transforms differ it moves, which gmonrt does not render. It renders the
- * start time, with one warning for the whole scene. */
-static int warn_if_moving(Parser *p, Lexer *lex, const Token *d)
-{
-    if (p->motion_warned || same_matrix(p->state.ctm, p->state.ctm_end))
-        return 0;
-    p->motion_warned = 1;
-    char name[32];
-    directive_name(d, name, sizeof name);
-    return scene_warn(&p->diag, lex->path, d->line,
-                      "%s: its transforms at the start and end times differ (ActiveTransform): motion is not "
-                      "rendered, the scene is rendered at the start time",
-                      name);
 }
 
 /* The transforms a transform directive changes (ActiveTransform); returns
@@ -1014,35 +735,6 @@ static int on_identity(Parser *p, Lexer *lex, const Token *d)
 {
     mat4 identity = GLM_MAT4_IDENTITY_INIT;
     return set_transform(p, lex, d, identity);
-}
-
-/* The named coordinate system, or NULL. */
-static NamedTransform *find_coordinate_system(Parser *p, const char *name, size_t length)
-{
-    for (size_t i = 0; i < p->coordinate_system_count; ++i)
-        if (strlen(p->coordinate_systems[i].name) == length && memcmp(p->coordinate_systems[i].name, name, length) == 0)
-            return &p->coordinate_systems[i];
-    return NULL;
-}
-
-/* Names (or renames) a coordinate system: CoordinateSystem, and pbrt-v4's
- * "camera" at Camera and "world" at WorldBegin. */
-static int define_coordinate_system(Parser *p, const char *name, size_t length, mat4 start, mat4 end)
-{
-    NamedTransform *named = find_coordinate_system(p, name, length);
-    if (!named) {
-        char *copy = scene_strndup(name, length);
-        if (!copy || scene_reserve((void **)&p->coordinate_systems, &p->coordinate_system_capacity,
-                                   p->coordinate_system_count + 1, sizeof *p->coordinate_systems)) {
-            free(copy);
-            return -1;
-        }
-        named = &p->coordinate_systems[p->coordinate_system_count++];
-        named->name = copy;
-    }
-    glm_mat4_copy(start, named->start);
-    glm_mat4_copy(end, named->end);
-    return 0;
 }
 
 static int on_coordinate_system(Parser *p, Lexer *lex, const Token *d)
@@ -1391,16 +1083,6 @@ static int on_camera(Parser *p, Lexer *lex, const Token *d)
     }
     params_free(&params);
     return result;
-}
-
-static int replace_string(Parser *p, const char *file, int line, char **target, const char *value)
-{
-    char *copy = scene_strndup(value, strlen(value));
-    if (!copy)
-        return out_of_memory(p, file, line);
-    free(*target);
-    *target = copy;
-    return 0;
 }
 
 /* pbrt-v4's "cropwindow" (fractions x0 x1 y0 y1 of the image, clamped to
@@ -1876,18 +1558,6 @@ static int on_named_material(Parser *p, Lexer *lex, const Token *d)
     return 0;
 }
 
-/* Whether check mode found files missing: a name the scene never defines
- * (a material, a texture) may then be defined in one of them. */
-static int files_missing(const Parser *p)
-{
-    const Scene *s = p->scene;
-    if (p->diag.check)
-        for (size_t i = 0; i < s->diagnostic_count; ++i)
-            if (s->diagnostics[i].kind == SCENE_DIAGNOSTIC_MISSING_FILE)
-                return 1;
-    return 0;
-}
-
 /* A NamedMaterial whose name the whole scene never defines is an error at
  * its line, as in pbrt-v4; in check mode with files missing the name may
  * be defined in one of them, so it is not. */
@@ -1956,15 +1626,6 @@ static int on_area_light_source(Parser *p, Lexer *lex, const Token *d)
     }
     params_free(&params);
     return result;
-}
-
-static char *resolve_path(Parser *p, const char *file, const char *name);
-
-/* A direction through the CTM's linear part, in double. */
-static void transform_vector_d(mat4 m, const double v[3], double out[3])
-{
-    for (int k = 0; k < 3; ++k)
-        out[k] = m[0][k] * v[0] + m[1][k] * v[1] + m[2][k] * v[2];
 }
 
 /* Reads the light's point parameter `name` (default `fallback`). */
@@ -2273,15 +1934,6 @@ static int shape_triangle_mesh(Parser *p, Lexer *lex, const Token *d, ParamList 
     free(uvs);
     free(index);
     return result;
-}
-
-/* Resolves a file named in `file` as pbrt-v4 does (ResolveFilename):
- * relative to the main file's directory. When nothing is there, gmonrt also
- * tries the directory of the file naming it (pbrt-v4 would try the working
- * directory); when that fails too, the path is pbrt-v4's, for messages. */
-static char *resolve_path(Parser *p, const char *file, const char *name)
-{
-    return scene_resolve_path(file, p->main_path, name);
 }
 
 static int shape_ply_mesh(Parser *p, Lexer *lex, const Token *d, ParamList *params)
