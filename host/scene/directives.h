@@ -57,6 +57,10 @@ typedef struct {
     mat4 start, end;
 } NamedTransform;
 
+/* The reader's state while it reads one scene: the Scene being built, the
+ * graphics state and its stack, what is bound once the whole scene is read
+ * (named materials, instances), and the camera and film settings that
+ * finish_camera and finish_film combine at the end. */
 typedef struct Parser {
     Scene *scene;
     Diagnostics diag;
