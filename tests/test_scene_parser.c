@@ -5,7 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 
 #include "scene/scene.h"
-#include "scene/scene_internal.h" /* scene_read_file, for its size limit on gzip data */
+#include "scene/read_file.h" /* scene_read_file, for its size limit on gzip data */
 #include "scene/spectrum.h"
 
 #include <errno.h>

@@ -6,7 +6,7 @@
 #ifndef HOST_SCENE_LOOP_SUBDIV_H
 #define HOST_SCENE_LOOP_SUBDIV_H
 
-#include "scene/shapes.h"
+#include "scene/shape_mesh.h"
 
 #include <stddef.h>
 #include <stdint.h>

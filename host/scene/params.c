@@ -1,4 +1,5 @@
 #include "scene/params.h"
+#include "scene/read_file.h"
 #include "scene/scene_internal.h"
 
 #include <float.h>

@@ -1,5 +1,6 @@
 #include "scene/ply.h"
 
+#include "scene/read_file.h"
 #include "scene/scene_internal.h"
 
 #include <errno.h>

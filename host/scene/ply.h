@@ -6,7 +6,7 @@
 #ifndef HOST_SCENE_PLY_H
 #define HOST_SCENE_PLY_H
 
-#include "scene/shapes.h"
+#include "scene/shape_mesh.h"
 
 /* positions (finite) and normals as stored, uvs, 3 indices per triangle
  * (each below vertex_count); free with shape_mesh_free. */

@@ -1,19 +1,15 @@
 /* The Scene's lifetime, diagnostics, and the small conversions the renderer
  * needs (fields of view, screen windows, roughness to alpha). */
-#define _POSIX_C_SOURCE 200809L /* open, fstat, O_CLOEXEC */
+#define _POSIX_C_SOURCE 200809L /* stat */
 
 #include "scene/scene_internal.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/types.h>
-#include <unistd.h>
 
 void scene_destroy(Scene *scene)
 {
@@ -266,108 +262,6 @@ char *scene_strndup(const char *text, size_t length)
         copy[length] = '\0';
     }
     return copy;
-}
-
-/* "1 GiB" for the size limits in messages. */
-static void format_bytes(size_t bytes, char *out, size_t size)
-{
-    if (bytes >= ((size_t)1 << 30) && bytes % ((size_t)1 << 30) == 0)
-        snprintf(out, size, "%zu GiB", bytes >> 30);
-    else
-        snprintf(out, size, "%zu bytes", bytes);
-}
-
-int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_t most, char *why, size_t why_size)
-{
-    if (length + 1 < *capacity)
-        return 0;
-    if (*capacity == most)
-        return 1;
-    size_t grown = *capacity > most / 2 ? most : 2 * *capacity;
-    char *p = realloc(*buffer, grown);
-    if (!p) {
-        snprintf(why, why_size, "out of memory for %zu bytes", grown);
-        return -1;
-    }
-    *buffer = p;
-    *capacity = grown;
-    return 0;
-}
-
-/* Reads fd to the end, not just st_size bytes (the file may have grown),
- * into a buffer of at most `most` bytes (one past the limit, plus the NUL). */
-static int read_plain(int fd, size_t file_size, size_t most, char **buffer, size_t *length, char *why, size_t why_size)
-{
-    size_t capacity = file_size + 2;
-    *buffer = malloc(capacity);
-    if (!*buffer) {
-        snprintf(why, why_size, "out of memory for %zu bytes", capacity);
-        return -1;
-    }
-    for (;;) {
-        int full = scene_grow_read_buffer(buffer, &capacity, *length, most, why, why_size);
-        if (full != 0)
-            return full < 0 ? -1 : 0; /* one byte past the limit: the caller sees it */
-        ssize_t n = read(fd, *buffer + *length, capacity - 1 - *length);
-        if (n < 0 && errno == EINTR)
-            continue;
-        if (n < 0) {
-            snprintf(why, why_size, "%s", strerror(errno));
-            return -1;
-        }
-        if (n == 0)
-            return 0;
-        *length += (size_t)n;
-    }
-}
-
-int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size)
-{
-    *data = NULL;
-    *size = 0;
-    /* O_NONBLOCK: opening a FIFO without a writer would wait for one. */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        snprintf(why, why_size, "%s", strerror(errno));
-        return -1;
-    }
-    struct stat st;
-    char limit[32];
-    format_bytes(max_size, limit, sizeof limit);
-    if (fstat(fd, &st) != 0) {
-        snprintf(why, why_size, "%s", strerror(errno));
-        close(fd);
-        return -1;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(why, why_size, "not a regular file (a directory, device or FIFO)");
-        close(fd);
-        return -1;
-    }
-    if ((uintmax_t)st.st_size > max_size) {
-        snprintf(why, why_size, "%jd bytes, over the %s limit", (intmax_t)st.st_size, limit);
-        close(fd);
-        return -1;
-    }
-    unsigned char magic[2];
-    int gzip = pread(fd, magic, 2, 0) == 2 && magic[0] == 0x1f && magic[1] == 0x8b;
-    char *buffer = NULL;
-    size_t length = 0, most = max_size + 2;
-    int failed = gzip ? scene_read_gzip(fd, most, &buffer, &length, why, why_size)
-                      : read_plain(fd, (size_t)st.st_size, most, &buffer, &length, why, why_size);
-    close(fd);
-    if (!failed && length > max_size) {
-        snprintf(why, why_size, "over the %s limit%s", limit, gzip ? " once uncompressed" : "");
-        failed = 1;
-    }
-    if (failed) {
-        free(buffer);
-        return -1;
-    }
-    buffer[length] = '\0';
-    *data = buffer;
-    *size = length;
-    return 0;
 }
 
 /* stat, not open: opening a FIFO could block. */

@@ -52,30 +52,6 @@ int scene_missing_file(Diagnostics *diag, const char *file, int line, const char
  * Returns 0, or -1 when out of memory or the size overflows. */
 int scene_reserve(void **array, size_t *capacity, size_t needed, size_t item_size);
 
-/* Size limits for what scene_read_file reads: pbrt scenes come with PLY
- * files of several GB, but no sane scene text is larger than this. */
-#define SCENE_MAX_TEXT_BYTES ((size_t)1 << 30)
-#define SCENE_MAX_PLY_BYTES ((size_t)4 << 30)
-
-/* Reads the whole of `path` into *data (NUL-terminated, *size bytes before
- * the NUL). Only a regular file of at most max_size bytes is read (a device
- * such as /dev/zero would be read forever, a FIFO could block); a gzip file
- * is inflated, to at most max_size bytes. Returns 0,
- * or -1 with the reason (without the path) in `why`. */
-int scene_read_file(const char *path, size_t max_size, char **data, size_t *size, char *why, size_t why_size);
-
-/* For the file readers: when buffer[0, length) fills all but the NUL's
- * byte of *capacity, doubles it, to at most `most` bytes. Returns 1 when it
- * is `most` already (a limit passed), 0 when there is room, -1 when out of
- * memory (the reason in `why`). */
-int scene_grow_read_buffer(char **buffer, size_t *capacity, size_t length, size_t most, char *why, size_t why_size);
-
-/* For scene_read_file, a file that starts with gzip's magic bytes (1f 8b):
- * inflates all of fd into *buffer (malloc'd, freed by the caller, room for
- * a NUL), stopping once it holds most - 1 bytes. Returns 0, or -1 with the
- * reason in `why` (corrupt data: "corrupt gzip data: <zlib's message>"). */
-int scene_read_gzip(int fd, size_t most, char **buffer, size_t *length, char *why, size_t why_size);
-
 /* Resolves a file named in `file`: relative to main_file's directory, as pbrt-v4's
  * ResolveFilename, or when nothing is there to that file's own directory. NULL when out of memory. */
 char *scene_resolve_path(const char *file, const char *main_file, const char *name);

@@ -3,6 +3,8 @@
  * Images are read by the renderer's conversion (host/render). */
 #include "scene/textures.h"
 
+#include "scene/directives.h"
+
 #include "scene/spectrum.h"
 
 #include <cglm/cglm.h>
@@ -506,4 +508,33 @@ int scene_texture_normal_map(Diagnostics *diag, Scene *scene, size_t *capacity, 
     }
     *texture = (int)scene->texture_count - 1;
     return 1;
+}
+
+/* Texture "name" "float|spectrum" "class" params: copies the strings for
+ * scene_texture_parse. */
+int on_texture(Parser *p, Lexer *lex, const Token *d)
+{
+    Token name, type, texture_class;
+    ParamList params;
+    if (expect_string(p, lex, d, "the texture's name", &name) || expect_string(p, lex, d, "the texture's type", &type))
+        return -1;
+    int result = read_typed_directive(p, lex, d, "the texture class", &texture_class, &params);
+    char *name_text = NULL, *type_text = NULL, *class_text = NULL;
+    if (result == 0) {
+        name_text = scene_strndup(name.text, name.length);
+        type_text = scene_strndup(type.text, type.length);
+        class_text = scene_strndup(texture_class.text, texture_class.length);
+    }
+    if (result == 0 && (!name_text || !type_text || !class_text))
+        result = out_of_memory(p, lex->path, d->line);
+    if (result == 0) {
+        snprintf(params.owner, sizeof params.owner, "Texture \"%.40s\"", name_text);
+        result = scene_texture_parse(&p->diag, p->scene, &p->texture_capacity, name_text, type_text, class_text,
+                                     &params, p->state.ctm, d->line);
+    }
+    free(name_text);
+    free(type_text);
+    free(class_text);
+    params_free(&params);
+    return result < 0 ? -1 : 0;
 }

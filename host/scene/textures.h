@@ -5,6 +5,9 @@
 #include "scene/params.h"
 #include "scene/scene_internal.h"
 
+/* The scene reader's parser state (directives.h). */
+typedef struct Parser Parser;
+
 /* The most textures one texture may reach through its inputs, itself
  * included (the kernels' TEXTURE_MAX_PROGRAM). */
 #define SCENE_TEXTURE_MAX_NODES 16
@@ -34,5 +37,8 @@ int scene_texture_finish(Diagnostics *diag, Scene *scene, int files_missing);
  * normals added to the scene, *texture its index; 0 when absent, -1 error. */
 int scene_texture_normal_map(Diagnostics *diag, Scene *scene, size_t *capacity, ParamList *params, int line,
                              int *texture);
+
+/* The Texture directive's handler, for parser.c's table. */
+int on_texture(Parser *p, Lexer *lex, const Token *d);
 
 #endif
