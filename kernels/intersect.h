@@ -9,8 +9,18 @@
 #include "surface_uv.h"
 #include "texture.h"
 
-/* Entries; the builder checks that its tree needs no more. */
-#define BVH_STACK_SIZE 128
+/* Traversal stack entries. The path tracer is built with what the
+ * scene's BVH needs (-DBVH_STACK_SIZE from path_tracer_build_options); the
+ * host, which traverses any tree, has room for the deepest the builder
+ * makes (host/render/bvh.h checks the bound). */
+#define BVH_STACK_LIMIT 1536
+#ifndef BVH_STACK_SIZE
+#define BVH_STACK_SIZE BVH_STACK_LIMIT
+#endif
+/* Called with the stack's height after each push; test_bvh watches it. */
+#ifndef BVH_STACK_PUSHED
+#define BVH_STACK_PUSHED(height) ((void)0)
+#endif
 
 typedef struct {
     float origin[3];
@@ -378,7 +388,7 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
     while (node_index >= 0) {
         float entry[BVH_WIDTH];
         int bits = intersect_children(&nodes[node_index].node, ray->origin, inverse_direction, hit->t, entry);
-        for (int base = top; bits; bits &= bits - 1) { /* the builder bounds the stack */
+        for (int base = top; bits; bits &= bits - 1) { /* the stack holds what the tree needs (Bvh.stack_need) */
             int lane = lowest_bit(bits), i = top++;
             for (; i > base && stack_entry[i - 1] < entry[lane]; --i) {
                 stack[i] = stack[i - 1];
@@ -386,6 +396,7 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
             }
             stack[i] = node_index * BVH_WIDTH + lane;
             stack_entry[i] = entry[lane];
+            BVH_STACK_PUSHED(top);
         }
         node_index = -1;
         while (top > 0 && node_index < 0) {
@@ -438,6 +449,7 @@ KERNEL_FN int bvh_intersect(const Geometry *geometry, const Ray *world_ray, floa
                     if ((p->kind & PRIM_KIND_MASK) == PRIM_INSTANCE) {
                         stack[top] = -2 - i;
                         stack_entry[top++] = leaf_entry;
+                        BVH_STACK_PUSHED(top);
                         continue;
                     }
 #endif

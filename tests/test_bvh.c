@@ -1,5 +1,11 @@
 /* The BVH: its nearest hit equals a brute-force search over every
- * primitive, for triangles and spheres, and any-hit agrees on occlusion. */
+ * primitive, for triangles and spheres, and any-hit agrees on occlusion;
+ * the traversal stays within the stack the builder says the tree needs. */
+
+/* The highest the traversal stack has been since it was last reset. */
+static int stack_high_water;
+#define BVH_STACK_PUSHED(height) (stack_high_water = (height) > stack_high_water ? (height) : stack_high_water)
+
 #include "intersect.h"
 #include "render/bvh.h"
 #include "render/render_scene.h"
@@ -148,20 +154,30 @@ static void test_empty_scene(void **state)
 static void test_identical_primitives_stay_shallow(void **state)
 {
     (void)state;
-    /* Many copies of one triangle cannot be split by centroid. */
-    Primitive p[100];
-    for (int i = 0; i < 100; ++i)
+    /* Many copies of one triangle cannot be split by centroid: they are
+     * split by order, into leaves of one packet, and a ray meeting them all
+     * stays within the stack the tree needs. */
+    enum { COUNT = 20000 };
+    Primitive *p = malloc(COUNT * sizeof *p);
+    for (int i = 0; i < COUNT; ++i)
         p[i] = (Primitive){{0, 0, 0}, PRIM_TRIANGLE, {1, 0, 0}, 0, {0, 1, 0}, -1};
     Bvh bvh;
     char error[256];
-    assert_int_equal(bvh_build(p, 100, &bvh, error, sizeof error), 0);
-    assert_true(bvh.largest_leaf > BVH_WIDTH); /* too many for a packet: tested one by one */
+    assert_int_equal(bvh_build(p, COUNT, &bvh, error, sizeof error), 0);
+    printf("  %d identical triangles: depth %d, largest leaf %d, %d stack entries\n", COUNT, bvh.depth,
+           bvh.largest_leaf, bvh.stack_need);
+    assert_true(bvh.largest_leaf <= BVH_WIDTH);
+    assert_true(bvh.depth <= 20);
     Ray ray = {{0.2f, 0.2f, -1}, {0, 0, 1}};
     Hit hit;
+    stack_high_water = 0;
     assert_true(
         bvh_intersect(&(Geometry){.nodes = bvh.nodes, .primitives = bvh.primitives}, &ray, 0.0f, INFINITY, 0, &hit));
     assert_true(fabsf(hit.t - 1.0f) < 1e-6f);
+    assert_true(stack_high_water > BVH_WIDTH);
+    assert_true(stack_high_water <= bvh.stack_need);
     bvh_destroy(&bvh);
+    free(p);
 }
 
 /* Centroids near the float limit: their span overflows a float to inf, and
@@ -276,10 +292,13 @@ static void check_instances(const double (*transforms)[3][4], int instances, int
     RenderScene instanced, flat;
     instanced_and_flat(object, N, transforms, instances, &instanced, &flat);
     int hits = 0, same = 0;
+    stack_high_water = 0;
     for (int r = 0; r < RAYS; ++r) {
         Ray ray = random_ray(&rng);
         Hit a, b;
-        int found = trace(&instanced, &ray, 0, INFINITY, &a), flat_found = trace(&flat, &ray, 0, INFINITY, &b);
+        int found = trace(&instanced, &ray, 0, INFINITY, &a);
+        assert_true(stack_high_water <= instanced.bvh.stack_need);
+        int flat_found = trace(&flat, &ray, 0, INFINITY, &b);
         if (exact)
             assert_int_equal(found, flat_found);
         if (!found || !flat_found)
@@ -352,6 +371,66 @@ static void test_many_instances(void **state)
     check_instances((const double(*)[3][4])transforms, 512, 0, 23);
 }
 
+/* Instances whose boxes share a centroid (identical ones, copies scaled
+ * about one point) cannot be split by centroid: the top level splits them
+ * by order, so that a leaf's instances, all pushed when it is met, stay
+ * few. Rays meeting all of them hit as flattened, within the stack the
+ * tree needs (the kernels get that size: it overflowed a fixed 128). */
+static void check_coincident_instances(const double (*transforms)[3][4], int instances, int exact, uint64_t seed)
+{
+    TestRng rng = test_rng(seed);
+    enum { N = 4, RAYS = 100 };
+    Primitive *object = random_scene(N, 0, &rng);
+    RenderScene instanced, flat;
+    instanced_and_flat(object, N, transforms, instances, &instanced, &flat);
+    assert_true(instanced.bvh.largest_leaf <= BVH_WIDTH);
+    int hits = 0, high_water = 0;
+    for (int r = 0; r < RAYS; ++r) {
+        /* At a point of a random instance's triangle, through the others. */
+        const Primitive *t = &object[r % N];
+        double scale = transforms[r * 7919 % instances][0][0]; /* uniform, about the origin */
+        Ray ray = {{uniform(&rng, -20, 20), uniform(&rng, -20, 20), -20}, {0, 0, 0}};
+        for (int k = 0; k < 3; ++k)
+            ray.direction[k] = (float)(scale * (t->a[k] + 0.3f * t->b[k] + 0.3f * t->c[k])) - ray.origin[k];
+        Hit a, b;
+        stack_high_water = 0;
+        int found = trace(&instanced, &ray, 0, INFINITY, &a);
+        high_water = stack_high_water > high_water ? stack_high_water : high_water;
+        assert_true(stack_high_water <= instanced.bvh.stack_need);
+        assert_int_equal(found, trace(&flat, &ray, 0, INFINITY, &b));
+        if (!found)
+            continue;
+        hits++;
+        if (exact)
+            assert_memory_equal(&a.t, &b.t, sizeof a.t);
+        else
+            assert_true(fabsf(a.t - b.t) <= 1e-4f * (1.0f + b.t));
+    }
+    printf("  %d coincident instances: %d of %d rays hit, stack up to %d of the %d entries the tree needs\n", instances,
+           hits, RAYS, high_water, instanced.bvh.stack_need);
+    assert_true(hits > RAYS / 10);
+    assert_true(high_water > BVH_WIDTH);
+    render_scene_destroy(&instanced);
+    render_scene_destroy(&flat);
+    free(object);
+}
+
+static void test_coincident_instances(void **state)
+{
+    (void)state;
+    enum { COUNT = 3000 };
+    double(*transforms)[3][4] = calloc(COUNT, sizeof *transforms);
+    for (int i = 0; i < COUNT; ++i)
+        for (int r = 0; r < 3; ++r)
+            transforms[i][r][r] = 1.0;
+    check_coincident_instances((const double(*)[3][4])transforms, COUNT, 1, 24);
+    for (int i = 0; i < COUNT; ++i)
+        for (int r = 0; r < 3; ++r)
+            transforms[i][r][r] = 0.1 + 2.0 * i / COUNT; /* scaled about the origin */
+    check_coincident_instances((const double(*)[3][4])transforms, COUNT, 0, 25);
+    free(transforms);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -362,6 +441,7 @@ int main(void)
         cmocka_unit_test(test_non_finite_primitive_is_an_error),
         cmocka_unit_test(test_instances_hit_as_flattened),
         cmocka_unit_test(test_many_instances),
+        cmocka_unit_test(test_coincident_instances),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -46,7 +46,7 @@ static void test_path_tracer_variants(void **state)
         if (variant > 0)
             features = variant <= 64 ? FEATURES_ALL & ~feature : FEATURE_TRIANGLES | feature;
         char options[1024];
-        path_tracer_build_options(&settings.estimator, features, SAMPLER_SOBOL_SETS, settings.estimator.set_count,
+        path_tracer_build_options(&settings.estimator, features, SAMPLER_SOBOL_SETS, settings.estimator.set_count, 128,
                                   options, sizeof options);
         ++builds;
         if (!builds_without_warnings("path_tracer", options)) {

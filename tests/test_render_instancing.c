@@ -373,6 +373,96 @@ static void test_instanced_textures_render_as_flattened(void **state)
     render_output_free(&flattened);
 }
 
+/* The Cornell box with `count` copies of `copy` appended after `before`. */
+static void write_copies(const char *path, const char *before, const char *copy, int count)
+{
+    write_cornell_scene(path, before);
+    FILE *f = fopen(path, "a");
+    assert_non_null(f);
+    for (int i = 0; i < count; ++i)
+        fputs(copy, f);
+    fclose(f);
+}
+
+#define QUAD                                                                                                           \
+    "Shape \"trianglemesh\" \"point3 P\" [ -0.4 0.3 -0.4  0.4 0.3 -0.4  -0.4 0.9 0.2  0.4 0.9 0.2 ]"                   \
+    " \"integer indices\" [ 0 1 2  2 1 3 ]\n"
+
+/* 20,000 instances of one quad, all in one place: their boxes share a
+ * centroid, so the top level cannot split them by position (in one leaf,
+ * they overflowed the traversal stack and crashed the kernel). They render
+ * bit for bit as the 20,000 quads flattened. */
+static void test_identical_instances_render_as_flattened(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { COUNT = 20000 };
+    char instanced_path[1024], flat_path[1024];
+    snprintf(instanced_path, sizeof instanced_path, "%s/test_render_instancing_identical.pbrt", GMON_BINARY_DIR);
+    snprintf(flat_path, sizeof flat_path, "%s/test_render_instancing_identical_flat.pbrt", GMON_BINARY_DIR);
+    write_copies(instanced_path, "ObjectBegin \"quad\"\nNamedMaterial \"red\"\n" QUAD "ObjectEnd\n",
+                 "ObjectInstance \"quad\"\n", COUNT);
+    write_copies(flat_path, "NamedMaterial \"red\"\n", QUAD, COUNT);
+    RenderOutput instanced, flat;
+    uint64_t instanced_features, flat_features;
+    render_file(instanced_path, 8, 2, &instanced, &instanced_features);
+    render_file(flat_path, 8, 2, &flat, &flat_features);
+    assert_true(instanced_features & FEATURE_INSTANCING);
+    size_t differ = differing_values(&instanced, &flat);
+    printf("  %d identical instances vs flattened: %zu of %u values differ\n", COUNT, differ,
+           3 * instanced.width * instanced.height);
+    assert_int_equal(differ, 0);
+    render_output_free(&instanced);
+    render_output_free(&flat);
+}
+
+/* Thousands of copies of a sphere scaled about its centre (nested, one
+ * centroid) render, as the same spheres flattened up to rounding. */
+static void test_scaled_copies_about_one_point_render(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    enum { COUNT = 3000 };
+    char instanced_path[1024], flat_path[1024];
+    snprintf(instanced_path, sizeof instanced_path, "%s/test_render_instancing_scaled.pbrt", GMON_BINARY_DIR);
+    snprintf(flat_path, sizeof flat_path, "%s/test_render_instancing_scaled_flat.pbrt", GMON_BINARY_DIR);
+    FILE *files[2] = {fopen(instanced_path, "w"), fopen(flat_path, "w")};
+    assert_non_null(files[0]);
+    assert_non_null(files[1]);
+    fclose(files[0]);
+    fclose(files[1]);
+    write_copies(instanced_path, "ObjectBegin \"ball\"\nNamedMaterial \"red\"\nShape \"sphere\"\nObjectEnd\n", "", 0);
+    write_copies(flat_path, "NamedMaterial \"red\"\n", "", 0);
+    files[0] = fopen(instanced_path, "a");
+    files[1] = fopen(flat_path, "a");
+    for (int i = 0; i < COUNT; ++i) {
+        double scale = 0.05 + 0.35 * i / COUNT;
+        for (int k = 0; k < 2; ++k)
+            fprintf(files[k], "AttributeBegin\nTranslate 0 0.6 0\nScale %.9g %.9g %.9g\n%s\nAttributeEnd\n", scale,
+                    scale, scale, k == 0 ? "ObjectInstance \"ball\"" : "Shape \"sphere\"");
+    }
+    fclose(files[0]);
+    fclose(files[1]);
+    RenderOutput instanced, flat;
+    uint64_t instanced_features, flat_features;
+    render_file(instanced_path, 8, 2, &instanced, &instanced_features);
+    render_file(flat_path, 8, 2, &flat, &flat_features);
+    assert_true(instanced_features & FEATURE_INSTANCING);
+    size_t n = 3 * (size_t)instanced.width * instanced.height, differ = differing_values(&instanced, &flat);
+    const float *x = instanced.pass[PASS_MEAN], *y = flat.pass[PASS_MEAN];
+    double sum[2] = {0.0, 0.0};
+    for (size_t i = 0; i < n; ++i) {
+        assert_true(isfinite(x[i]));
+        sum[0] += x[i];
+        sum[1] += y[i];
+    }
+    printf("  %d scaled copies vs flattened: %zu of %zu values differ; means %.6g and %.6g\n", COUNT, differ, n,
+           sum[0] / n, sum[1] / n);
+    assert_true(fabs(sum[0] - sum[1]) <= 0.02 * sum[1]);
+    render_output_free(&instanced);
+    render_output_free(&flat);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -383,6 +473,8 @@ int main(void)
         cmocka_unit_test(test_checkerboard_alpha_is_the_cut_geometry),
         cmocka_unit_test(test_image_alpha_is_the_checkerboard),
         cmocka_unit_test(test_instanced_textures_render_as_flattened),
+        cmocka_unit_test(test_identical_instances_render_as_flattened),
+        cmocka_unit_test(test_scaled_copies_about_one_point_render),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -329,6 +329,27 @@ static void test_roulette_threshold_converts(void **state)
     }
 }
 
+/* An instance the conversion refuses (the scene reader refuses it first:
+ * here its transform is made singular after reading) is reported as what
+ * it is, not as running out of memory. */
+static void test_instance_error_is_not_out_of_memory(void **state)
+{
+    (void)state;
+    const char *path = write_scene("instance.pbrt", "WorldBegin\nObjectBegin \"a\"\nShape \"sphere\"\nObjectEnd\n"
+                                                    "ObjectInstance \"a\"\n");
+    Scene scene;
+    assert_int_equal(scene_load(path, NULL, &scene, error, sizeof error), 0);
+    assert_int_equal(scene.instance_count, 1);
+    memset(scene.instances[0].world_from_object, 0, sizeof scene.instances[0].world_from_object);
+    RenderScene converted;
+    SceneSummary summary;
+    assert_int_equal(scene_convert(&scene, path, 16, 16, 1, &converted, &summary, error, sizeof error), -1);
+    assert_non_null(strstr(error, "ObjectInstance \"a\": the instance's transform is singular"));
+    assert_null(strstr(error, "out of memory"));
+    scene_destroy(&scene);
+    unlink(path);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -340,6 +361,7 @@ int main(void)
         cmocka_unit_test(test_materials_convert),
         cmocka_unit_test(test_roulette_threshold_converts),
         cmocka_unit_test(test_area_light_power_on_ply_faces),
+        cmocka_unit_test(test_instance_error_is_not_out_of_memory),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

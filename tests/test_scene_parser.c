@@ -1182,6 +1182,54 @@ static void test_object_instance_errors(void **state)
     load_fails("ObjectBegin \"a\"\n", 1, "WorldBegin");
 }
 
+/* An instance's transform is refused at its ObjectInstance, as a shape's
+ * is at its Shape, where the renderer's single precision cannot take it:
+ * the kernels intersect the object with the ray in object space (a scale
+ * past 1e18 either way overflows or underflows the ray's squares there;
+ * a singular one has no object space), and the world-space box must stay
+ * within SCENE_MAX_COORDINATE. The shapes inside ObjectBegin meet the
+ * limits of any shape under their own CTM. */
+static void test_instance_transform_errors(void **state)
+{
+    (void)state;
+#define OBJECT "ObjectBegin \"a\"\n" TRIANGLE "ObjectEnd\n"
+    load_fails(WORLD OBJECT "Scale 1e30 1e30 1e30\nObjectInstance \"a\"\n", 6,
+               "ObjectInstance \"a\": the transform scales lengths by 1e+30, outside [1e-18, 1e+18]");
+    load_fails(WORLD OBJECT "Scale 1e-20 1e-20 1e-20\nObjectInstance \"a\"\n", 6,
+               "ObjectInstance \"a\": the transform scales lengths by 1e-20");
+    load_fails(WORLD OBJECT "Scale 1 1e-25 1\nObjectInstance \"a\"\n", 6, "scales lengths by 1e-25");
+    load_fails(WORLD OBJECT "Scale 0 0 0\nObjectInstance \"a\"\n", 6,
+               "ObjectInstance \"a\": the transform is singular");
+    load_fails(WORLD OBJECT "Scale 1 1 0\nObjectInstance \"a\"\n", 6, "singular");
+    load_fails(WORLD OBJECT "ConcatTransform [ 1 0 0 0.5  0 1 0 0  0 0 1 0  0 0 0 1 ]\nObjectInstance \"a\"\n", 6,
+               "ObjectInstance \"a\": a projective transform is not supported");
+    load_fails(WORLD OBJECT "Translate 2e18 0 0\nObjectInstance \"a\"\n", 6,
+               "ObjectInstance \"a\": the instance reaches (2e+18, 0, 0) in world space, beyond 1e+18");
+    load_fails(WORLD OBJECT "Translate 0 0 9.5e17\nScale 1e17 1e17 1e17\nObjectInstance \"a\"\n", 7,
+               "reaches (0, 0, 1.05e+18)");
+    /* Before its object's definition: the ObjectInstance's line. */
+    load_fails(WORLD "Scale 1e30 1e30 1e30\nObjectInstance \"a\"\nIdentity\n" OBJECT, 3, "scales lengths by 1e+30");
+    /* Inside ObjectBegin, the shape's own checks. */
+    load_fails(WORLD "ObjectBegin \"a\"\nScale 1e30 1e30 1e30\n" TRIANGLE "ObjectEnd\n", 4,
+               "beyond 1e+18 from the origin");
+    load_fails(WORLD "ObjectBegin \"a\"\nScale 0 0 0\nShape \"sphere\"\nObjectEnd\n", 4, "Shape \"sphere\"");
+    load_fails(WORLD "ObjectBegin \"a\"\nConcatTransform [ 1 0 0 0.5  0 1 0 0  0 0 1 0  0 0 0 1 ]\nShape \"sphere\"\n",
+               4, "projective transform is not supported");
+#undef OBJECT
+    /* At the limits, and an empty object anywhere: accepted. */
+    Scene s;
+    assert_int_equal(load_text("limits.pbrt",
+                               WORLD
+                               "ObjectBegin \"a\"\n" TRIANGLE "ObjectEnd\nObjectBegin \"none\"\nObjectEnd\n"
+                               "AttributeBegin\nScale 1e17 1e17 1e17\nTranslate -0.5 -0.5 -0.5\nObjectInstance \"a\"\n"
+                               "AttributeEnd\nScale 1e-18 1e-18 1e-18\nObjectInstance \"a\"\n"
+                               "Translate 1e30 0 0\nObjectInstance \"none\"\n",
+                               &s, 0),
+                     0);
+    assert_int_equal(s.instance_count, 3);
+    scene_destroy(&s);
+}
+
 /* pbrt-v4 ignores area lights in object instances, with a warning. */
 static void test_area_light_in_object_is_ignored(void **state)
 {
@@ -2102,6 +2150,7 @@ int main(void)
         cmocka_unit_test(test_allow_unsupported_substitutes),
         cmocka_unit_test(test_object_instances),
         cmocka_unit_test(test_object_instance_errors),
+        cmocka_unit_test(test_instance_transform_errors),
         cmocka_unit_test(test_area_light_in_object_is_ignored),
         cmocka_unit_test(test_shape_alpha),
         cmocka_unit_test(test_ply_ascii),

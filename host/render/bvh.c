@@ -34,6 +34,7 @@ typedef struct {
     BinaryNode *nodes;
     int node_count, node_capacity;
     int depth, largest_leaf;
+    int instance_entry_need;     /* see Bvh */
     const Primitive *primitives; /* reordered */
     BvhNode *blocks;             /* the wide tree */
     int block_count, block_capacity;
@@ -189,8 +190,10 @@ static int choose_split(BuildItem *items, int count, const Box *bounds, int dept
             axis = i;
         }
     *axis_out = axis;
-    if (count <= 1 || extent <= 0.0f)
+    if (count <= MAX_LEAF_SIZE && (count <= 1 || extent <= 0.0f))
         return 0; /* identical centroids: nothing to split */
+    if (extent <= 0.0f)
+        return count / 2; /* identical centroids, too many for a leaf: halves by order, so leaves stay bounded */
 
     if (depth < SAH_DEPTH_LIMIT) {
         float best_cost = FLT_MAX;
@@ -296,7 +299,9 @@ static int build_node(Builder *b, int first, int count, int depth)
  * children, with the largest inner child replaced by its two while there is
  * room. Returns the wide node's block, or -1 out of memory; raises
  * *stack_need to the most traversal stack entries the subtree needs, given
- * `stack_base` entries below (a node pushes its children, then pops one). */
+ * `stack_base` entries below (a node pushes its children, then pops one),
+ * and b->instance_entry_need (a popped leaf's entry is replaced by one per
+ * instance in it, and the one entered by the entry that leaves it). */
 static int collapse(Builder *b, int index, int stack_base, int *stack_need)
 {
     int slots[BVH_WIDTH] = {index}, n = 1;
@@ -343,12 +348,17 @@ static int collapse(Builder *b, int index, int stack_base, int *stack_need)
             continue;
         }
         wide.child[j] = child->first;
+        int instances = 0;
+        for (int k = child->first; k < child->first + child->count; ++k)
+            instances += (b->primitives[k].kind & PRIM_KIND_MASK) == PRIM_INSTANCE;
+        if (instances > 0 && stack_base + n - 1 + instances > b->instance_entry_need)
+            b->instance_entry_need = stack_base + n - 1 + instances;
         int triangles = 1;
         for (int k = child->first; k < child->first + child->count; ++k)
             triangles &=
                 (b->primitives[k].kind & PRIM_KIND_MASK) == PRIM_TRIANGLE && !(b->primitives[k].kind & PRIM_ALPHA);
         if (!triangles || child->count > BVH_WIDTH)
-            continue; /* spheres, instances, cut-outs and the rare leaf of identical centroids: one by one */
+            continue; /* spheres, instances and cut-outs: one by one */
         int packet = new_block(b);
         if (packet < 0)
             return -1;
@@ -406,17 +416,13 @@ int bvh_build(const Primitive *primitives, int count, Bvh *bvh, char *error, siz
     } else if (collapse(&b, 0, 0, &stack_need) < 0) {
         goto out_of_memory;
     }
-    if (stack_need > BVH_STACK_SIZE) {
-        snprintf(error, error_size, "the BVH needs %d traversal stack entries, more than the %d the kernels have",
-                 stack_need, BVH_STACK_SIZE);
-        goto failed;
-    }
     bvh->nodes = b.blocks;
     bvh->node_count = b.block_count;
     bvh->primitive_count = count;
     bvh->depth = b.depth;
     bvh->largest_leaf = b.largest_leaf;
     bvh->stack_need = stack_need;
+    bvh->instance_entry_need = b.instance_entry_need;
     free(b.items);
     free(b.nodes);
     return 0;

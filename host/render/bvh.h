@@ -11,15 +11,24 @@
 /* Deepest binary tree the builder accepts. */
 #define BVH_MAX_DEPTH 92
 
+/* Each wide level (at most one per binary level) leaves at most
+ * BVH_WIDTH - 1 entries on the stack; an instance adds its leaf's others
+ * and its own tree. The host's traversal has room for any of them. */
+_Static_assert(2 * (BVH_WIDTH - 1) * BVH_MAX_DEPTH + 2 * BVH_WIDTH <= BVH_STACK_LIMIT,
+               "BVH_STACK_LIMIT holds the deepest two-level BVH");
+
 typedef struct {
     BvhNode *nodes; /* wide nodes and triangle packets */
     int node_count;
     Primitive *primitives; /* reordered so leaves reference ranges */
     int *order;            /* primitives[i] is the input's primitive order[i] */
     int primitive_count;
-    int depth; /* of the binary tree */
-    int largest_leaf;
-    int stack_need; /* traversal stack entries */
+    int depth;        /* of the binary tree */
+    int largest_leaf; /* at most BVH_WIDTH: identical centroids are split by order */
+    int stack_need;   /* traversal stack entries */
+    /* The most entries on the stack when the traversal enters an instance
+     * (the entry that leaves it included); 0 without instances. */
+    int instance_entry_need;
 } Bvh;
 
 /* Builds over a copy of `primitives`. Returns 0, or -1 with a message. An

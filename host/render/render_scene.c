@@ -716,14 +716,11 @@ static int build_instanced_bvh(RenderScene *scene, char *error, size_t error_siz
     }
     if (bvh_build(top, top_count, &world, error, error_size))
         goto done;
-    /* An instance is entered with the top level's entries below it, up to
-     * a leaf's instances and the entry leaving it. */
-    if (world.stack_need + BVH_WIDTH + 1 + stack_need > BVH_STACK_SIZE) {
-        snprintf(error, error_size,
-                 "the instanced BVH needs %d traversal stack entries, more than the %d the kernels have",
-                 world.stack_need + BVH_WIDTH + 1 + stack_need, BVH_STACK_SIZE);
-        goto done;
-    }
+    /* An object's tree is traversed above the top level's entries when its
+     * instance is entered. */
+    int need = world.stack_need;
+    if (world.instance_entry_need > 0 && world.instance_entry_need + stack_need > need)
+        need = world.instance_entry_need + stack_need;
     int node_count = world.node_count, primitive_count = world.primitive_count + in_object;
     for (int k = 0; k < objects; ++k)
         node_count += trees[k].node_count;
@@ -766,7 +763,7 @@ static int build_instanced_bvh(RenderScene *scene, char *error, size_t error_siz
     all->primitive_count = primitive_count;
     all->depth = world.depth;
     all->largest_leaf = world.largest_leaf;
-    all->stack_need = world.stack_need + BVH_WIDTH + 1 + stack_need;
+    all->stack_need = need;
     scene->world_primitive_count = world.primitive_count;
     result = 0;
 done:

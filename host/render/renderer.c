@@ -685,14 +685,17 @@ static int is_power_of_two(uint64_t x)
 
 /* Writes the specialized path tracer source with its defines. */
 void path_tracer_build_options(const EstimatorSettings *estimator, uint64_t features, uint32_t sampler,
-                               int sampler_sets, char *options, size_t size)
+                               int sampler_sets, int stack_need, char *options, size_t size)
 {
     char sample_options[768];
     film_sample_build_options(estimator, sample_options, sizeof sample_options);
+    /* Rounded up to a multiple of 16, so that scenes of about the same
+     * depth share a cached build. */
+    int stack_size = (stack_need > 1 ? stack_need + 15 : 16) / 16 * 16;
     snprintf(options, size,
              "-DEST_SETS=%d -DGMON_FEATURES=0x%" PRIx64 "ul -DGMON_SAMPLER=%u -DGMON_SAMPLER_SETS=%d "
-             "-cl-unsafe-math-optimizations%s",
-             estimator->set_count, features, (unsigned)sampler, sampler_sets, sample_options);
+             "-DBVH_STACK_SIZE=%d -cl-unsafe-math-optimizations%s",
+             estimator->set_count, features, (unsigned)sampler, sampler_sets, stack_size, sample_options);
 }
 
 static int dump_kernel(const RenderSettings *s, const char *options, char *error, size_t error_size)
@@ -870,7 +873,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
      * integer accumulation does, which no float option touches), so it may
      * reassociate: about 10% faster on PoCL. */
     char options[1024];
-    path_tracer_build_options(&r.estimator, out->features, out->sampler, m, options, sizeof options);
+    path_tracer_build_options(&r.estimator, out->features, out->sampler, m, scene->bvh.stack_need, options,
+                              sizeof options);
     if (s->dump_kernel && dump_kernel(s, options, error, error_size))
         goto done;
     for (int i = 0; i < device_count; ++i) {

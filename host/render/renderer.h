@@ -119,9 +119,10 @@ void render_settings_default(RenderSettings *settings);
 
 /* The path tracer's build options: M (the estimator's set_count, the sets
  * kept), the scene's features, the sampler and the M it deals samples to,
- * and the per-sample estimators' defines. */
+ * the traversal stack the scene's BVH needs (Bvh.stack_need), and the
+ * per-sample estimators' defines. */
 void path_tracer_build_options(const EstimatorSettings *estimator, uint64_t features, uint32_t sampler,
-                               int sampler_sets, char *options, size_t size);
+                               int sampler_sets, int stack_need, char *options, size_t size);
 
 /* Renders `scene` (finalized) on devices[0 .. device_count - 1]. A
  * cancelled or time-limited render succeeds with fewer samples. On

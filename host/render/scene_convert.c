@@ -698,7 +698,8 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         for (size_t i = 0; i < scene.shape_count && !failed; ++i)
             if (scene.shapes[i].object < 0 && (scene.shapes[i].kind == SCENE_SHAPE_SPHERE) == spheres)
                 failed = add_shape(&scene, i, emission, alpha_programs[i], out);
-    failed = failed || add_objects(&scene, alpha_programs, out, error, error_size);
+    if (!failed) /* -1 (its message written) must not become 1 (out of memory) */
+        failed = add_objects(&scene, alpha_programs, out, error, error_size);
     free(emission);
     free(alpha_programs);
     if (failed < 0) {

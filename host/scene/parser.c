@@ -7,6 +7,7 @@
 #include "scene/camera.h"
 #include "scene/directives.h"
 #include "scene/geometry.h"
+#include "scene/instance_check.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
 #include "scene/read_file.h"
@@ -423,6 +424,7 @@ static int finish_instances(Parser *p)
         by_name[i] = (NamedObject){s->objects[i].name, (int)i};
     qsort(by_name, s->object_count, sizeof *by_name, compare_named_objects);
     int result = 0;
+    InstanceCheck check = {0};
     for (size_t i = 0; i < s->instance_count && result == 0; ++i) {
         NamedObject key = {p->pending[i].name, -1};
         const NamedObject *found = bsearch(&key, by_name, s->object_count, sizeof *by_name, compare_named_objects);
@@ -431,7 +433,10 @@ static int finish_instances(Parser *p)
         else
             result = scene_error(&p->diag, p->pending[i].file, p->pending[i].line,
                                  "ObjectInstance: no object \"%s\" is defined (ObjectBegin)", p->pending[i].name);
+        if (found)
+            result = scene_check_instance(&p->diag, &check, i, p->pending[i].file, p->pending[i].line);
     }
+    instance_check_free(&check);
     free(by_name);
     return result;
 }
