@@ -103,8 +103,13 @@ static ImageIoStatus allocate(RgbImage *image, uint64_t width, uint64_t height, 
 static ImageIoStatus read_exr(const char *path, RgbImage *image, char *error, size_t error_size)
 {
     ExrImage exr;
-    if (exr_image_read(path, &exr, error, error_size) != IMAGE_IO_OK)
+    char why[1024];
+    if (exr_image_read(path, &exr, why, sizeof why) != IMAGE_IO_OK) {
+        /* "path: cause", where the cause may quote the file's channel names. */
+        image_printable(why, error, error_size);
+        exr_image_free(&exr);
         return IMAGE_IO_ERROR;
+    }
     const ExrRgbLayer *layer = exr_image_layer(&exr, ""), *integers = NULL;
     if (layer && layer->is_int) {
         integers = layer;

@@ -41,6 +41,25 @@ def png_palette(width=SIDE, height=SIDE, index=0, entries=1):
             png_chunk(b"PLTE", palette) + png_chunk(b"IDAT", zlib.compress(rows)) + png_chunk(b"IEND", b""))
 
 
+def png_interlaced_palette(width=13, height=13, index=1, depth=4):
+    """Adam7-interlaced, `depth`-bit palette indices (colour 1 is COLOUR):
+    each pass's first row unfiltered, the others filtered Up (all zero
+    differences), which the palette index check must undo."""
+    passes = [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)]
+    raw = b""
+    for x0, y0, dx, dy in passes:
+        pass_width = (width - x0 + dx - 1) // dx if width > x0 else 0
+        pass_height = (height - y0 + dy - 1) // dy if height > y0 else 0
+        bits = format(index, f"0{depth}b") * pass_width
+        bits += "0" * ((-len(bits)) % 8)
+        row = bytes(int(bits[i:i + 8], 2) for i in range(0, len(bits), 8))
+        for y in range(pass_height if pass_width else 0):
+            raw += b"\0" + row if y == 0 else b"\2" + bytes(len(row))
+    ihdr = struct.pack(">IIBBBBB", width, height, depth, 3, 0, 0, 1)
+    return (b"\x89PNG\r\n\x1a\n" + png_chunk(b"IHDR", ihdr) + png_chunk(b"PLTE", b"\0\0\0" + bytes(COLOUR)) +
+            png_chunk(b"IDAT", zlib.compress(raw)) + png_chunk(b"IEND", b""))
+
+
 def png_odd_chunk(kind):
     """A valid PNG with an extra (critical) chunk of type `kind`, which may
     hold control bytes; its CRC is right."""
@@ -253,6 +272,7 @@ def valid_images():
     return {
         "valid.png": (png(), srgb),
         "valid-palette.png": (png_palette(), srgb),
+        "valid-interlaced.png": (png_interlaced_palette(), srgb),
         "valid.tga": (tga(), srgb),
         "valid-rle.tga": (tga(rle=True), srgb),
         "valid.bmp": (bmp(), srgb),
@@ -289,6 +309,7 @@ def malformed_images():
         "cut.png": (png(64, 64)[:-30], "truncated"),
         "cut-idat.png": (png(64, 64)[:60], "truncated"),
         "palette-index.png": (png_palette(index=5, entries=2), "palette"),
+        "interlaced-index.png": (png_interlaced_palette(index=2), "palette"),
         "cut.jpg": (jpeg(width=64, height=64)[:-6], "truncated"),
         "no-eoi.jpg": (jpeg(width=16, height=16)[:-2], "truncated"),
         "bomb.tga": (tga(26000, 26000, header_only=True), "over the limit"),
