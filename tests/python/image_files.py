@@ -316,6 +316,7 @@ def malformed_images():
         "bomb.bmp": (bmp(26000, 26000, header_only=True), "over the limit"),
         "bomb.hdr": (hdr(header_size=(26000, 26000)), "over the limit"),
         "bomb.png": (png(1, 1, ihdr_size=(26000, 26000)), "over the limit"),
+        "small-bomb.png": (png(1, 1, ihdr_size=(16000, 16000)), "truncated"),
         "bomb.jpg": (jpeg(width=8, height=8, header_size=(20000, 20000), scan_bytes=b"\x3f" * 1400), "over the limit"),
         "small-bomb.jpg": (jpeg(width=8, height=8, header_size=(16000, 16000), scan_bytes=b"\x3f" * 1400),
                            "truncated"),
