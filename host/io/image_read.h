@@ -1,8 +1,11 @@
 /* Reads an image as linear RGB floats, for lights (and textures): OpenEXR
- * (its R, G, B channels, or its first RGB layer), PFM, and through
- * stb_image PNG, TGA, JPEG, BMP (8- or 16-bit, decoded from sRGB as
- * pbrt-v4 decodes them) and Radiance HDR (linear). Grey images are
- * replicated to RGB, alpha is dropped. Rows from the top. */
+ * (its HALF or FLOAT R, G, B channels, or its first such layer), PFM,
+ * and through stb_image PNG, TGA, JPEG, BMP, GIF, PSD, PIC, PNM (8- or
+ * 16-bit, decoded from sRGB as pbrt-v4 decodes them) and Radiance HDR
+ * (linear). Grey images are replicated to RGB, alpha is dropped. Rows
+ * from the top. Both readers check the file first (image_probe.h): the
+ * same file gives the same image or the same error whatever it is used
+ * as. */
 #ifndef HOST_IO_IMAGE_READ_H
 #define HOST_IO_IMAGE_READ_H
 

@@ -3,12 +3,12 @@
  * them, and public scenes ship them) through zlib. The limit applies to the
  * inflated data: a small file that inflates without end (a "gzip bomb")
  * stops at the limit instead of filling the memory. */
-#define _POSIX_C_SOURCE 200809L /* open, fstat, pread, O_CLOEXEC */
+#define _POSIX_C_SOURCE 200809L /* pread */
 
 #include "scene/read_file.h"
+#include "io/regular_file.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -143,25 +143,12 @@ int scene_read_file(const char *path, size_t max_size, char **data, size_t *size
 {
     *data = NULL;
     *size = 0;
-    /* O_NONBLOCK: opening a FIFO without a writer would wait for one. */
-    int fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-        snprintf(why, why_size, "%s", strerror(errno));
-        return -1;
-    }
     struct stat st;
+    int fd = regular_file_open(path, &st, why, why_size);
+    if (fd < 0)
+        return -1;
     char limit[32];
     format_bytes(max_size, limit, sizeof limit);
-    if (fstat(fd, &st) != 0) {
-        snprintf(why, why_size, "%s", strerror(errno));
-        close(fd);
-        return -1;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(why, why_size, "not a regular file (a directory, device or FIFO)");
-        close(fd);
-        return -1;
-    }
     if ((uintmax_t)st.st_size > max_size) {
         snprintf(why, why_size, "%jd bytes, over the %s limit", (intmax_t)st.st_size, limit);
         close(fd);

@@ -1,6 +1,7 @@
 # libFuzzer harnesses, built alone in their own clang build (the top-level
 # CMakeLists.txt includes this file, and nothing else, with -DGMON_FUZZ=ON):
-# the scene reader with conversion and BVH, the PLY reader, the EXR reader.
+# the scene reader with conversion and BVH, the PLY reader, the EXR reader,
+# the image readers (textures and lights' images).
 # No OpenCL. tests/fuzz/build_fuzzers.cmake and run_fuzzer.cmake build and
 # run them for the test suite; docs/design.md's developer options say how to run
 # them longer by hand.
@@ -30,12 +31,13 @@ add_library(fuzz_code STATIC
   host/render/bvh.c
   host/io/exr_image.c
   host/io/image_read.c
+  host/io/image_probe.c
   tests/fuzz/fuzz_input.c)
 target_include_directories(fuzz_code PUBLIC host kernels ${GMON_GENERATED_DIR}/kernels tests/fuzz)
 add_dependencies(fuzz_code sorting_networks)
 target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB OpenEXR::OpenEXRCore ZLIB::ZLIB ${MATH_LIBRARY})
 
-foreach(harness scene ply exr)
+foreach(harness scene ply exr image)
   add_executable(fuzz_${harness} tests/fuzz/fuzz_${harness}.c)
   target_link_libraries(fuzz_${harness} PRIVATE fuzz_code)
   target_link_options(fuzz_${harness} PRIVATE -fsanitize=fuzzer)

@@ -2,7 +2,7 @@
 # bounded time on a fresh copy of its seeds (the project's scenes and data,
 # ../shared/scenes, tests/fuzz/corpus). Fails on a crash, leak, UB report,
 # timeout or out-of-memory; libFuzzer saves the input in FUZZ_DIR/findings/.
-# cmake -DHARNESS=scene|ply|exr -DSOURCE_DIR=<repo> -DFUZZ_DIR=<build/fuzz> -DSECONDS=40 -P run_fuzzer.cmake
+# cmake -DHARNESS=scene|ply|exr|image -DSOURCE_DIR=<repo> -DFUZZ_DIR=<build/fuzz> -DSECONDS=40 -P run_fuzzer.cmake
 set(max_len 65536)
 set(seeds ${FUZZ_DIR}/seeds/${HARNESS})
 set(corpus ${FUZZ_DIR}/corpus/${HARNESS}) # what this run adds
@@ -47,6 +47,9 @@ elseif(HARNESS STREQUAL "exr")
   if(NOT result EQUAL 0)
     message(FATAL_ERROR "make_exr_seeds failed")
   endif()
+elseif(HARNESS STREQUAL "image")
+  copy_seeds(own ${SOURCE_DIR}/tests/fuzz/corpus/image "*")
+  copy_seeds(shared ${shared_scenes} "*.png" "*.jpg" "*.tga" "*.bmp" "*.hdr" "*.pfm")
 else()
   message(FATAL_ERROR "unknown harness '${HARNESS}'")
 endif()
