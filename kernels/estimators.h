@@ -421,15 +421,6 @@ enum {
     FIXED_COUNT
 };
 
-#define PASSES_FIXED_WEIGHTS                                                                                           \
-    (PASS_BIT(PASS_AMON) | PASS_BIT(PASS_ADMON) | PASS_BIT(PASS_TRIMMED) | PASS_BIT(PASS_WINSORIZED) |                 \
-     PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL))
-
-/* The passes whose leave-one-out estimates depend on which set is left
- * out only through its rank in each channel and through Gbar: these and
- * MoN. */
-#define PASSES_BY_RANK (PASSES_FIXED_WEIGHTS | PASS_BIT(PASS_MON))
-
 /* The variants (bits 1 << FIXED_*) that `passes` need. */
 EST_INLINE uint32_t fixed_variants(uint32_t passes)
 {
@@ -643,8 +634,9 @@ EST_INLINE est_float pakmon_entropy(const est_float *v, int m)
     return EST_SELECT(h < 0.0f, EST_FLOATS(0.0f), EST_SELECT(h > 1.0f, EST_FLOATS(1.0f), h));
 }
 
-EST_INLINE est_float pakmon_of_sorted(const est_float *v, int m)
+EST_INLINE est_float pakmon_of_sorted(const est_float *v, int m, const EstimatorParams *params)
 {
+    (void)params;
     est_float h = pakmon_entropy(v, m);
     const int k = m / 2, farthest = m % 2 ? k : k - 1;
     est_int rho = EST_INT_FROM_FLOAT(h * (float)k) - (int)(0.15f * (float)m);
@@ -780,6 +772,22 @@ EST_INLINE void weiszfeld(const est_float (*x)[EST_CAPACITY], int m, const est_f
     }
 }
 
+/* The of_sorted of the rows without one: never called. */
+EST_INLINE est_float not_of_sorted(const est_float *v, int m, const EstimatorParams *params)
+{
+    (void)v;
+    (void)m;
+    (void)params;
+    return EST_FLOATS(0.0f);
+}
+
+/* estimate_family's call of a TRAIT_OF_SORTED row's function on channel c
+ * (s its sorted values), if requested (of_sorted_passes: PASSES_OF_SORTED
+ * would expand GMON_PASSES within itself). */
+#define ESTIMATE_OF_SORTED_(id, name, type, kind, traits, of_sorted)                                                   \
+    if (of_sorted_passes & PASS_BIT(PASS_##id))                                                                        \
+        value[PASS_##id][c] = of_sorted(s, m, params);
+
 /* What the family shares in a pixel: the channels' G (the paper's, before
  * any Gini mode), the authors' G and the scales of the RGB points. */
 typedef struct {
@@ -801,6 +809,7 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
                                 int iterations, est_float *z, est_float (*value)[EST_CHANNELS])
 {
     const int k = m / 2;
+    const uint32_t of_sorted_passes = passes & PASSES_OF_SORTED;
     /* ggmon's and gmon-authors' weights follow Gbar, one per pixel: the
      * same for the three channels */
     est_float ggmon_weights[EST_CAPACITY], authors_weights[EST_CAPACITY];
@@ -832,8 +841,7 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
         }
         if (passes & PASS_BIT(PASS_GMON_AUTHORS))
             value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, authors_weights);
-        if (passes & PASS_BIT(PASS_PAKMON))
-            value[PASS_PAKMON][c] = pakmon_of_sorted(s, m);
+        GMON_PASSES(ESTIMATE_OF_SORTED_)
     }
     if (passes & PASS_BIT(PASS_GMEDIAN)) {
         est_float points[EST_CHANNELS][EST_CAPACITY]; /* on the channels' scales, once for every step */
@@ -986,7 +994,7 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
      * the sets, which records each set's Gbar at its ranks. The others are
      * recomputed on each m - 1 sets. */
     const uint32_t by_rank = jackknifed & PASSES_BY_RANK, recomputed = jackknifed & ~PASSES_BY_RANK;
-    const uint32_t gated = PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL);
+    const uint32_t gated = PASSES_GATED_BY_GBAR;
     est_float gbar_by_rank[EST_CHANNELS][EST_CAPACITY];
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
@@ -1121,7 +1129,7 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
 /* The passes of the family (beyond mean, MoN, G-MoN, diagnostics). */
 EST_INLINE uint32_t family_passes(uint32_t passes)
 {
-    return passes & PASSES_ESTIMATES & ~(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON));
+    return passes & PASSES_FAMILY;
 }
 
 /* Whether an estimation needs a pixel's three channels at once: else each
