@@ -381,6 +381,7 @@ EST_INLINE est_float scale_by_power(est_float x, est_int e)
 #include "estimators/gmon_authors.h"
 #include "estimators/pakmon.h"
 #include "estimators/gmedian.h"
+#include "estimators/huber.h"
 
 /* The weighted means whose weights depend only on the set count and the
  * parameters, not on the values: their leave-one-out estimates take O(m)

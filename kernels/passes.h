@@ -75,6 +75,7 @@
     PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                            \
     PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                      \
     PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                              \
+    PASS(HUBER, "huber", PASS_FLOAT, PASS_ESTIMATE, TRAIT_OF_SORTED, huber_of_sorted)                                  \
     PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                         \
     PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                           \
     PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                   \
@@ -142,6 +143,7 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
     PARAM(int32_t, trimmed_c, "trimmed.c", -1, -1, 31)                                                                 \
     PARAM(int32_t, winsorized_c, "winsorized.c", -1, -1, 31)                                                           \
     PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)                                              \
+    PARAM(float, huber_k, "huber.k", 1.0f, 0.5, 100)                                                                   \
     PARAM(float, clamp_sum_direct, "clamp-sum.direct", 0.0f, 0, INFINITY)                                              \
     PARAM(float, clamp_sum_indirect, "clamp-sum.indirect", 10.0f, 0, INFINITY)                                         \
     PARAM(int32_t, zirr_k, "zirr.k", 6, 2, EST_ZIRR_CASCADES_MAX)                                                      \

@@ -10,6 +10,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -102,6 +103,19 @@ static void test_help_lists_the_tables(void **state)
     static const char *const parameters[] = {GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels"};
     for (size_t i = 0; i < sizeof parameters / sizeof parameters[0]; ++i)
         assert_non_null(strstr(help, parameters[i]));
+}
+
+/* Every parameter row names its estimator's row: "<estimator>.<name>". */
+static void test_parameters_belong_to_estimators(void **state)
+{
+    (void)state;
+    static const char *const parameters[] = {GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels"};
+    for (size_t i = 0; i < sizeof parameters / sizeof parameters[0]; ++i) {
+        char estimator[64];
+        snprintf(estimator, sizeof estimator, "%.*s", (int)strcspn(parameters[i], "."), parameters[i]);
+        if (pass_from_name(estimator) < 0)
+            fail_msg("parameter %s: no estimator '%s' in GMON_PASSES", parameters[i], estimator);
+    }
 }
 
 /* Each subcommand takes only the flags it uses, and has its own --help. */
@@ -263,6 +277,7 @@ int main(void)
         cmocka_unit_test(test_subcommands),
         cmocka_unit_test(test_subcommand_flags_and_help),
         cmocka_unit_test(test_help_lists_the_tables),
+        cmocka_unit_test(test_parameters_belong_to_estimators),
         cmocka_unit_test(test_device_selection),
         cmocka_unit_test(test_bad_flags_and_values),
         cmocka_unit_test(test_estimator_family_flags),

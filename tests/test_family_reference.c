@@ -24,7 +24,7 @@
 
 static const char *const all_names[] = {"mean",   "mon",         "gmon",         "amon",         "admon",
                                         "ggmon",  "gmon-binary", "gmon-partial", "dmon-partial", "gmon-authors",
-                                        "pakmon", "trimmed",     "winsorized",   "gmedian"};
+                                        "pakmon", "trimmed",     "winsorized",   "gmedian",      "huber"};
 #define NAME_COUNT (sizeof all_names / sizeof all_names[0])
 
 static const double channel_scale[REF_CHANNELS] = {1.0, 2.0, 0.5};
@@ -99,6 +99,7 @@ static const Expectation expect_124[] = {
     {"trimmed", 7.0L / 3.0L},    /* c = floor(3 / 4) = 0 */
     {"winsorized", 7.0L / 3.0L}, /* c = 0 */
     {"gmedian", 2.0L},           /* collinear RGB means (t, 2t, t/2): the middle one */
+    {"huber", 7.0L / 3.0L},      /* h = 1 (4 - 1) covers every distance: the mean */
 };
 
 static void test_three_sets(void **state)
@@ -144,6 +145,9 @@ static void test_five_sets(void **state)
         {"trimmed", 5.0L / 3.0L}, /* c = floor(5 / 4) = 1 */
         {"winsorized", 1.6L},     /* 1, 1, 2, 2, 2 */
         {"gmedian", 2.0L},        /* collinear: the middle one */
+        /* q = 1, h = 2 - 1 = 1: 14 weighs 1 / (14 - z); the steps from 2
+         * (86/49, 4286/2449, ...) approach 7/4, where (6 + 14 w) / (4 + w) = z */
+        {"huber", 1.75000000000000653333333333L},
     };
     RefFamilyParams p;
     ref_family_params_default(&p);
@@ -177,6 +181,9 @@ static void test_six_sets(void **state)
         {"trimmed", 3.75L},           /* c = floor(6 / 4) = 1 */
         {"winsorized", 23.0L / 6.0L}, /* 2, 2, 3, 4, 6, 6 */
         {"gmedian", 3.5L},            /* collinear, even: stays at the componentwise median */
+        /* q = 1, h = 4 - 2 = 2; from 3.5, 1 and 21 weigh h / distance: the
+         * steps approach 4 */
+        {"huber", 3.99999999999191386934228975L},
     };
     RefFamilyParams p;
     ref_family_params_default(&p);
@@ -200,6 +207,8 @@ static void test_unequal_counts(void **state)
          * H = entropy / ln 2 = 0.95003631; rho = floor(2H) - 0 = 1 = D:
          * (1.5 + H (1 + 5)) / (1 + 2H) */
         {"pakmon", 2.482771574459581740353L},
+        /* of the means: q = 1, h = 2 - 1 = 1; from 1.5 the steps approach 5/3 */
+        {"huber", 1.66666666592617876140735502L},
     };
     RefFamilyParams p;
     ref_family_params_default(&p);

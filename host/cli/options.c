@@ -206,7 +206,7 @@ static const char *flag_help(const Flag *f, char *out, size_t size)
         append_words(out, size, "(clamp: a layer clamp-<V> per level; docs/estimators.md)", width);
     } else {
         append_words(out, size, GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels (V:V:...);", width);
-        append_words(out, size, "defaults and ranges in docs/estimators.md; written to the EXR metadata", width);
+        append_words(out, size, "defaults in docs/estimators.md; written to the EXR metadata", width);
     }
     return out;
 }
