@@ -10,6 +10,7 @@
  * scale). The values that need a logarithm were computed with mpmath at 30
  * digits from the formulas written beside them. */
 #include "family_reference.h"
+#include "passes.h"
 #include "sample_streams.h"
 
 #include <math.h>
@@ -22,9 +23,10 @@
 
 #include <cmocka.h>
 
-static const char *const all_names[] = {"mean",   "mon",         "gmon",         "amon",         "admon",
-                                        "ggmon",  "gmon-binary", "gmon-partial", "dmon-partial", "gmon-authors",
-                                        "pakmon", "trimmed",     "winsorized",   "gmedian",      "huber"};
+/* Every set-based estimator, from the rows of kernels/passes.h (NULL for
+ * the other rows), so that a new row is checked here too. */
+#define ESTIMATE_NAME_(id, name, type, kind, traits, of_sorted) (kind) == PASS_ESTIMATE ? name : NULL,
+static const char *const all_names[] = {GMON_PASSES(ESTIMATE_NAME_)};
 #define NAME_COUNT (sizeof all_names / sizeof all_names[0])
 
 static const double channel_scale[REF_CHANNELS] = {1.0, 2.0, 0.5};
@@ -250,6 +252,8 @@ static void test_two_sets(void **state)
     RefFamilyParams p;
     ref_family_params_default(&p);
     for (size_t i = 0; i < NAME_COUNT; ++i) {
+        if (!all_names[i])
+            continue;
         long double out[REF_CHANNELS];
         int mean = strcmp(all_names[i], "mean") == 0;
         long double expected[REF_CHANNELS] = {mean ? 7.0L / 3.0L : 3.0L, mean ? 7.0L / 3.0L : 2.0L, 0.0L};
@@ -270,6 +274,8 @@ static void test_one_set_and_none(void **state)
     RefFamilyParams p;
     ref_family_params_default(&p);
     for (size_t i = 0; i < NAME_COUNT; ++i) {
+        if (!all_names[i])
+            continue;
         long double out[REF_CHANNELS];
         assert_int_equal(ref_family_estimate(all_names[i], &p, one_set, 5, 1, out), 0);
         assert_true(out[0] == 2.0L && out[1] == 0.0L && out[2] == -1.0L);
@@ -617,6 +623,8 @@ static void test_stderr_of_identical_means_and_of_one_set(void **state)
     RefFamilyParams p;
     ref_family_params_default(&p);
     for (size_t i = 0; i < NAME_COUNT; ++i) {
+        if (!all_names[i])
+            continue;
         long double out[REF_CHANNELS];
         assert_int_equal(ref_family_stderr(all_names[i], &p, identical, 7, 3, out), 0);
         for (int c = 0; c < REF_CHANNELS; ++c)
