@@ -1,9 +1,13 @@
 /* The per-pixel estimators of docs/estimators.md, from the set sums:
  * mean, MoN, G-MoN and the estimator family (passes.h lists them), with
- * their diagnostics and standard errors.
+ * their diagnostics and standard errors. This file is their shared core
+ * (sorting, Gini, the weighted averages, estimate_family's dispatch, the
+ * standard errors' driver); each estimator of the family is a file under
+ * estimators/, included below, and its row in passes.h says how the core
+ * treats it.
  *
  * Valid C11 and OpenCL C 1.2. The host reference (host/film) and the
- * estimator kernel (kernels/estimator.cl) compile this one file, so they
+ * estimator kernel (kernels/estimator.cl) compile these files, so they
  * agree bit for bit.
  *
  * In a kernel, EST_SETS (M) is a compile-time constant and sizes the private
@@ -324,85 +328,60 @@ EST_INLINE est_float weighted_sorted_average(const est_float *v, int m, const es
                        v[m - 1]);
 }
 
-/* amon's weights: alpha^d at distance d from the centre of m sorted values
- * (odd m: the median, d = |j - k|; even m: the middle pair, each at 1/2,
- * then d = 1.. outwards), 0 past distance `reach`. alpha^0 = 1. */
-EST_INLINE void centre_weights(est_float alpha, est_int reach, int m, est_float *w)
+/* 1 / sqrt(x) for x in [1, 4): the bit-level estimate (within 3.5e-2)
+ * and three Newton steps, each taking the relative error e to 1.5 e^2
+ * (1.8e-3, 5e-6, then float rounding); multiplications only: the same bits
+ * everywhere. */
+EST_INLINE est_float inverse_root_reduced(est_float x)
 {
-    const int k = m / 2;
-    est_float power = EST_FLOATS(1.0f);
-    if (m % 2) {
-        w[k] = EST_FLOATS(1.0f);
-        EST_UNROLL
-        for (int d = 1; d <= k; ++d) {
-            power = power * alpha;
-            est_float x = EST_SELECT(d <= reach, power, EST_FLOATS(0.0f));
-            w[k - d] = x;
-            w[k + d] = x;
-        }
-    } else {
-        w[k - 1] = EST_FLOATS(0.5f);
-        w[k] = EST_FLOATS(0.5f);
-        EST_UNROLL
-        for (int d = 1; d < k; ++d) {
-            power = power * alpha;
-            est_float x = EST_SELECT(d <= reach, power, EST_FLOATS(0.0f));
-            w[k - 1 - d] = x;
-            w[k + d] = x;
-        }
-    }
-}
-
-/* admon's weights: odd m, 1 within distance u of the median, else 0; even
- * m (the authors' rule, u unused): every set at 1, the middle pair at 1/2. */
-EST_INLINE void band_weights(est_int u, int m, est_float *w)
-{
-    const int k = m / 2;
+    est_float y = EST_FLOAT_FROM_BITS(0x5f3759dfu - (EST_FLOAT_BITS(x) >> 1));
     EST_UNROLL
-    for (int j = 0; j < m; ++j) {
-        int d = j < k ? k - j : j - k;
-        if (m % 2)
-            w[j] = EST_SELECT(d <= u, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
-        else
-            w[j] = EST_FLOATS(j == k - 1 || j == k ? 0.5f : 1.0f);
-    }
+    for (int i = 0; i < 3; ++i)
+        y = y * (1.5f - 0.5f * x * y * y);
+    return y;
 }
 
-/* Weight 1 on v[c .. m-1-c], 0 outside (a trimmed mean). */
-EST_INLINE void trim_weights(est_int c, int m, est_float *w)
+/* sqrt(x) (inverse: 1 / sqrt(x)) for finite x >= 0 within about an ulp,
+ * without library sqrt: x = 4^h f with f in [1, 4). 0 gives 0 (inverse:
+ * 0, the Weiszfeld weight of a point at the current estimate). */
+EST_INLINE est_float root_of(est_float x, int inverse)
 {
-    EST_UNROLL
-    for (int j = 0; j < m; ++j)
-        w[j] = EST_SELECT((c <= j) & (c <= m - 1 - j), EST_FLOATS(1.0f), EST_FLOATS(0.0f));
+    est_mask tiny = x < 1.17549435e-38f; /* denormal: scaled up by 2^64 first */
+    est_float y = EST_SELECT(tiny, x * 18446744073709551616.0f, x);
+    est_int e = EST_INT_FROM_UINT(EST_FLOAT_BITS(y) >> 23) - 127;
+    est_int h = (e - EST_SELECT(e < 0, EST_INTS(1), EST_INTS(0))) / 2; /* floor(e / 2) */
+    est_float f = y * power_of_two(-2 * h);
+    est_float r = inverse_root_reduced(f);
+    est_int shift = EST_SELECT(tiny, h - 32, h);
+    est_float result = inverse ? r * power_of_two(-shift) : f * r * power_of_two(shift);
+    return EST_SELECT(x > 0.0f, result, EST_FLOATS(0.0f));
 }
 
-/* The winsorized mean's weights: v[c] and v[m-1-c] also stand for the c
- * values beyond them. */
-EST_INLINE void winsor_weights(int c, int m, est_float *w)
+/* x * 2^e for any e (clamped to +-378, past which every float result is 0
+ * or infinite), in three exact steps. */
+EST_INLINE est_float scale_by_power(est_float x, est_int e)
 {
-    EST_UNROLL
-    for (int j = 0; j < m; ++j)
-        w[j] = EST_FLOATS((j == c ? c : 0) + (j == m - 1 - c ? c : 0) + (j >= c && j <= m - 1 - c ? 1 : 0));
+    e = EST_SELECT(e < -378, EST_INTS(-378), EST_SELECT(e > 378, EST_INTS(378), e));
+    est_int first = EST_SELECT(e < -126, EST_INTS(-126), EST_SELECT(e > 126, EST_INTS(126), e));
+    est_int rest = e - first;
+    est_int second = EST_SELECT(rest < -126, EST_INTS(-126), EST_SELECT(rest > 126, EST_INTS(126), rest));
+    return x * power_of_two(first) * power_of_two(second) * power_of_two(rest - second);
 }
 
-/* A set count parameter: c >= 0 as given, -1 for floor(m / 4), clamped so
- * that one set at least remains. */
-EST_INLINE int sets_to_trim(int32_t c, int m)
-{
-    int wanted = c < 0 ? m / 4 : c;
-    return wanted > (m - 1) / 2 ? (m - 1) / 2 : wanted;
-}
-
-EST_INLINE void amon_weights(est_float alpha, int m, est_float *w)
-{
-    centre_weights(alpha, EST_INTS(m), m, w);
-}
-
-EST_INLINE void admon_weights(est_float alpha, int m, est_float *w)
-{
-    est_int u = EST_INT_FROM_FLOAT(alpha * (float)(m / 2));
-    band_weights(EST_SELECT(u < 0, EST_INTS(0), u), m, w);
-}
+/* The estimators of the family, a file each (passes.h's rows say how
+ * the code below treats each). */
+#include "estimators/amon.h"
+#include "estimators/admon.h"
+#include "estimators/trimmed.h"
+#include "estimators/winsorized.h"
+#include "estimators/ggmon.h"
+#include "estimators/gmon_binary.h"
+#include "estimators/gmon_partial.h"
+#include "estimators/dmon_partial.h"
+#include "estimators/gmon_authors.h"
+#include "estimators/pakmon.h"
+#include "estimators/gmedian.h"
+#include "estimators/huber.h"
 
 /* The weighted means whose weights depend only on the set count and the
  * parameters, not on the values: their leave-one-out estimates take O(m)
@@ -420,15 +399,6 @@ enum {
     FIXED_ADMON_PARTIAL, /* admon(dmon-partial.alpha): at or above it */
     FIXED_COUNT
 };
-
-#define PASSES_FIXED_WEIGHTS                                                                                           \
-    (PASS_BIT(PASS_AMON) | PASS_BIT(PASS_ADMON) | PASS_BIT(PASS_TRIMMED) | PASS_BIT(PASS_WINSORIZED) |                 \
-     PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL))
-
-/* The passes whose leave-one-out estimates depend on which set is left
- * out only through its rank in each channel and through Gbar: these and
- * MoN. */
-#define PASSES_BY_RANK (PASSES_FIXED_WEIGHTS | PASS_BIT(PASS_MON))
 
 /* The variants (bits 1 << FIXED_*) that `passes` need. */
 EST_INLINE uint32_t fixed_variants(uint32_t passes)
@@ -488,13 +458,11 @@ EST_INLINE void fixed_weight_estimates(uint32_t passes, const est_float *x, est_
     if (passes & PASS_BIT(PASS_WINSORIZED))
         value[PASS_WINSORIZED][c] = x[FIXED_WINSORIZED];
     if (passes & PASS_BIT(PASS_GMON_BINARY))
-        value[PASS_GMON_BINARY][c] = EST_SELECT(gbar < params->gmon_binary_threshold, x[FIXED_MEAN], median);
+        value[PASS_GMON_BINARY][c] = gmon_binary_of(gbar, params, x[FIXED_MEAN], median);
     if (passes & PASS_BIT(PASS_GMON_PARTIAL))
-        value[PASS_GMON_PARTIAL][c] =
-            EST_SELECT(gbar < params->gmon_partial_threshold, x[FIXED_AMON_ONE], x[FIXED_AMON_PARTIAL]);
+        value[PASS_GMON_PARTIAL][c] = gmon_partial_of(gbar, params, x[FIXED_AMON_ONE], x[FIXED_AMON_PARTIAL]);
     if (passes & PASS_BIT(PASS_DMON_PARTIAL))
-        value[PASS_DMON_PARTIAL][c] =
-            EST_SELECT(gbar < params->dmon_partial_threshold, x[FIXED_ADMON_ONE], x[FIXED_ADMON_PARTIAL]);
+        value[PASS_DMON_PARTIAL][c] = dmon_partial_of(gbar, params, x[FIXED_ADMON_ONE], x[FIXED_ADMON_PARTIAL]);
 }
 
 /* The jackknife's leave-one-out estimates of a variant in O(m):
@@ -536,249 +504,21 @@ EST_INLINE void leave_one_out_averages(const est_float *v, int m, const est_floa
     }
 }
 
-/* ln x for a normal x > 0, with + - * / only, so that every device gives
- * the same bits: x = 2^e f with f in [sqrt(1/2), sqrt(2)), and ln f =
- * 2 atanh(s), s = (f - 1) / (f + 1), |s| < 0.172, by its series to s^9
- * (truncation below 3e-9 relative, under a float ulp; the result is within
- * a few float ulps). */
-EST_INLINE est_float natural_log(est_float x)
+/* The of_sorted of the rows without one: never called. */
+EST_INLINE est_float not_of_sorted(const est_float *v, int m, const EstimatorParams *params)
 {
-    est_uint bits = EST_FLOAT_BITS(x);
-    est_int e = EST_INT_FROM_UINT(bits >> 23) - 127;
-    est_float f = EST_FLOAT_FROM_BITS((bits & 0x7fffffu) | 0x3f800000u);
-    est_mask high = f > 1.41421356f;
-    f = EST_SELECT(high, f * 0.5f, f);
-    e = EST_SELECT(high, e + 1, e);
-    est_float s = (f - 1.0f) / (f + 1.0f), s2 = s * s;
-    est_float series = EST_FLOATS(1.0f / 9.0f);
-    series = series * s2 + 1.0f / 7.0f;
-    series = series * s2 + 1.0f / 5.0f;
-    series = series * s2 + 1.0f / 3.0f;
-    series = series * s2 + 1.0f;
-    /* ln 2 as a float and the rest, so that e ln 2 keeps its precision */
-    est_float ef = EST_FLOAT_FROM_INT(e);
-    return ef * 0.693145752f + (2.0f * s * series + ef * 1.42860677e-06f);
+    (void)v;
+    (void)m;
+    (void)params;
+    return EST_FLOATS(0.0f);
 }
 
-/* 1 / sqrt(x) for x in [1, 4): the bit-level estimate (within 3.5e-2)
- * and three Newton steps, each taking the relative error e to 1.5 e^2
- * (1.8e-3, 5e-6, then float rounding); multiplications only: the same bits
- * everywhere. */
-EST_INLINE est_float inverse_root_reduced(est_float x)
-{
-    est_float y = EST_FLOAT_FROM_BITS(0x5f3759dfu - (EST_FLOAT_BITS(x) >> 1));
-    EST_UNROLL
-    for (int i = 0; i < 3; ++i)
-        y = y * (1.5f - 0.5f * x * y * y);
-    return y;
-}
-
-/* sqrt(x) (inverse: 1 / sqrt(x)) for finite x >= 0 within about an ulp,
- * without library sqrt: x = 4^h f with f in [1, 4). 0 gives 0 (inverse:
- * 0, the Weiszfeld weight of a point at the current estimate). */
-EST_INLINE est_float root_of(est_float x, int inverse)
-{
-    est_mask tiny = x < 1.17549435e-38f; /* denormal: scaled up by 2^64 first */
-    est_float y = EST_SELECT(tiny, x * 18446744073709551616.0f, x);
-    est_int e = EST_INT_FROM_UINT(EST_FLOAT_BITS(y) >> 23) - 127;
-    est_int h = (e - EST_SELECT(e < 0, EST_INTS(1), EST_INTS(0))) / 2; /* floor(e / 2) */
-    est_float f = y * power_of_two(-2 * h);
-    est_float r = inverse_root_reduced(f);
-    est_int shift = EST_SELECT(tiny, h - 32, h);
-    est_float result = inverse ? r * power_of_two(-shift) : f * r * power_of_two(shift);
-    return EST_SELECT(x > 0.0f, result, EST_FLOATS(0.0f));
-}
-
-/* root_of(x, 1) for x in [1, 16), in the same steps (the same bits)
- * without its range reduction: Weiszfeld's distances, on a scale where
- * the largest coordinate lies in [1, 2). */
-EST_INLINE est_float inverse_root_small(est_float x)
-{
-    est_mask high = x >= 4.0f;
-    return inverse_root_reduced(EST_SELECT(high, x * 0.25f, x)) * EST_SELECT(high, EST_FLOATS(0.5f), EST_FLOATS(1.0f));
-}
-
-/* pakmon's entropy H of a channel's sorted values v[0..m-1]: the growth
- * of their squared deviations from the mean, d_j = sum_{i<j} (v_i - mean)^2
- * / (j + 1), j = 2..m-1, as a distribution p_j = d_j^2 / sum d^2, and H =
- * -sum p ln p / ln(m - 2) in [0, 1]; 0 for m <= 3 or equal values. */
-EST_INLINE est_float pakmon_entropy(const est_float *v, int m)
-{
-    if (m <= 3)
-        return EST_FLOATS(0.0f);
-    est_int e = sorted_range_exponent(v, 0, m - 1);
-    est_float down = power_of_two(-e);
-    est_float lowest = scaled(v[0], down);
-    est_float mean = lowest + sum_of_differences(v, 0, m - 1, down, lowest, 1) / (float)m;
-    est_float d[EST_CAPACITY];
-    est_float squares = EST_FLOATS(0.0f), largest = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int j = 1; j < m; ++j) {
-        est_float deviation = scaled(v[j - 1], down) - mean;
-        squares += deviation * deviation;
-        if (j >= 2) {
-            d[j] = squares * (1.0f / (float)(j + 1)); /* a constant in kernels: no division */
-            largest = EST_SELECT(d[j] > largest, d[j], largest);
-        }
-    }
-    /* d relative to the largest, so that the squares below neither
-     * underflow nor overflow */
-    est_float unit = EST_SELECT(largest > 0.0f, 1.0f / largest, EST_FLOATS(0.0f));
-    est_float total = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int j = 2; j < m; ++j) {
-        d[j] = d[j] * unit;
-        d[j] = d[j] * d[j];
-        total += d[j];
-    }
-    est_float inverse_total = EST_SELECT(total > 0.0f, 1.0f / total, EST_FLOATS(0.0f));
-    est_float entropy = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int j = 2; j < m; ++j) {
-        est_float p = d[j] * inverse_total;
-        est_mask normal = p >= 1.17549435e-38f; /* smaller p add below 1e-36 */
-        entropy -= EST_SELECT(normal, p * natural_log(EST_SELECT(normal, p, EST_FLOATS(1.0f))), EST_FLOATS(0.0f));
-    }
-    est_float h = entropy / natural_log(EST_FLOATS((float)(m - 2)));
-    return EST_SELECT(h < 0.0f, EST_FLOATS(0.0f), EST_SELECT(h > 1.0f, EST_FLOATS(1.0f), h));
-}
-
-EST_INLINE est_float pakmon_of_sorted(const est_float *v, int m)
-{
-    est_float h = pakmon_entropy(v, m);
-    const int k = m / 2, farthest = m % 2 ? k : k - 1;
-    est_int rho = EST_INT_FROM_FLOAT(h * (float)k) - (int)(0.15f * (float)m);
-    rho = EST_SELECT(rho < 0, EST_INTS(0), EST_SELECT(rho > farthest, EST_INTS(farthest), rho));
-    est_float w[EST_CAPACITY];
-    centre_weights(h, rho, m, w);
-    return weighted_sorted_average(v, m, w);
-}
-
-/* x * 2^e for any e (clamped to +-378, past which every float result is 0
- * or infinite), in three exact steps. */
-EST_INLINE est_float scale_by_power(est_float x, est_int e)
-{
-    e = EST_SELECT(e < -378, EST_INTS(-378), EST_SELECT(e > 378, EST_INTS(378), e));
-    est_int first = EST_SELECT(e < -126, EST_INTS(-126), EST_SELECT(e > 126, EST_INTS(126), e));
-    est_int rest = e - first;
-    est_int second = EST_SELECT(rest < -126, EST_INTS(-126), EST_SELECT(rest > 126, EST_INTS(126), rest));
-    return x * power_of_two(first) * power_of_two(second) * power_of_two(rest - second);
-}
-
-/* The authors' G of one channel (gini-dmon): on the means plus 1e-11, in
- * the pixel's units (`epsilon`: 1e-11 in the units of v). */
-EST_INLINE est_float gini_authors(const est_float *v, int m, est_float epsilon)
-{
-    est_int e = sorted_range_exponent(v, 0, m - 1);
-    est_float down = power_of_two(-e);
-    est_float lowest = scaled(v[0], down);
-    return gini_sorted_offset(v, m, down, lowest, sum_of_differences(v, 0, m - 1, down, lowest, 1),
-                              scale_by_power(epsilon, -e));
-}
-
-/* The sums of a Weiszfeld step from z over a set of points: their weights
- * 1 / |x_j - z| (total), the weighted differences (shift), the unit vectors
- * toward z, on the common scale (pull), and the points at z (at_z). */
-typedef struct {
-    est_float shift[EST_CHANNELS];
-    est_float pull[EST_CHANNELS];
-    est_float total;
-    est_float at_z;
-} WeiszfeldSums;
-
-EST_INLINE WeiszfeldSums weiszfeld_start(void)
-{
-    WeiszfeldSums s;
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        s.shift[c] = EST_FLOATS(0.0f);
-        s.pull[c] = EST_FLOATS(0.0f);
-    }
-    s.total = EST_FLOATS(0.0f);
-    s.at_z = EST_FLOATS(0.0f);
-    return s;
-}
-
-/* Adds point j's terms of the step from z (see weiszfeld). */
-EST_INLINE void weiszfeld_add(WeiszfeldSums *s, const est_float (*x)[EST_CAPACITY], int j, const est_float *ratio,
-                              const est_float *z)
-{
-    est_float d[EST_CHANNELS], common[EST_CHANNELS], largest = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        d[c] = x[c][j] - z[c];
-        common[c] = d[c] * ratio[c];
-        largest = larger_magnitude(largest, common[c]);
-    }
-    /* (a point within 2^-100 of z, on the largest channel's scale, counts
-     * as at z: its weight would overflow) */
-    est_mask here = largest < 7.88860905e-31f; /* 2^-100 */
-    est_int e = scale_exponent(largest);
-    est_float unit = power_of_two(-EST_SELECT(here, EST_INTS(0), e)), square = EST_FLOATS(0.0f);
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        common[c] = common[c] * unit;
-        square += common[c] * common[c];
-    }
-    est_float r = EST_SELECT(here, EST_FLOATS(0.0f), inverse_root_small(square)); /* square in [1, 12) */
-    est_float w = r * unit;                                                       /* 1 / distance */
-    s->total += w;
-    s->at_z += EST_SELECT(here, EST_FLOATS(1.0f), EST_FLOATS(0.0f));
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        s->shift[c] += w * d[c];
-        s->pull[c] += r * common[c];
-    }
-}
-
-/* a + b, term by term: the sums over two sets of points. */
-EST_INLINE WeiszfeldSums weiszfeld_union(const WeiszfeldSums *a, const WeiszfeldSums *b)
-{
-    WeiszfeldSums s;
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        s.shift[c] = a->shift[c] + b->shift[c];
-        s.pull[c] = a->pull[c] + b->pull[c];
-    }
-    s.total = a->total + b->total;
-    s.at_z = a->at_z + b->at_z;
-    return s;
-}
-
-/* The step itself: moves z by the sums of the step from it. */
-EST_INLINE void weiszfeld_move(const WeiszfeldSums *s, est_float *z)
-{
-    est_float norm = root_of(s->pull[0] * s->pull[0] + s->pull[1] * s->pull[1] + s->pull[2] * s->pull[2], 0);
-    est_float part = EST_SELECT(s->at_z > 0.0f, 1.0f - s->at_z / norm, EST_FLOATS(1.0f));
-    part = EST_SELECT((part > 0.0f) & (s->total > 0.0f), part, EST_FLOATS(0.0f));
-    EST_UNROLL
-    for (int c = 0; c < EST_CHANNELS; ++c)
-        z[c] = z[c] + part * (s->shift[c] / EST_SELECT(s->total > 0.0f, s->total, EST_FLOATS(1.0f)));
-}
-
-/* The geometric median of the m RGB points (x[0][j], x[1][j], x[2][j]):
- * `iterations` Weiszfeld steps from z (updated in place). Each channel is
- * kept on its own scale (x[c][j] and z[c] in units of 2^e_c), since
- * a step moves each coordinate to a weighted mean of that channel's
- * values; only the distances, which weigh the points, are on one scale
- * common to the channels (`ratio[c]` = 2^(e_c - e), e the largest e_c),
- * each difference rescaled by a power of two so that no square underflows.
- * At one or more of the points (eta of them) the plain step is undefined:
- * there Vardi and Zhang's step (2000) moves only by (1 - eta / |R|)^+ of
- * the step toward the others' weighted mean (R the sum of the unit vectors
- * from z to them), and stays where that point is the median (|R| <= eta),
- * as it is of a majority of equal points. */
-EST_INLINE void weiszfeld(const est_float (*x)[EST_CAPACITY], int m, const est_float *ratio, int iterations,
-                          est_float *z)
-{
-    for (int step = 0; step < iterations; ++step) {
-        WeiszfeldSums sums = weiszfeld_start();
-        EST_UNROLL
-        for (int j = 0; j < m; ++j)
-            weiszfeld_add(&sums, x, j, ratio, z);
-        weiszfeld_move(&sums, z);
-    }
-}
+/* estimate_family's call of a TRAIT_OF_SORTED row's function on channel c
+ * (s its sorted values), if requested (of_sorted_passes: PASSES_OF_SORTED
+ * would expand GMON_PASSES within itself). */
+#define ESTIMATE_OF_SORTED_(id, name, type, kind, traits, of_sorted)                                                   \
+    if (of_sorted_passes & PASS_BIT(PASS_##id))                                                                        \
+        value[PASS_##id][c] = of_sorted(s, m, params);
 
 /* What the family shares in a pixel: the channels' G (the paper's, before
  * any Gini mode), the authors' G and the scales of the RGB points. */
@@ -800,25 +540,19 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
                                 uint32_t passes, const EstimatorParams *params, const FamilyShared *shared,
                                 int iterations, est_float *z, est_float (*value)[EST_CHANNELS])
 {
-    const int k = m / 2;
+    const uint32_t of_sorted_passes = passes & PASSES_OF_SORTED;
     /* ggmon's and gmon-authors' weights follow Gbar, one per pixel: the
      * same for the three channels */
-    est_float ggmon_weights[EST_CAPACITY], authors_weights[EST_CAPACITY];
+    est_float weights_ggmon[EST_CAPACITY], weights_authors[EST_CAPACITY];
     if (passes & PASS_BIT(PASS_GGMON))
-        amon_weights(1.0f - shared->gbar, m, ggmon_weights);
-    if (passes & PASS_BIT(PASS_GMON_AUTHORS)) {
-        /* odd m: ceil(k G') sets off each end; even m: no trim */
-        est_float x = shared->authors_gbar * (float)k;
-        est_int c_floor = EST_INT_FROM_FLOAT(x);
-        est_int trim = c_floor + EST_SELECT(EST_FLOAT_FROM_INT(c_floor) < x, EST_INTS(1), EST_INTS(0));
-        trim = EST_SELECT(trim > k, EST_INTS(k), trim);
-        trim_weights(m % 2 ? trim : EST_INTS(0), m, authors_weights);
-    }
+        ggmon_weights(shared->gbar, m, weights_ggmon);
+    if (passes & PASS_BIT(PASS_GMON_AUTHORS))
+        gmon_authors_weights(shared->authors_gbar, m, weights_authors);
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
         const est_float *s = v[c];
         if (passes & PASS_BIT(PASS_GGMON))
-            value[PASS_GGMON][c] = weighted_sorted_average(s, m, ggmon_weights);
+            value[PASS_GGMON][c] = weighted_sorted_average(s, m, weights_ggmon);
         if (passes & PASSES_FIXED_WEIGHTS) {
             est_float x[FIXED_COUNT];
             EST_UNROLL
@@ -831,23 +565,11 @@ EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_fl
             fixed_weight_estimates(passes, x, median_of_sorted(s, m), shared->gbar, params, value, c);
         }
         if (passes & PASS_BIT(PASS_GMON_AUTHORS))
-            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, authors_weights);
-        if (passes & PASS_BIT(PASS_PAKMON))
-            value[PASS_PAKMON][c] = pakmon_of_sorted(s, m);
+            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, weights_authors);
+        GMON_PASSES(ESTIMATE_OF_SORTED_)
     }
-    if (passes & PASS_BIT(PASS_GMEDIAN)) {
-        est_float points[EST_CHANNELS][EST_CAPACITY]; /* on the channels' scales, once for every step */
-        EST_UNROLL
-        for (int c = 0; c < EST_CHANNELS; ++c) {
-            EST_UNROLL
-            for (int j = 0; j < m; ++j)
-                points[c][j] = scaled(t[c][j], shared->down[c]);
-        }
-        weiszfeld((const est_float(*)[EST_CAPACITY])points, m, shared->ratio, iterations, z);
-        EST_UNROLL
-        for (int c = 0; c < EST_CHANNELS; ++c) /* 1 / down: exact, a power of two */
-            value[PASS_GMEDIAN][c] = clamp_lanes(z[c] * (1.0f / shared->down[c]), v[c][0], v[c][m - 1]);
-    }
+    if (passes & PASS_BIT(PASS_GMEDIAN))
+        gmedian_estimate(v, t, m, shared->down, shared->ratio, iterations, z, value[PASS_GMEDIAN]);
 }
 
 /* The G and MoN the family needs besides v and t, on m sets. */
@@ -986,7 +708,7 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
      * the sets, which records each set's Gbar at its ranks. The others are
      * recomputed on each m - 1 sets. */
     const uint32_t by_rank = jackknifed & PASSES_BY_RANK, recomputed = jackknifed & ~PASSES_BY_RANK;
-    const uint32_t gated = PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL);
+    const uint32_t gated = PASSES_GATED_BY_GBAR;
     est_float gbar_by_rank[EST_CHANNELS][EST_CAPACITY];
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
@@ -995,32 +717,10 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             gbar_by_rank[c][j] = EST_FLOATS(0.0f);
     }
     const int iterations = params->gmedian_iterations / 4 > 1 ? params->gmedian_iterations / 4 : 1;
-    /* gmedian's leave-one-out estimates all start from the full estimate,
-     * so their first steps share every set's terms: summed once over the
-     * sets before each set and once over those after it, each first step
-     * moves by the union of the two. */
+    /* gmedian's leave-one-out estimates start from the full estimate */
     WeiszfeldSums before[EST_CAPACITY + 1], after[EST_CAPACITY + 1];
-    if (recomputed & PASS_BIT(PASS_GMEDIAN)) {
-        est_float points[EST_CHANNELS][EST_CAPACITY];
-        EST_UNROLL
-        for (int c = 0; c < EST_CHANNELS; ++c) {
-            EST_UNROLL
-            for (int j = 0; j < m; ++j)
-                points[c][j] = scaled(t[c][j], full->down[c]);
-        }
-        before[0] = weiszfeld_start();
-        EST_UNROLL
-        for (int j = 0; j < m; ++j) {
-            before[j + 1] = before[j];
-            weiszfeld_add(&before[j + 1], (const est_float(*)[EST_CAPACITY])points, j, full->ratio, gmedian_z);
-        }
-        after[m] = weiszfeld_start();
-        EST_UNROLL
-        for (int j = m - 1; j >= 0; --j) {
-            after[j] = after[j + 1];
-            weiszfeld_add(&after[j], (const est_float(*)[EST_CAPACITY])points, j, full->ratio, gmedian_z);
-        }
-    }
+    if (recomputed & PASS_BIT(PASS_GMEDIAN))
+        gmedian_step_sums(t, m, full->down, full->ratio, gmedian_z, before, after);
     KERNEL_NO_UNROLL
     for (int left_out = 0; left_out < m && (recomputed || (jackknifed & gated)); ++left_out) {
         est_float rest_v[EST_CHANNELS][EST_CAPACITY], rest_t[EST_CHANNELS][EST_CAPACITY];
@@ -1065,10 +765,8 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             shared.ratio[c] = full->ratio[c];
             z[c] = gmedian_z[c];
         }
-        if (recomputed & PASS_BIT(PASS_GMEDIAN)) {
-            WeiszfeldSums first = weiszfeld_union(&before[left_out], &after[left_out + 1]);
-            weiszfeld_move(&first, z);
-        }
+        if (recomputed & PASS_BIT(PASS_GMEDIAN))
+            gmedian_first_step_without(before, after, left_out, z);
         estimate_family((const est_float(*)[EST_CAPACITY])rest_v, (const est_float(*)[EST_CAPACITY])rest_t, m - 1,
                         recomputed, params, &shared, iterations - 1, z, value);
         jackknife_add(recomputed, value, down, left_out == 0, sum, squares, origin);
@@ -1121,7 +819,7 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
 /* The passes of the family (beyond mean, MoN, G-MoN, diagnostics). */
 EST_INLINE uint32_t family_passes(uint32_t passes)
 {
-    return passes & PASSES_ESTIMATES & ~(PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON));
+    return passes & PASSES_FAMILY;
 }
 
 /* Whether an estimation needs a pixel's three channels at once: else each

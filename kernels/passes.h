@@ -1,19 +1,44 @@
 /* The film's passes: every per-pixel image an estimation can produce, in
  * one list shared by the host and the kernels. The pass ids, their bits in
- * an output mask, the EXR layer names, the command-line names and the
- * checkpoint columns all come from it: adding an estimator is one row here
- * and one function in estimators.h.
+ * an output mask, the EXR layer names, the command-line names and help, the
+ * checkpoint columns and the masks below that steer the estimator code all
+ * come from it: adding a set-based estimator is one row here (and its
+ * parameters' rows below) and one file under kernels/estimators/
+ * (docs/estimators.md, "Adding an estimator").
  *
- * PASS(id, name, type, kind)
- *   id    PASS_<id> in the enum below, bit PASS_BIT(PASS_<id>)
- *   name  as users select it (--estimators), and the EXR layer <name>.R/G/B
- *   type  PASS_FLOAT or PASS_INT (values per pixel: EST_CHANNELS, RGB)
- *   kind  PASS_ESTIMATE: an estimator of the pixel value, from the set sums
- *         (it has a <name>.stderr image on request); PASS_DIAGNOSTIC: what
- *         G-MoN decided (--diagnostics); PASS_SAMPLE: an estimator that
- *         sees each sample as it is accumulated, from per-sample state the
- *         path tracer keeps only when it is requested (sample_passes.h;
- *         not re-estimable from the sets, not in "all")
+ * PASS(id, name, type, kind, traits, of_sorted)
+ *   id        PASS_<id> in the enum below, bit PASS_BIT(PASS_<id>)
+ *   name      as users select it (--estimators), and the EXR layer
+ *             <name>.R/G/B
+ *   type      PASS_FLOAT or PASS_INT (values per pixel: EST_CHANNELS, RGB)
+ *   kind      PASS_ESTIMATE: an estimator of the pixel value, from the set
+ *             sums (it has a <name>.stderr image on request);
+ *             PASS_DIAGNOSTIC: what G-MoN decided (--diagnostics);
+ *             PASS_SAMPLE: an estimator that sees each sample as it is
+ *             accumulated, from per-sample state the path tracer keeps only
+ *             when it is requested (sample_passes.h; not re-estimable from
+ *             the sets, not in "all")
+ *   traits    how the estimator code treats it, TRAIT_* or 0:
+ *             CORE          computed with the sort of each channel
+ *                           (estimate_channel), not by estimate_family
+ *             WHOLE_PIXEL   needs the pixel's three channels together: the
+ *                           mean Gini Gbar or the RGB set means
+ *             FIXED_WEIGHTS a weighted mean of the sorted set means whose
+ *                           weights depend on m and the parameters (and
+ *                           Gbar) only: its leave-one-out estimates come
+ *                           from prefix and suffix sums, by rank
+ *             BY_RANK       its leave-one-out estimates depend on the set
+ *                           left out only through its rank (FIXED_WEIGHTS
+ *                           implies it)
+ *             OF_SORTED     a function of one channel's sorted set means
+ *                           alone, of_sorted (jackknife: recomputed)
+ *             GATED         WHOLE_PIXEL and FIXED_WEIGHTS: picks between
+ *                           weights by Gbar
+ *             NEIGHBOURHOOD needs the pixels around it, so the whole image
+ *                           (per-sample: not estimated per pixel range)
+ *   of_sorted for OF_SORTED: est_float f(const est_float *v, int m, const
+ *             EstimatorParams *params) of ascending v[0..m-1] (estimators/),
+ *             unclamped, in the units of v; not_of_sorted for the others
  * Valid C11 and OpenCL C. */
 #ifndef KERNELS_PASSES_H
 #define KERNELS_PASSES_H
@@ -26,39 +51,58 @@
 #define PASS_DIAGNOSTIC 1
 #define PASS_SAMPLE 2
 
-#define GMON_PASSES(PASS)                                                                                              \
-    PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
-    PASS(MON, "mon", PASS_FLOAT, PASS_ESTIMATE)                                                                        \
-    PASS(GMON, "gmon", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
-    PASS(AMON, "amon", PASS_FLOAT, PASS_ESTIMATE)                                                                      \
-    PASS(ADMON, "admon", PASS_FLOAT, PASS_ESTIMATE)                                                                    \
-    PASS(GGMON, "ggmon", PASS_FLOAT, PASS_ESTIMATE)                                                                    \
-    PASS(GMON_BINARY, "gmon-binary", PASS_FLOAT, PASS_ESTIMATE)                                                        \
-    PASS(GMON_PARTIAL, "gmon-partial", PASS_FLOAT, PASS_ESTIMATE)                                                      \
-    PASS(DMON_PARTIAL, "dmon-partial", PASS_FLOAT, PASS_ESTIMATE)                                                      \
-    PASS(GMON_AUTHORS, "gmon-authors", PASS_FLOAT, PASS_ESTIMATE)                                                      \
-    PASS(PAKMON, "pakmon", PASS_FLOAT, PASS_ESTIMATE)                                                                  \
-    PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE)                                                                \
-    PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE)                                                          \
-    PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE)                                                                \
-    PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC)                                                                    \
-    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC)                                                                      \
-    PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE)                                                                      \
-    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE)                                                              \
-    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE)                                                                        \
-    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE)                                                                      \
-    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE)                                                                        \
-    PASS(MEAN_OR_MON, "mean-or-mon", PASS_FLOAT, PASS_SAMPLE)
+#define TRAIT_CORE 1u
+#define TRAIT_WHOLE_PIXEL 2u
+#define TRAIT_FIXED_WEIGHTS 4u
+#define TRAIT_BY_RANK 8u
+#define TRAIT_OF_SORTED 16u
+#define TRAIT_NEIGHBOURHOOD 32u
+/* Fixed weights, chosen between by Gbar */
+#define TRAIT_GATED (TRAIT_WHOLE_PIXEL | TRAIT_FIXED_WEIGHTS)
 
-#define PASS_ENUM_(id, name, type, kind) PASS_##id,
+#define GMON_PASSES(PASS)                                                                                              \
+    PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE, not_of_sorted)                                           \
+    PASS(MON, "mon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE | TRAIT_BY_RANK, not_of_sorted)                             \
+    PASS(GMON, "gmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE, not_of_sorted)                                           \
+    PASS(AMON, "amon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                                  \
+    PASS(ADMON, "admon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                                \
+    PASS(GGMON, "ggmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                                  \
+    PASS(GMON_BINARY, "gmon-binary", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                            \
+    PASS(GMON_PARTIAL, "gmon-partial", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                          \
+    PASS(DMON_PARTIAL, "dmon-partial", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                          \
+    PASS(GMON_AUTHORS, "gmon-authors", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                    \
+    PASS(PAKMON, "pakmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_OF_SORTED, pakmon_of_sorted)                               \
+    PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                            \
+    PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                      \
+    PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                              \
+    PASS(HUBER, "huber", PASS_FLOAT, PASS_ESTIMATE, TRAIT_OF_SORTED, huber_of_sorted)                                  \
+    PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                         \
+    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                           \
+    PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                   \
+    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                           \
+    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                     \
+    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                   \
+    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE, TRAIT_NEIGHBOURHOOD, not_of_sorted)                                    \
+    PASS(MEAN_OR_MON, "mean-or-mon", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)
+
+#define PASS_ENUM_(id, name, type, kind, traits, of_sorted) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
 #undef PASS_ENUM_
 
 #define PASS_BIT(pass) (1u << (pass))
-#define PASS_BIT_IF_(id, name, type, kind, wanted) ((kind) == (wanted) ? PASS_BIT(PASS_##id) : 0u) |
-#define PASS_ESTIMATE_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_ESTIMATE)
-#define PASS_DIAGNOSTIC_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_DIAGNOSTIC)
-#define PASS_SAMPLE_BIT_(id, name, type, kind) PASS_BIT_IF_(id, name, type, kind, PASS_SAMPLE)
+/* A row's bit if `test` (of its kind or traits) holds, for the masks. */
+#define PASS_BIT_IF_(test, id) ((test) ? PASS_BIT(PASS_##id) : 0u) |
+#define PASS_ESTIMATE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_ESTIMATE, id)
+#define PASS_DIAGNOSTIC_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_DIAGNOSTIC, id)
+#define PASS_SAMPLE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_SAMPLE, id)
+#define PASS_CORE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_CORE, id)
+#define PASS_WHOLE_PIXEL_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_WHOLE_PIXEL, id)
+#define PASS_FIXED_WEIGHTS_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_FIXED_WEIGHTS, id)
+#define PASS_BY_RANK_BIT_(id, name, type, kind, traits, of_sorted)                                                     \
+    PASS_BIT_IF_((traits) & (TRAIT_BY_RANK | TRAIT_FIXED_WEIGHTS), id)
+#define PASS_OF_SORTED_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_OF_SORTED, id)
+#define PASS_NEIGHBOURHOOD_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_NEIGHBOURHOOD, id)
+
 /* Every set-based estimator, and the diagnostics: what the estimator
  * kernel computes. */
 #define PASSES_ESTIMATES (GMON_PASSES(PASS_ESTIMATE_BIT_) 0u)
@@ -69,11 +113,17 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
 /* What a render computes unless asked otherwise. */
 #define PASSES_DEFAULT (PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_MON) | PASS_BIT(PASS_GMON))
 
-/* Passes that need the three channels of a pixel together: the mean Gini
- * Gbar, or the RGB set means. */
-#define PASSES_PER_PIXEL                                                                                               \
-    (PASS_BIT(PASS_GGMON) | PASS_BIT(PASS_GMON_BINARY) | PASS_BIT(PASS_GMON_PARTIAL) | PASS_BIT(PASS_DMON_PARTIAL) |   \
-     PASS_BIT(PASS_GMON_AUTHORS) | PASS_BIT(PASS_GMEDIAN))
+/* The passes of each trait (the table's comment). */
+#define PASSES_CORE (GMON_PASSES(PASS_CORE_BIT_) 0u)
+#define PASSES_PER_PIXEL (GMON_PASSES(PASS_WHOLE_PIXEL_BIT_) 0u)
+#define PASSES_FIXED_WEIGHTS (GMON_PASSES(PASS_FIXED_WEIGHTS_BIT_) 0u)
+#define PASSES_BY_RANK (GMON_PASSES(PASS_BY_RANK_BIT_) 0u)
+#define PASSES_OF_SORTED (GMON_PASSES(PASS_OF_SORTED_BIT_) 0u)
+#define PASSES_NEIGHBOURHOOD (GMON_PASSES(PASS_NEIGHBOURHOOD_BIT_) 0u)
+/* The fixed-weight estimators that choose between weights by Gbar. */
+#define PASSES_GATED_BY_GBAR (PASSES_PER_PIXEL & PASSES_FIXED_WEIGHTS)
+/* The estimators of the family: estimate_family's. */
+#define PASSES_FAMILY (PASSES_ESTIMATES & ~PASSES_CORE)
 
 /* zirr's cascades K (the parameter zirr.k) at most. */
 #define EST_ZIRR_CASCADES_MAX 16
@@ -93,6 +143,7 @@ enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
     PARAM(int32_t, trimmed_c, "trimmed.c", -1, -1, 31)                                                                 \
     PARAM(int32_t, winsorized_c, "winsorized.c", -1, -1, 31)                                                           \
     PARAM(int32_t, gmedian_iterations, "gmedian.iterations", 16, 1, 1000)                                              \
+    PARAM(float, huber_k, "huber.k", 1.0f, 0.5, 100)                                                                   \
     PARAM(float, clamp_sum_direct, "clamp-sum.direct", 0.0f, 0, INFINITY)                                              \
     PARAM(float, clamp_sum_indirect, "clamp-sum.indirect", 10.0f, 0, INFINITY)                                         \
     PARAM(int32_t, zirr_k, "zirr.k", 6, 2, EST_ZIRR_CASCADES_MAX)                                                      \

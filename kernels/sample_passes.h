@@ -154,7 +154,7 @@ KERNEL_FN int sample_image_slot(uint32_t passes, int level_count, int pass, int 
  * every one but zirr, whose 3x3 neighbourhoods need the whole image
  * (estimate_zirr). Their images and slots: sample_pass_images and
  * sample_image_slot of this mask. */
-#define SAMPLE_PIXEL_PASSES(passes) ((passes) & ~PASS_BIT(PASS_ZIRR))
+#define SAMPLE_PIXEL_PASSES(passes) ((passes) & ~PASSES_NEIGHBOURHOOD)
 
 /* pbrt-v4's rule: (r, g, b) scaled by V / max(r, g, b) when that exceeds V
  * (V = INFINITY changes nothing). */

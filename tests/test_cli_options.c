@@ -1,6 +1,8 @@
 /* gmonrt's command line: defaults, every flag, and one-line errors with exit
  * code 2 for bad flags and values, and for flags a subcommand does not take. */
 #include "cli/options.h"
+#include "film/film.h"
+#include "passes.h"
 #include "sampler.h"
 #include "scene_types.h"
 
@@ -8,6 +10,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -85,6 +88,34 @@ static void test_subcommands(void **state)
     assert_int_equal(o.command, COMMAND_RENDER);
     assert_non_null(strstr(options_help(COMMAND_RENDER), "--spp N"));
     assert_non_null(strstr(options_help(COMMAND_RENDER), "143"));
+}
+
+/* --help lists every estimator and parameter of kernels/passes.h's tables
+ * (a new row is listed without a line in options.c). */
+#define PARAMETER_NAME_(type, field, name, value, lowest, highest) name,
+static void test_help_lists_the_tables(void **state)
+{
+    (void)state;
+    const char *help = options_help(COMMAND_ESTIMATE);
+    for (int p = 0; p < PASS_COUNT; ++p)
+        if ((PASSES_ESTIMATES | PASSES_SAMPLE) & PASS_BIT(p))
+            assert_non_null(strstr(options_help(COMMAND_RENDER), pass_name(p)));
+    static const char *const parameters[] = {GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels"};
+    for (size_t i = 0; i < sizeof parameters / sizeof parameters[0]; ++i)
+        assert_non_null(strstr(help, parameters[i]));
+}
+
+/* Every parameter row names its estimator's row: "<estimator>.<name>". */
+static void test_parameters_belong_to_estimators(void **state)
+{
+    (void)state;
+    static const char *const parameters[] = {GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels"};
+    for (size_t i = 0; i < sizeof parameters / sizeof parameters[0]; ++i) {
+        char estimator[64];
+        snprintf(estimator, sizeof estimator, "%.*s", (int)strcspn(parameters[i], "."), parameters[i]);
+        if (pass_from_name(estimator) < 0)
+            fail_msg("parameter %s: no estimator '%s' in GMON_PASSES", parameters[i], estimator);
+    }
 }
 
 /* Each subcommand takes only the flags it uses, and has its own --help. */
@@ -245,6 +276,8 @@ int main(void)
         cmocka_unit_test(test_every_flag),
         cmocka_unit_test(test_subcommands),
         cmocka_unit_test(test_subcommand_flags_and_help),
+        cmocka_unit_test(test_help_lists_the_tables),
+        cmocka_unit_test(test_parameters_belong_to_estimators),
         cmocka_unit_test(test_device_selection),
         cmocka_unit_test(test_bad_flags_and_values),
         cmocka_unit_test(test_estimator_family_flags),

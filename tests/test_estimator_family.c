@@ -367,6 +367,31 @@ static void test_gmon_authors_by_hand(void **state)
         assert_true(p.value[PASS_GMON_AUTHORS][ch] == 26.5f);
 }
 
+/* huber by hand: means 1, 2, 3, 4, 100 (m = 5, q = 1): h = 4 - 2 = 2, and
+ * from the median 3 the outlier weighs 2 / 97, which keeps the estimate at
+ * (10 + 100 * 2/97) / (4 + 2/97) = 3; with huber.k = 100 no set is beyond h
+ * and huber is the mean of the set means, bit for bit (all weights 1). */
+static void test_huber_by_hand(void **state)
+{
+    (void)state;
+    float sums[3][EST_CAPACITY];
+    const float means[5] = {4, 100, 1, 3, 2};
+    for (int ch = 0; ch < 3; ++ch)
+        for (int j = 0; j < 5; ++j)
+            sums[ch][j] = means[j] * (float)(ch + 1);
+    EstimatorSettings s = family_settings(5);
+    Pixel p = estimate_pixel_of(&s, sums, 5);
+    for (int ch = 0; ch < 3; ++ch)
+        assert_true(fabsf(p.value[PASS_HUBER][ch] - 3.0f * (float)(ch + 1)) <= 1e-6f * 3.0f * (float)(ch + 1));
+    s.params.huber_k = 100.0f;
+    s.params.trimmed_c = 0;
+    p = estimate_pixel_of(&s, sums, 5);
+    for (int ch = 0; ch < 3; ++ch) {
+        assert_true(same_bits(p.value[PASS_HUBER][ch], p.value[PASS_TRIMMED][ch]));
+        assert_true(p.value[PASS_HUBER][ch] == 22.0f * (float)(ch + 1));
+    }
+}
+
 /* Every estimate is finite and within the set means, for every case and M;
  * equal means give that value exactly with standard error 0. */
 static void test_estimates_finite_within_means_and_exact_when_equal(void **state)
@@ -617,6 +642,7 @@ int main(void)
         cmocka_unit_test(test_special_parameters_give_the_simple_estimators),
         cmocka_unit_test(test_thresholds_switch_exactly_at_a_quarter),
         cmocka_unit_test(test_gmon_authors_by_hand),
+        cmocka_unit_test(test_huber_by_hand),
         cmocka_unit_test(test_estimates_finite_within_means_and_exact_when_equal),
         cmocka_unit_test(test_scaling_and_permutation),
         cmocka_unit_test(test_gmedian_simple_cases),

@@ -1,6 +1,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/options.h"
 
+#include "passes.h" /* kernels/: the estimators and their parameters */
 #include "render/render_scene.h"
 
 #include <ctype.h>
@@ -51,15 +52,8 @@ static const Flag flags[] = {
     {NULL, NULL, FOR_ALL, "Estimators"},
     {"--sets", "M", FOR_RENDER, "number of sets for MoN and G-MoN, 1..64 (default 21)"},
     {"--estimators", "LIST", FOR_ALL,
-     "comma-separated estimators, or all (default mean,mon,gmon;\n`estimate`: the file's): mean, mon, gmon, amon, "
-     "admon,\n"
-     "ggmon, gmon-binary, gmon-partial, dmon-partial,\ngmon-authors, pakmon, trimmed, winsorized, gmedian;\n"
-     "per sample, renders only (not in all): clamp (a layer\nclamp-<V> per level), clamp-sum (docs/estimators.md)"},
-    {"--estimator-param", "NAME=VALUE", FOR_ALL,
-     "set an estimator parameter (repeatable): amon.alpha,\nadmon.alpha, gmon-binary.threshold,\n"
-     "gmon-partial.threshold, gmon-partial.alpha,\ndmon-partial.threshold, dmon-partial.alpha, trimmed.c,\n"
-     "winsorized.c (-1: floor(m/4)), gmedian.iterations,\nclamp.levels (V:V:..., default 1:10:100),\n"
-     "clamp-sum.direct (default 0: none), clamp-sum.indirect\n(default 10); written to the EXR metadata"},
+     "comma-separated estimators, or all (default mean,mon,gmon; `estimate`: the file's):"},
+    {"--estimator-param", "NAME=VALUE", FOR_ALL, "set an estimator parameter (repeatable):"},
     {"--stderr", NULL, FOR_ALL,
      "add a <name>.stderr layer per estimator: its per-pixel\nstandard error (the mean's from the set means, the\n"
      "others by the jackknife over sets)"},
@@ -158,6 +152,65 @@ static const char check_exit[] = "Exit status: 0 everything is supported and pre
 static const char subcommand_exit[] = "Exit status: 0 success, 1 unusable input or I/O failure, 2 bad command line,\n"
                                       "128 + the signal when interrupted (existing files are left as they were).\n";
 
+/* Appends `text` to the help being reflowed in `out` (a line at most
+ * `width` long, broken at spaces). */
+static void append_words(char *out, size_t size, const char *text, int width)
+{
+    size_t used = strlen(out);
+    const char *line_start = strrchr(out, '\n');
+    int column = (int)(used - (line_start ? (size_t)(line_start + 1 - out) : 0));
+    while (*text && used + 1 < size) {
+        size_t word = strcspn(text, " ");
+        if (word == 0) {
+            ++text;
+            continue;
+        }
+        int space = column > 0;
+        if (column + space + (int)word > width && column > 0) {
+            used += (size_t)snprintf(out + used, size - used, "\n");
+            column = 0;
+            space = 0;
+        }
+        used += (size_t)snprintf(out + used, size - used, "%s%.*s", space ? " " : "", (int)word, text);
+        column += space + (int)word;
+        text += word;
+    }
+}
+
+#define PARAMETER_NAME_(type, field, name, value, lowest, highest) name ", "
+
+/* The help of --estimators and --estimator-param: their text, then the
+ * names from kernels/passes.h's tables, so that no list is kept here. */
+static const char *flag_help(const Flag *f, char *out, size_t size)
+{
+    const int estimators = strcmp(f->name, "--estimators") == 0;
+    if (!estimators && strcmp(f->name, "--estimator-param") != 0)
+        return f->help;
+    const int width = 56; /* the help column of an 80-column terminal */
+    out[0] = '\0';
+    append_words(out, size, f->help, width);
+    if (estimators) {
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (PASSES_ESTIMATES & PASS_BIT(p)) {
+                char name[40];
+                snprintf(name, sizeof name, "%s%s", pass_name(p), (PASSES_ESTIMATES >> (p + 1)) ? "," : ";");
+                append_words(out, size, name, width);
+            }
+        append_words(out, size, "per sample, renders only (not in all):", width);
+        for (int p = 0; p < PASS_COUNT; ++p)
+            if (PASSES_SAMPLE & PASS_BIT(p)) {
+                char name[40];
+                snprintf(name, sizeof name, "%s%s", pass_name(p), (PASSES_SAMPLE >> (p + 1)) ? "," : "");
+                append_words(out, size, name, width);
+            }
+        append_words(out, size, "(clamp: a layer clamp-<V> per level; docs/estimators.md)", width);
+    } else {
+        append_words(out, size, GMON_ESTIMATOR_PARAMS(PARAMETER_NAME_) "clamp.levels (V:V:...);", width);
+        append_words(out, size, "defaults in docs/estimators.md; written to the EXR metadata", width);
+    }
+    return out;
+}
+
 const char *options_help(Command command)
 {
     static char text[8192];
@@ -175,13 +228,14 @@ const char *options_help(Command command)
             used += (size_t)snprintf(text + used, sizeof text - used, "\n%s\n", f->help);
             continue;
         }
-        char head[64];
+        char head[64], listed[1024];
         snprintf(head, sizeof head, "%s%s%s", f->name, f->value ? " " : "", f->value ? f->value : "");
         used += (size_t)snprintf(text + used, sizeof text - used, "  %-20s ", head);
+        const char *help = flag_help(f, listed, sizeof listed);
         /* Continuation lines line up under the first. */
-        for (const char *line = f->help; *line && used < sizeof text;) {
+        for (const char *line = help; *line && used < sizeof text;) {
             size_t length = strcspn(line, "\n");
-            used += (size_t)snprintf(text + used, sizeof text - used, "%*s%.*s\n", line == f->help ? 0 : 23, "",
+            used += (size_t)snprintf(text + used, sizeof text - used, "%*s%.*s\n", line == help ? 0 : 23, "",
                                      (int)length, line);
             line += length + (line[length] == '\n');
         }

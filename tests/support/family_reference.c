@@ -34,6 +34,7 @@ void ref_family_params_default(RefFamilyParams *p)
     p->trimmed_c = -1;
     p->winsorized_c = -1;
     p->gmedian_iterations = 0;
+    p->huber_k = 1.0L;
 }
 
 static int compare_long_double(const void *a, const void *b)
@@ -321,6 +322,36 @@ static void estimate_winsorized(const RefFamilyParams *p, const Sets *sets, long
         out[c] = winsorized(s.t[c], s.m, trim_count(p->winsorized_c, s.m));
 }
 
+/* Huber's M-estimator (docs/estimators.md, "huber"): from the median, a
+ * fixed number of reweighted means, weight 1 within h = k (t_{m-q} -
+ * t_{q+1}), q = floor(m / 4), of the estimate and h / distance beyond. */
+#define HUBER_STEPS 8
+
+static long double huber(const long double *t, int m, long double k)
+{
+    int q = m / 4;
+    long double h = k * (t[m - 1 - q] - t[q]);
+    long double z = ldref_median(t, m);
+    for (int step = 0; step < HUBER_STEPS; ++step) {
+        long double numerator = 0.0L, weights = 0.0L;
+        for (int j = 0; j < m; ++j) {
+            long double d = fabsl(t[j] - z), w = d <= h ? 1.0L : h / d;
+            numerator += w * t[j];
+            weights += w;
+        }
+        z = numerator / weights;
+    }
+    return z;
+}
+
+static void estimate_huber(const RefFamilyParams *p, const Sets *sets, long double out[REF_CHANNELS])
+{
+    SortedMeans s;
+    sorted_means(sets, &s);
+    for (int c = 0; c < REF_CHANNELS; ++c)
+        out[c] = huber(s.t[c], s.m, p->huber_k);
+}
+
 /* Steps stop shrinking at long double's rounding (cycles with relative steps
  * of about 1.5e-19 were seen), so a step of 1e-30 relative is never reached:
  * stop at 8 ulp (8.7e-19) instead. On 200 heavy-tailed pixels (M = 21) this
@@ -447,6 +478,7 @@ static const NamedEstimator estimators[] = {
     {"trimmed", estimate_trimmed},
     {"winsorized", estimate_winsorized},
     {"gmedian", estimate_gmedian},
+    {"huber", estimate_huber},
 };
 
 static Estimator find_estimator(const char *name)

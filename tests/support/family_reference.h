@@ -27,13 +27,14 @@ typedef struct {
      * the m - 1 sets from the estimate of all m (what gmonrt computes, with
      * n = its gmedian.iterations; default 0). */
     int gmedian_iterations;
+    long double huber_k; /* default 1 */
 } RefFamilyParams;
 
 void ref_family_params_default(RefFamilyParams *p);
 
 /* Names as users select them: "mean", "mon", "gmon", "amon", "admon",
  * "ggmon", "gmon-binary", "gmon-partial", "dmon-partial", "gmon-authors",
- * "pakmon", "trimmed", "winsorized", "gmedian".
+ * "pakmon", "trimmed", "winsorized", "gmedian", "huber".
  *
  * The estimate of one pixel per channel. sums[c][j]: channel c's sum over set
  * j (j < set_count = M, 1..64); sample s went to set s mod M, so set j holds

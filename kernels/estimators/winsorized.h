@@ -1,0 +1,16 @@
+/* winsorized: the c lowest and highest set means replaced by their nearest
+ * kept neighbours, then the mean; a fixed-weight estimator. Part of
+ * estimators.h. */
+#ifndef KERNELS_ESTIMATORS_WINSORIZED_H
+#define KERNELS_ESTIMATORS_WINSORIZED_H
+
+/* The winsorized mean's weights: v[c] and v[m-1-c] also stand for the c
+ * values beyond them. */
+EST_INLINE void winsor_weights(int c, int m, est_float *w)
+{
+    EST_UNROLL
+    for (int j = 0; j < m; ++j)
+        w[j] = EST_FLOATS((j == c ? c : 0) + (j == m - 1 - c ? c : 0) + (j >= c && j <= m - 1 - c ? 1 : 0));
+}
+
+#endif /* KERNELS_ESTIMATORS_WINSORIZED_H */
