@@ -23,6 +23,13 @@ def read(path):
     return layers, header
 
 
+def read_channels(path):
+    """(channels, header): every channel of the file by its full name
+    ("mean.R", "sets.grid", "sets.0.R.w0", ...) as stored (UINT as uint32)."""
+    with OpenEXR.File(str(path), separate_channels=True) as exr:
+        return {name: channel.pixels for name, channel in exr.channels().items()}, dict(exr.header())
+
+
 def read_layer(path, layer):
     """One RGB layer of a file; a clear error when the file lacks it."""
     layers, _ = read(path)

@@ -15,6 +15,8 @@ Images are height x width x 3 arrays of linear radiance.
 - FLIP: HDR-FLIP (flip-evaluator) with its defaults: 67 pixels per degree,
   ACES tone mapper, exposure range from the reference. One error map on the
   whole image; a region's FLIP is the map's mean over it.
+MSE and relMSE with the reference's own variance taken out, and intervals
+over seeds: uncertainty.py (docs/estimators.md, "Error you can trust").
 """
 
 import numpy as np

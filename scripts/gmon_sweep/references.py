@@ -11,8 +11,14 @@ E[(R - truth)^2] = E[(A - B)^2] / 4:
 An error measured against R includes this residual (the sweep renders with
 another seed, so the two errors are independent and their squares add).
 
-Writes <out>/<scene>.exr (float `mean` layer, ZIP) and <out>/<scene>.json
-(settings, the commands, residuals on the whole image and on each crop).
+The halves are rendered with --write-sets: their set means pooled give the
+reference's variance per pixel (uncertainty.variance_from_sets, 2M sets
+rather than the halves' one degree of freedom), stored as the `variance`
+layer so that the sweep can take it out of every error (debiased metrics).
+
+Writes <out>/<scene>.exr (float `mean` and `variance` layers, ZIP) and
+<out>/<scene>.json (settings, the commands, residuals on the whole image and
+on each crop: from the halves, and from the sets as residual_from_sets).
 """
 
 import argparse
@@ -23,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import crops, exr, metrics, renderer
+from . import crops, exr, metrics, renderer, uncertainty
 
 ROOT = renderer.ROOT
 
@@ -42,24 +48,39 @@ def residuals(half_a, half_b, regions):
     }
 
 
+def residuals_from_variance(reference, variance, regions):
+    """{region name: {"rmse", "relmse"}} from a per-pixel variance of the
+    reference: sqrt(mean(v)) and mean(v / (r^2 + 0.01))."""
+    return {
+        name: {
+            "rmse": float(np.sqrt(np.mean(metrics.crop(variance, region)))),
+            "relmse": float(np.mean(metrics.crop(variance / (reference**2 + metrics.RELMSE_EPSILON), region))),
+        }
+        for name, region in regions.items()
+    }
+
+
 def make_reference(gmonrt, scene, out_dir, spp, resolution, seed, crops_file, work_dir):
     if spp < 2 or spp % 2:
         raise ValueError(f"--spp {spp}: a reference needs an even sample count (two halves)")
     name = crops.scene_name(scene)
     half = spp // 2
-    images, commands, seconds = [], [], 0.0
+    images, parts, commands, seconds = [], [], [], 0.0
     Path(work_dir).mkdir(parents=True, exist_ok=True)
     for first in (0, half):
         outfile = Path(work_dir) / f"{name}-half-{first}.exr"
         arguments = [scene, "--spp", half, "--first-sample", first, "--seed", seed, "--resolution", resolution,
-                     "--integrator", "nee", "--estimators", "mean", "--quiet", "--outfile", outfile]
+                     "--integrator", "nee", "--estimators", "mean", "--write-sets", "--quiet", "--outfile", outfile]
         seconds += renderer.run(gmonrt, arguments)
         commands.append(renderer.command_line([*arguments[:-1], outfile.name]))  # the file name, not the temp dir
         images.append(renderer.read_estimate(outfile, "mean"))
+        parts.append(uncertainty.read_set_sums(outfile))
     half_a, half_b = images
     reference = (half_a + half_b) / 2
     height, width, _ = reference.shape
-    residual = residuals(half_a, half_b, crops.regions(crops_file, name, width, height))
+    regions = crops.regions(crops_file, name, width, height)
+    residual = residuals(half_a, half_b, regions)
+    variance = uncertainty.variance_from_sets(parts)
     record = {
         "scene": renderer.shown(scene),
         "resolution": [width, height],
@@ -70,11 +91,12 @@ def make_reference(gmonrt, scene, out_dir, spp, resolution, seed, crops_file, wo
         "halves": [{"first_sample": 0, "spp": half}, {"first_sample": half, "spp": half}],
         "render_seconds": round(seconds, 1),
         "residual": residual,
+        "residual_from_sets": residuals_from_variance(reference, variance, regions),
         "commands": commands,
     }
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    exr.write_mean(out_dir / f"{name}.exr", reference, {
+    exr.write_layers(out_dir / f"{name}.exr", {"mean": reference, "variance": variance}, {
         "gmon.software": "gmon_sweep.references",
         "gmon.samples": spp,
         "gmon.seed": seed,
@@ -82,6 +104,7 @@ def make_reference(gmonrt, scene, out_dir, spp, resolution, seed, crops_file, wo
         "gmon.sceneFile": renderer.shown(scene),
         "residualRmse": f"{residual['image']['rmse']:.6g}",
         "residualRelmse": f"{residual['image']['relmse']:.6g}",
+        "gmon.varianceSource": "sets",
     })
     # Some OpenEXR versions store a ZIP chunk wrongly when zlib does not shrink
     # it (openexr issue 2306): read the file back before trusting it.

@@ -2,13 +2,14 @@
 and docs/results.md with tables, plots and the commands that made them.
 
 Sweeps go to build/results/<scene>/ (sweep.sh's outputs; --sweeps); the page, each
-scene's CSV and its plots go to --docs (default docs/: results.md and
-results/<scene>-*.png, results/<scene>.csv).
+scene's CSVs and its plots go to --docs (default docs/: results.md and
+results/<scene>-*.png, results/<scene>.csv, results/<scene>-summary.csv,
+results/<scene>-reach.csv). The tables of single values, the crops and the
+plots come from the first seed's render; the intervals from all seeds.
 """
 
 import argparse
 import json
-import math
 import shlex
 import shutil
 import sys
@@ -26,30 +27,6 @@ def line(rows, sets, estimator, region="image"):
                   key=lambda r: r["spp"])
 
 
-def time_to_reach(curve, target, key):
-    """Seconds at which `curve` (rows by rising spp) first gets to `target` in
-    `key`, interpolated linearly in log(time) against log(error) between the
-    two checkpoints around the crossing; None if it never does."""
-    for before, after in zip([None] + curve[:-1], curve):
-        if after[key] <= target:
-            if before is None or after[key] == before[key]:
-                return after["seconds"]
-            fraction = math.log(before[key] / target) / math.log(before[key] / after[key])
-            return math.exp(math.log(before["seconds"]) + fraction * math.log(after["seconds"] / before["seconds"]))
-    return None
-
-
-def reach_ratio(rows, sets, key):
-    """Time for G-MoN to reach the mean's final `key` error, over the time of
-    that final checkpoint, as text; rows of one render share their times."""
-    mean, gmon = line(rows, sets, "mean"), line(rows, sets, "gmon")
-    target = mean[-1][key]
-    seconds = time_to_reach(gmon, target, key)
-    if seconds is None:
-        return f"not reached (final: {gmon[-1][key] / target:.2f}x the mean's)"
-    return f"{seconds / mean[-1]['seconds']:.2f}"
-
-
 def listing(words):
     """"mean, MoN and G-MoN" for ["mean", "MoN", "G-MoN"]."""
     return " and ".join(words) if len(words) < 3 else f"{', '.join(words[:-1])} and {words[-1]}"
@@ -60,6 +37,68 @@ def error(row, key):
     text = f"{row[key]:.4g}"
     floor = row[f"{key}_floor"]
     return f"{text} †" if floor is not None and sweep.at_floor(row[key], floor, key) else text
+
+
+def interval(row, key, digits=4):
+    """"value [low, high]" of a summary.csv field, or the value alone when
+    the interval is unknown (one seed); "-" when there is no value."""
+    value, low, high = row[key], row[f"{key}_lo"], row[f"{key}_hi"]
+    if value is None:
+        return "-"
+    if low is None or low != low:  # NaN: fewer than two seeds
+        return f"{value:.{digits}g}"
+    return f"{value:.{digits}g} [{low:.{digits}g}, {high:.{digits}g}]"
+
+
+def debiased_cell(row, key):
+    """A debiased value with its interval, marked ‡ when the interval includes 0."""
+    text = interval(row, key, 3)
+    return f"{text} ‡" if row[f"{key}_includes_zero"] else text
+
+
+def ratio_cell(row, key):
+    """An error ratio to the mean with its interval and verdict."""
+    if row[f"{key}_ratio"] is None or row[f"{key}_ratio"] != row[f"{key}_ratio"]:
+        return "-"
+    low, high = row[f"{key}_ratio_lo"], row[f"{key}_ratio_hi"]
+    if low is None or low != low:
+        return f"{row[f'{key}_ratio']:.3f}"
+    return f"{row[f'{key}_ratio']:.3f} [{low:.3f}, {high:.3f}] {row[f'{key}_verdict']}"
+
+
+def seeds_section(summary_rows, reach_rows):
+    """Lines: every M and estimator at the last checkpoint, means over seeds
+    with 95% intervals, the debiased errors and the paired ratios."""
+    rows = [r for r in summary_rows if r["region"] == "image"]
+    final_spp = max(r["spp"] for r in rows)
+    finals = [r for r in rows if r["spp"] == final_spp]
+    seeds = max(r["seeds"] for r in finals)
+    out = [f"Over {seeds} seeds at {final_spp} spp (mean [95% Student t interval]; MSE debiased: the reference's "
+           "own variance taken out, ‡ where its interval includes 0; ratio: the estimator's error over the mean's "
+           "of the same samples, per seed, then over seeds, better or worse only when its interval excludes 1):", "",
+           "| M | estimator | MSE | MSE debiased | relMSE debiased | SSIM | FLIP | MSE debiased ratio | "
+           "relMSE debiased ratio | FLIP ratio |", "| --- " * 10 + "|"]
+    for r in finals:
+        out.append(f"| {r['sets']} | {label(r['estimator'])} | {interval(r, 'mse', 3)} | "
+                   f"{debiased_cell(r, 'mse_debiased')} | {debiased_cell(r, 'relmse_debiased')} | "
+                   f"{interval(r, 'ssim', 3)} | {interval(r, 'flip', 3)} | {ratio_cell(r, 'mse_debiased')} | "
+                   f"{ratio_cell(r, 'relmse_debiased')} | {ratio_cell(r, 'flip')} |")
+    out += ["", "Time to reach the mean's error at its last checkpoint, over the mean's time to it (per seed, then "
+            "over seeds; below 1: sooner):", "", "| M | estimator | by RMSE | by relMSE |", "| --- " * 4 + "|"]
+    cells = {(r["sets"], r["estimator"], r["metric"]): r for r in reach_rows}
+    for sets, estimator in dict.fromkeys((r["sets"], r["estimator"]) for r in reach_rows):
+        if estimator == "mean":
+            continue
+        texts = []
+        for metric in ("rmse", "relmse"):
+            r = cells[(sets, estimator, metric)]
+            if r["time_ratio"] is None:
+                texts.append(f"not reached by {r['seeds'] - r['reached']} of {r['seeds']} seeds")
+            else:
+                texts.append(interval({"x": r["time_ratio"], "x_lo": r["time_ratio_lo"],
+                                       "x_hi": r["time_ratio_hi"]}, "x", 3))
+        out.append(f"| {sets} | {label(estimator)} | {' | '.join(texts)} |")
+    return out + [""]
 
 
 def below_zero(rows, sweep_dir):
@@ -73,22 +112,25 @@ def below_zero(rows, sweep_dir):
     for estimator in estimators_of(rows):
         cells = []
         for sets in all_sets:
-            image = exr.read_layer(sweep.checkpoint_path(Path(sweep_dir) / f"M{sets}", final_spp), estimator)
+            seed = rows[0]["seed"]
+            image = exr.read_layer(sweep.checkpoint_path(sweep.run_directory(sweep_dir, sets, seed), final_spp),
+                                   estimator)
             negative = int((image.min(axis=-1) < 0).sum())
             cells.append(f"{negative} of {image.shape[0] * image.shape[1]} ({image.min():.3g})" if negative else "0")
         out.append(f"| {label(estimator)} | {' | '.join(cells)} |")
     return out + [""]
 
 
-def scene_section(scene, rows, settings, sweep_dir):
+def scene_section(scene, rows, settings, sweep_dir, summary_rows, reach_rows):
     all_sets = sorted({r["sets"] for r in rows})
     final_spp = max(r["spp"] for r in rows)
     estimators = estimators_of(rows)
     count = {2: "two", 3: "three"}.get(len(estimators), str(len(estimators)))
     out = [f"## {scene}", ""]
-    out += [f"Whole image at {final_spp} spp (the last checkpoint of each render; seconds are render and "
-            f"estimator time to that checkpoint, the same for the {count} estimators of one render; † marks a "
-            "value at the reference's floor):", ""]
+    out += seeds_section(summary_rows, reach_rows)
+    out += [f"Whole image at {final_spp} spp, seed {rows[0]['seed']} (the last checkpoint of each render; seconds "
+            f"are render and estimator time to that checkpoint, the same for the {count} estimators of one render; "
+            "† marks a value at the reference's floor):", ""]
     out += ["| M | estimator | RMSE | relMSE | SSIM | FLIP | bias vs reference | bias vs mean | seconds |",
             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for sets in all_sets:
@@ -98,12 +140,6 @@ def scene_section(scene, rows, settings, sweep_dir):
             out.append(f"| {sets} | {label(estimator)} | {error(r, 'rmse')} | {error(r, 'relmse')} | "
                        f"{r['ssim']:.4f} | {r['flip']:.4f} | "
                        f"{r['rel_bias']:+.2%} | {r['rel_bias'] - mean_bias:+.3%} | {r['seconds']:.1f} |")
-    if "gmon" in estimators:
-        out += ["", "Time for G-MoN to reach the mean's error at the last checkpoint, as a fraction of the mean's "
-                "time (below 1: G-MoN gets there sooner):", "",
-                "| M | by RMSE | by relMSE |", "| --- | --- | --- |"]
-        for sets in all_sets:
-            out.append(f"| {sets} | {reach_ratio(rows, sets, 'rmse')} | {reach_ratio(rows, sets, 'relmse')} |")
     shown_sets = sweep.figure_sets(all_sets)
     regions = [name for name in dict.fromkeys(r["region"] for r in rows) if name != "image"]
     if regions:
@@ -157,7 +193,7 @@ def summary(all_rows):
     return out + [""]
 
 
-def page(all_rows, all_settings, sweep_dirs, arguments, docs):
+def page(all_rows, all_settings, sweep_dirs, arguments, docs, all_summaries, all_reaches):
     first = next(iter(all_settings.values()))
     estimators = list(dict.fromkeys(e for rows in all_rows.values() for e in estimators_of(rows)))
     others = [label(e) for e in estimators if e != "mean"]
@@ -171,8 +207,9 @@ def page(all_rows, all_settings, sweep_dirs, arguments, docs):
            "scripts/make-references.sh   # references/<scene>.exr and .json",
            f"scripts/results.sh {shlex.join(arguments)}".rstrip(),
            "```", "",
-           f"Each scene: one progressive render per M in {{{', '.join(map(str, first['sets']))}}} with checkpoints at "
-           f"every power of two up to {first['max_spp']} spp, {first['resolution']}, seed {first['seed']}, "
+           f"Each scene: one progressive render per M and seed, M in {{{', '.join(map(str, first['sets']))}}}, "
+           f"with checkpoints at every power of two up to {first['max_spp']} spp, {first['resolution']}, "
+           f"seeds {', '.join(map(str, sweep.seed_list(first)))}, "
            f"integrator {first['integrator']} (the references use seed 1000 and next-event estimation). The mean "
            f"is the same for every M up to float rounding; the sets only change {listing(others)}. Times are "
            "wall-clock seconds on the machine that ran the command (PoCL on CPU; shared, so noisy), render and "
@@ -186,14 +223,18 @@ def page(all_rows, all_settings, sweep_dirs, arguments, docs):
            "same for the estimate minus the mean of the same samples, (average of the estimate - average of the "
            "mean) / average of the reference: the noise of the samples cancels, so this measures "
            f"{owners} own bias, e.g. the darkening others report for G-MoN on a firefly-free scene such as "
-           "`cornell-diffuse`.", ""]
+           "`cornell-diffuse`.", "",
+           "Debiased MSE and relMSE, intervals over seeds and paired ratios: [estimators.md](estimators.md), "
+           "\"Error you can trust\" (`scripts/gmon_sweep/uncertainty.py`). SSIM and FLIP cannot be debiased: "
+           "they stay as measured against the noisy reference.", ""]
     if (docs / "results-discussion.md").exists():
         out += ["What these numbers say against the paper's expectations, written by hand: "
                 "[results-discussion.md](results-discussion.md).", ""]
     out += reference_table(all_settings)
     out += summary(all_rows)
     for scene, rows in all_rows.items():
-        out += scene_section(scene, rows, all_settings[scene], sweep_dirs[scene])
+        out += scene_section(scene, rows, all_settings[scene], sweep_dirs[scene], all_summaries[scene],
+                             all_reaches[scene])
     return "\n".join(out)
 
 
@@ -204,6 +245,8 @@ def main(argv=None):
     p.add_argument("--max-spp", type=int, default=1024, help="last checkpoint of every render (default 1024)")
     p.add_argument("--estimators", type=sweep.estimator_list,
                    help="gmonrt's --estimators, mean among them (default gmonrt's: mean,mon,gmon)")
+    p.add_argument("--seeds", type=sweep.positive_int, default=sweep.DEFAULT_SEEDS,
+                   help=f"independent renders per M (default {sweep.DEFAULT_SEEDS}; intervals over them)")
     p.add_argument("--integrator", choices=("nee", "bsdf"), default="nee", help="default nee")
     p.add_argument("--docs", type=Path, default=ROOT / "docs", help="where results.md and results/ go (default docs/)")
     p.add_argument("--sweeps", type=Path, default=ROOT / "build" / "results",
@@ -216,23 +259,30 @@ def main(argv=None):
                              if (ROOT / "references" / f"{s.stem}.exr").exists()]
     figures_dir = args.docs / "results"
     figures_dir.mkdir(parents=True, exist_ok=True)
-    all_rows, all_settings = {}, {}
+    all_rows, all_settings, all_summaries, all_reaches = {}, {}, {}, {}
     for scene_path in scenes:
         scene = crops.scene_name(scene_path)
         out = args.sweeps / scene
         if not args.no_render:
             sweep.main([str(scene_path), "--sets", ",".join(map(str, args.sets)), "--max-spp", str(args.max_spp),
                         "--integrator", args.integrator, "--out", str(out), "--gmonrt", str(args.gmonrt),
+                        "--seeds", str(args.seeds),
                         "--figure-spp", f"{min(64, args.max_spp)},{args.max_spp}",
                         *(["--estimators", args.estimators] if args.estimators else [])])
-        all_rows[scene] = sweep.read_csv(out / "sweep.csv")
         all_settings[scene] = json.loads((out / "sweep.json").read_text())
+        first_seed = sweep.seed_list(all_settings[scene])[0]
+        all_rows[scene] = [r for r in sweep.read_csv(out / "sweep.csv") if r["seed"] == first_seed]
+        all_summaries[scene] = sweep.read_csv(out / "summary.csv")
+        all_reaches[scene] = sweep.read_csv(out / "reach.csv")
         shutil.copy(out / "sweep.csv", figures_dir / f"{scene}.csv")
+        shutil.copy(out / "summary.csv", figures_dir / f"{scene}-summary.csv")
+        shutil.copy(out / "reach.csv", figures_dir / f"{scene}-reach.csv")
         for figure in FIGURES:
             shutil.copy(out / figure, figures_dir / f"{scene}-{figure}")
     arguments = [a for a in (argv if argv is not None else sys.argv[1:]) if a != "--no-render"]
     sweep_dirs = {scene: args.sweeps / scene for scene in all_rows}
-    (args.docs / "results.md").write_text(page(all_rows, all_settings, sweep_dirs, arguments, args.docs) + "\n")
+    (args.docs / "results.md").write_text(page(all_rows, all_settings, sweep_dirs, arguments, args.docs,
+                                               all_summaries, all_reaches) + "\n")
     print(f"wrote {args.docs / 'results.md'}", file=sys.stderr)
 
 

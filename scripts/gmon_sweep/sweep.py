@@ -2,7 +2,8 @@
 wall-clock time, for the mean and the other estimators of the same samples
 (--estimators; default gmonrt's: mean, MoN and G-MoN).
 
-Design: one progressive render per M (`gmonrt --checkpoints`). The renderer
+Design: one progressive render per M and seed (`gmonrt --checkpoints`;
+--seeds S independent seeds, default 4, for intervals over seeds). The renderer
 stops at every power of two up to --max-spp (and at --max-spp itself), writes
 the estimates of the samples so far and records its wall-clock time to
 that point (estimators included, file writing excluded) and, given the
@@ -10,14 +11,19 @@ reference, each estimator's RMSE and relMSE. Nothing is rendered twice for
 one M; the mean is the same for every M up to float rounding (the samples do
 not depend on M), only its time differs. This script then measures every
 checkpoint image on the whole image and on the scene's named crops (RMSE,
-relMSE, SSIM, FLIP, relative bias), checks its whole-image RMSE against the
-renderer's, flags errors the reference's own residual error could account
-for, and draws the plots. The estimators measured are those the renderer
-wrote: the rows of its checkpoints.csv (one a layer: clamp one a level).
+relMSE, SSIM, FLIP, relative bias; MSE and relMSE also debiased, the
+reference's own variance taken out: gmon_sweep.uncertainty), checks its
+whole-image RMSE against the renderer's, flags errors the reference's own
+residual error could account for, and draws the plots (from the first
+seed). The estimators measured are those the renderer wrote: the rows of its
+checkpoints.csv (one a layer: clamp one a level).
 
-Outputs in --out: sweep.csv (one row per M, checkpoint, estimator and
-region), sweep.json (settings, reference, commands), error-vs-spp.png,
-error-vs-time.png, crops.png, and the renders (M<m>/spp-<n>.exr).
+Outputs in --out: sweep.csv (one row per M, seed, checkpoint, estimator and
+region), summary.csv (per M, checkpoint, estimator and region: every metric's
+mean and 95% interval over seeds, and each estimator's paired error ratio to
+the mean's), reach.csv (time to reach the mean's final error, over seeds),
+sweep.json (settings, reference, commands), error-vs-spp.png,
+error-vs-time.png, crops.png, and the renders (M<m>/seed-<s>/spp-<n>.exr).
 """
 
 import argparse
@@ -26,11 +32,16 @@ import json
 import sys
 from pathlib import Path
 
-from . import crops, exr, metrics, plots, references, renderer
+from . import crops, exr, metrics, plots, references, renderer, uncertainty
 
 ROOT = renderer.ROOT
-COLUMNS = ("scene", "sets", "estimator", "spp", "seconds", "region", "rmse", "relmse", "ssim", "flip", "rel_bias",
-           "rmse_floor", "relmse_floor", "at_floor")
+# Raw metrics first, then the reference's floor, then the debiased MSE and
+# relMSE (uncertainty.debiased) with the source of the reference's variance.
+COLUMNS = ("scene", "sets", "seed", "estimator", "spp", "seconds", "region", "rmse", "relmse", "ssim", "flip",
+           "rel_bias", "rmse_floor", "relmse_floor", "at_floor", "mse", "mse_debiased", "mse_debiased_lo",
+           "mse_debiased_hi", "mse_debiased_includes_zero", "relmse_debiased", "relmse_debiased_lo",
+           "relmse_debiased_hi", "relmse_debiased_includes_zero", "variance_source")
+DEFAULT_SEEDS = 4
 # The renderer's RMSE and ours come from the same float pixels; they differ
 # only by summation order and precision.
 RMSE_AGREEMENT = 1e-4
@@ -38,6 +49,16 @@ RMSE_AGREEMENT = 1e-4
 
 def checkpoint_path(run_dir, spp):
     return Path(run_dir) / f"spp-{spp:06d}.exr"
+
+
+def run_directory(out, sets, seed):
+    """Where the render of one M and seed goes."""
+    return Path(out) / f"M{sets}" / f"seed-{seed}"
+
+
+def seed_list(settings):
+    """The seeds of a sweep.json (sweeps before --seeds had one, "seed")."""
+    return settings.get("seeds") or [settings["seed"]]
 
 
 def render(gmonrt, scene, run_dir, max_spp, sets, reference, resolution, seed, integrator, time_budget, estimators,
@@ -89,8 +110,9 @@ def floor_columns(values, floor):
     return {"rmse_floor": floor["rmse"], "relmse_floor": floor["relmse"], "at_floor": int(limited)}
 
 
-def measure_run(run_dir, scene, sets, reference, regions, floors):
-    """Rows for every checkpoint and estimator of one render."""
+def measure_run(run_dir, scene, sets, seed, reference, regions, floors, noise):
+    """Rows for every checkpoint and estimator of one render; `noise`: the
+    reference's (uncertainty.ReferenceNoise)."""
     rows = []
     for spp, seconds, estimator, renderer_rmse in read_renderer_csv(Path(run_dir) / "checkpoints.csv"):
         image = renderer.read_estimate(checkpoint_path(run_dir, spp), estimator)
@@ -102,22 +124,30 @@ def measure_run(run_dir, scene, sets, reference, regions, floors):
             raise RuntimeError(f"{run_dir}: {estimator} at {spp} spp: the renderer's RMSE {renderer_rmse} and "
                                f"this script's {ours} disagree")
         for name, values in measured.items():
-            rows.append({"scene": scene, "sets": sets, "estimator": estimator, "spp": spp, "seconds": seconds,
-                         "region": name, **values, **floor_columns(values, floors.get(name))})
+            rows.append({"scene": scene, "sets": sets, "seed": seed, "estimator": estimator, "spp": spp,
+                         "seconds": seconds, "region": name, **values, **floor_columns(values, floors.get(name)),
+                         **uncertainty.debiased(image, reference, noise, regions[name], name),
+                         "variance_source": noise.source})
     return rows
 
 
-def write_csv(rows, path):
+def write_csv(rows, path, columns=COLUMNS):
+    """Rows as CSV with `columns` in order; None as an empty field."""
     with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=COLUMNS)
+        writer = csv.DictWriter(f, fieldnames=columns)
         writer.writeheader()
         for row in rows:
-            writer.writerow({k: f"{v:.6g}" if isinstance(v, float) else v for k, v in row.items()})
+            writer.writerow({k: f"{v:.6g}" if isinstance(v, float) else "" if v is None else v
+                             for k, v in row.items()})
 
 
 def read_csv(path):
-    """sweep.csv back as rows with numbers parsed (empty fields: None)."""
-    text_columns, integer_columns = ("scene", "estimator", "region"), ("sets", "spp", "at_floor")
+    """sweep.csv, summary.csv or reach.csv back as rows with numbers parsed
+    (empty fields: None)."""
+    text_columns = ("scene", "estimator", "region", "variance_source", "metric",
+                    *(f"{m}_verdict" for m in uncertainty.RATIO_METRICS))
+    integer_columns = ("sets", "seed", "spp", "at_floor", "seeds", "reached", "mse_debiased_includes_zero",
+                       "relmse_debiased_includes_zero")
 
     def parse(column, text):
         if column in text_columns:
@@ -143,37 +173,47 @@ def sweep(args):
     resolution = args.resolution or f"{width}x{height}"
     if resolution != f"{width}x{height}":
         raise SystemExit(f"--resolution {resolution}: the reference {reference_path} is {width}x{height}")
-    if record and record["seed"] == args.seed:
-        raise SystemExit(f"--seed {args.seed} is the reference's seed: its samples would not be independent")
+    seeds = [args.seed + i for i in range(args.seeds)]
+    if record and record["seed"] in seeds:
+        raise SystemExit(f"--seed {args.seed} --seeds {args.seeds} includes the reference's seed {record['seed']}: "
+                         "its samples would not be independent")
     regions = crops.regions(args.crops, scene, width, height)
     floors = record["residual"] if record else {}
+    noise = uncertainty.ReferenceNoise.of_reference(reference_path, record)
     out = Path(args.out or ROOT / "build" / "sweep" / scene)
     out.mkdir(parents=True, exist_ok=True)
     rows, commands = [], []
     for sets in args.sets:
-        run_dir = out / f"M{sets}"
-        run_dir.mkdir(exist_ok=True)
-        # gmonrt appends to checkpoints.csv: start from an empty directory.
-        for old in [*run_dir.glob("spp-*.exr"), run_dir / "checkpoints.csv"]:
-            old.unlink(missing_ok=True)
-        commands.append(render(args.gmonrt, args.scene, run_dir, args.max_spp, sets, reference_path, resolution,
-                               args.seed, args.integrator, args.time, args.estimators, args.sampler))
-        rows += measure_run(run_dir, scene, sets, reference, regions, floors)
-        print(f"{scene}: M = {sets} done", file=sys.stderr)
+        for seed in seeds:
+            run_dir = run_directory(out, sets, seed)
+            run_dir.mkdir(parents=True, exist_ok=True)
+            # gmonrt appends to checkpoints.csv: start from an empty directory.
+            for old in [*run_dir.glob("spp-*.exr"), run_dir / "checkpoints.csv"]:
+                old.unlink(missing_ok=True)
+            commands.append(render(args.gmonrt, args.scene, run_dir, args.max_spp, sets, reference_path, resolution,
+                                   seed, args.integrator, args.time, args.estimators, args.sampler))
+            rows += measure_run(run_dir, scene, sets, seed, reference, regions, floors, noise)
+        print(f"{scene}: M = {sets} done ({len(seeds)} seeds)", file=sys.stderr)
     write_csv(rows, out / "sweep.csv")
+    write_csv(uncertainty.summarise(rows), out / "summary.csv", uncertainty.SUMMARY_COLUMNS)
+    write_csv(uncertainty.reach(rows), out / "reach.csv", uncertainty.REACH_COLUMNS)
     settings = {"scene": renderer.shown(args.scene), "reference": renderer.shown(reference_path),
                 "reference_record": record, "resolution": resolution, "max_spp": args.max_spp, "time_budget": args.time,
-                "sets": args.sets, "seed": args.seed, "integrator": args.integrator,
+                "sets": args.sets, "seed": args.seed, "seeds": seeds,
+                "variance_source": noise.source, "integrator": args.integrator,
                 "sampler": args.sampler,
                 "crops": {name: region for name, region in regions.items() if region}, "commands": commands}
     (out / "sweep.json").write_text(json.dumps(settings, indent=2) + "\n")
-    title = f"{scene}, {resolution}, {args.integrator}"
-    plots.error_plots(rows, floors, "spp", out / "error-vs-spp.png", title)
-    plots.error_plots(rows, floors, "seconds", out / "error-vs-time.png", title)
+    # The plots and figure show one seed's render: lines over seeds would
+    # zigzag between renders; the intervals are in summary.csv.
+    title = f"{scene}, {resolution}, {args.integrator}, seed {seeds[0]}"
+    first = [r for r in rows if r["seed"] == seeds[0]]
+    plots.error_plots(first, floors, "spp", out / "error-vs-spp.png", title)
+    plots.error_plots(first, floors, "seconds", out / "error-vs-time.png", title)
     shown_sets = figure_sets(args.sets)
-    run_spps = sorted({r["spp"] for r in rows if r["sets"] == shown_sets})
+    run_spps = sorted({r["spp"] for r in first if r["sets"] == shown_sets})
     figure_spps = [s for s in (args.figure_spp or []) if s in run_spps] or [run_spps[-1]]
-    files = {spp: exr.read(checkpoint_path(out / f"M{shown_sets}", spp)) for spp in figure_spps}
+    files = {spp: exr.read(checkpoint_path(run_directory(out, shown_sets, seeds[0]), spp)) for spp in figure_spps}
     images = {spp: layers for spp, (layers, _) in files.items()}
     estimators = plots.estimators_of(rows)  # the layers (clamp's by level), as the renderer's rows name them
     plots.crops_figure(images, reference, {n: r for n, r in regions.items() if r}, out / "crops.png",
@@ -186,6 +226,13 @@ def positive_list(text):
     if not values or min(values) < 1:
         raise argparse.ArgumentTypeError(f"'{text}' is not a comma-separated list of positive integers")
     return values
+
+
+def positive_int(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a positive integer")
+    return value
 
 
 def estimator_list(text):
@@ -208,7 +255,10 @@ def parser():
                    help="gmonrt's --estimators, mean among them (default gmonrt's: mean,mon,gmon)")
     p.add_argument("--reference", type=Path, help="reference EXR (default references/<scene>.exr)")
     p.add_argument("--resolution", help="WIDTHxHEIGHT; must be the reference's (default: the reference's)")
-    p.add_argument("--seed", type=int, default=0, help="seed (default 0; not the reference's)")
+    p.add_argument("--seed", type=int, default=0, help="first seed (default 0; not the reference's)")
+    p.add_argument("--seeds", type=positive_int, default=DEFAULT_SEEDS,
+                   help=f"independent renders per M, seeds SEED, SEED + 1, ... (default {DEFAULT_SEEDS}): every "
+                        "metric's interval in summary.csv is over them")
     p.add_argument("--integrator", choices=("nee", "bsdf"), default="nee", help="default nee")
     p.add_argument("--sampler", choices=("independent", "sobol-pixel", "sobol-sets"),
                    help="gmonrt --sampler (default: the scene's Sampler, docs/sampling.md)")

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-from gmon_sweep import crops, exr, metrics, references, results, sweep  # noqa: E402
+from gmon_sweep import crops, exr, metrics, references, results, sweep, uncertainty  # noqa: E402
 
 
 def smooth_image(width=48, height=40):
@@ -104,12 +104,12 @@ class TimeToReach(unittest.TestCase):
 
     def test_interpolates_in_log_log(self):
         # Error halves when time doubles: error 0.35355 = 2^-1.5 at time 2^1.5.
-        self.assertAlmostEqual(results.time_to_reach(self.curve, 2**-1.5, "rmse"), 2**1.5, places=12)
-        self.assertEqual(results.time_to_reach(self.curve, 0.5, "rmse"), 2.0)
+        self.assertAlmostEqual(uncertainty.time_to_reach(self.curve, 2**-1.5, "rmse"), 2**1.5, places=12)
+        self.assertEqual(uncertainty.time_to_reach(self.curve, 0.5, "rmse"), 2.0)
 
     def test_reached_at_once_or_never(self):
-        self.assertEqual(results.time_to_reach(self.curve, 3.0, "rmse"), 1.0)
-        self.assertIsNone(results.time_to_reach(self.curve, 0.2, "rmse"))
+        self.assertEqual(uncertainty.time_to_reach(self.curve, 3.0, "rmse"), 1.0)
+        self.assertIsNone(uncertainty.time_to_reach(self.curve, 0.2, "rmse"))
 
 
 class Crops(unittest.TestCase):
@@ -161,9 +161,13 @@ class Files(unittest.TestCase):
             exr.estimators({})
 
     def test_csv_round_trip(self):
-        row = {"scene": "s", "sets": 21, "estimator": "gmon", "spp": 64, "seconds": 1.5, "region": "image",
+        row = {"scene": "s", "sets": 21, "seed": 3, "estimator": "gmon", "spp": 64, "seconds": 1.5, "region": "image",
                "rmse": 0.125, "relmse": 0.5, "ssim": 0.75, "flip": 0.25, "rel_bias": -0.01, "rmse_floor": "",
-               "relmse_floor": "", "at_floor": ""}
+               "relmse_floor": "", "at_floor": "", "mse": 0.015625, "mse_debiased": 0.0125,
+               "mse_debiased_lo": -0.001, "mse_debiased_hi": 0.026, "mse_debiased_includes_zero": 1,
+               "relmse_debiased": None, "relmse_debiased_lo": None, "relmse_debiased_hi": None,
+               "relmse_debiased_includes_zero": None, "variance_source": "sets"}
+        self.assertEqual(tuple(row), sweep.COLUMNS)
         with tempfile.TemporaryDirectory() as directory:
             sweep.write_csv([row], Path(directory) / "s.csv")
             (back,) = sweep.read_csv(Path(directory) / "s.csv")

@@ -1,6 +1,7 @@
 """The sweep end to end on a tiny case (CTest sweep_tiny): a 32x32 reference
-of the diffuse Cornell box, a sweep to 64 spp for M = 5 and 21 with the real
-renderer, and a results page from it; a sweep with an extra estimator; the
+of the diffuse Cornell box, a sweep to 64 spp for M = 5 and 21 and two seeds
+with the real renderer (debiased metrics, intervals over the seeds), and a
+results page from it; a sweep with an extra estimator; the
 standard errors' calibration in its quick mode.
 Environment: GMONRT (the renderer), WORK_DIR (scratch).
 Without an OpenCL device: exit 77 (skipped), or a failure under CI=true."""
@@ -16,7 +17,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "scripts"))
-from gmon_sweep import calibration, references, renderer, results, sweep  # noqa: E402
+from gmon_sweep import calibration, references, renderer, results, sweep, uncertainty  # noqa: E402
 
 GMONRT = Path(os.environ.get("GMONRT", ROOT / "build" / "gmonrt"))
 WORK = Path(os.environ.get("WORK_DIR", ROOT / "build")) / "sweep-tiny"
@@ -36,19 +37,56 @@ class TinySweep(unittest.TestCase):
                                   ROOT / "scenes" / "crops.json", WORK)
         cls.out = WORK / "sweeps" / "cornell-diffuse"
         sweep.main([str(SCENE), "--reference", str(cls.reference), "--max-spp", "64", "--sets", "5,21",
-                    "--out", str(cls.out), "--gmonrt", str(GMONRT), "--sampler", "sobol-pixel"])
-        cls.rows = sweep.read_csv(cls.out / "sweep.csv")
+                    "--seeds", "2", "--out", str(cls.out), "--gmonrt", str(GMONRT), "--sampler", "sobol-pixel"])
+        cls.all_rows = sweep.read_csv(cls.out / "sweep.csv")
+        cls.rows = [r for r in cls.all_rows if r["seed"] == 0]
+        cls.summary = sweep.read_csv(cls.out / "summary.csv")
 
     def lines(self):
-        """{(sets, estimator, region): rows in file order}."""
+        """{(sets, estimator, region): rows in file order} of the first seed."""
         lines = {}
         for row in self.rows:
             lines.setdefault((row["sets"], row["estimator"], row["region"]), []).append(row)
         return lines
 
     def test_columns(self):
-        with open(self.out / "sweep.csv") as f:
-            self.assertEqual(f.readline().strip().split(","), list(sweep.COLUMNS))
+        for name, columns in (("sweep.csv", sweep.COLUMNS), ("summary.csv", uncertainty.SUMMARY_COLUMNS),
+                              ("reach.csv", uncertainty.REACH_COLUMNS)):
+            with open(self.out / name) as f:
+                self.assertEqual(f.readline().strip().split(","), list(columns), name)
+
+    def test_two_seeds_rendered_independently(self):
+        self.assertEqual(json.loads((self.out / "sweep.json").read_text())["seeds"], [0, 1])
+        final = {r["seed"]: r for r in self.all_rows
+                 if (r["sets"], r["estimator"], r["region"], r["spp"]) == (21, "mean", "image", 64)}
+        self.assertEqual(sorted(final), [0, 1])
+        self.assertNotEqual(final[0]["rmse"], final[1]["rmse"])
+
+    def test_debiased_metrics(self):
+        """The tiny reference (1024 spp) has a variance layer from its sets:
+        every row is debiased, below the raw MSE, with an interval around it."""
+        for row in self.all_rows:
+            self.assertEqual(row["variance_source"], "sets")
+            self.assertLess(row["mse_debiased"], row["mse"])
+            self.assertLessEqual(row["mse_debiased_lo"], row["mse_debiased"])
+            self.assertGreaterEqual(row["mse_debiased_hi"], row["mse_debiased"])
+            self.assertIn(row["mse_debiased_includes_zero"], (0, 1))
+            self.assertAlmostEqual(row["mse"], row["rmse"] ** 2, delta=1e-5 * row["mse"])
+
+    def test_summary_over_seeds(self):
+        """Two seeds per row; the mean's paired ratio to itself exactly 1 with
+        a zero-width interval; every interval around its value."""
+        self.assertEqual({r["seeds"] for r in self.summary}, {2})
+        self.assertEqual(len(self.summary), len(self.all_rows) // 2)
+        for row in self.summary:
+            for metric in uncertainty.SUMMARY_METRICS:
+                self.assertLessEqual(row[f"{metric}_lo"], row[metric], (metric, row))
+                self.assertGreaterEqual(row[f"{metric}_hi"], row[metric], (metric, row))
+            if row["estimator"] == "mean":
+                for metric in uncertainty.RATIO_METRICS:
+                    self.assertEqual((row[f"{metric}_ratio"], row[f"{metric}_ratio_lo"], row[f"{metric}_ratio_hi"]),
+                                     (1.0, 1.0, 1.0), metric)
+                    self.assertEqual(row[f"{metric}_verdict"], "undecided")
 
     def test_every_line_has_rising_spp_and_time(self):
         lines = self.lines()
@@ -93,7 +131,11 @@ class TinySweep(unittest.TestCase):
         self.assertIn("| crop | mean | MoN | G-MoN |", page)
         self.assertIn("| cornell-diffuse | 1024 | 32x32 | 1000 |", page)
         self.assertIn("results/cornell-diffuse-error-vs-time.png", page)
-        for name in ("cornell-diffuse.csv", "cornell-diffuse-error-vs-spp.png", "cornell-diffuse-crops.png"):
+        self.assertIn("Over 2 seeds at 64 spp", page)
+        self.assertRegex(page, r"\| 21 \| mean \| [0-9.e-]+ \[[0-9.e-]+, [0-9.e-]+\] \|")
+        self.assertIn("| 21 | G-MoN |", page)
+        for name in ("cornell-diffuse.csv", "cornell-diffuse-summary.csv", "cornell-diffuse-reach.csv",
+                     "cornell-diffuse-error-vs-spp.png", "cornell-diffuse-crops.png"):
             self.assertTrue((docs / "results" / name).is_file(), name)
 
     def test_an_extra_estimator_is_swept_and_listed(self):
@@ -101,7 +143,7 @@ class TinySweep(unittest.TestCase):
         page come from the renderer's files, not from a fixed list."""
         sweeps = WORK / "sweeps-trimmed"
         out = sweeps / "cornell-diffuse"
-        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5",
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5", "--seeds", "1",
                     "--estimators", "mean,mon,gmon,trimmed", "--out", str(out), "--gmonrt", str(GMONRT)])
         rows = sweep.read_csv(out / "sweep.csv")
         self.assertEqual(list(dict.fromkeys(r["estimator"] for r in rows)), ["mean", "mon", "gmon", "trimmed"])
@@ -121,7 +163,7 @@ class TinySweep(unittest.TestCase):
         checks it), and the page counts the pixels below zero."""
         sweeps = WORK / "sweeps-per-sample"
         out = sweeps / "cornell-diffuse"
-        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5",
+        sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "8", "--sets", "5", "--seeds", "1",
                     "--estimators", "mean,clamp,gabmm", "--out", str(out), "--gmonrt", str(GMONRT)])
         rows = sweep.read_csv(out / "sweep.csv")
         self.assertEqual(list(dict.fromkeys(r["estimator"] for r in rows)),
@@ -157,7 +199,7 @@ class TinySweep(unittest.TestCase):
     def test_a_time_budget_stops_early(self):
         out = WORK / "sweep-timed"
         sweep.main([str(SCENE), "--reference", str(self.reference), "--max-spp", "64", "--time", "0.001",
-                    "--out", str(out), "--gmonrt", str(GMONRT)])
+                    "--seeds", "1", "--out", str(out), "--gmonrt", str(GMONRT)])
         spps = sorted({row["spp"] for row in sweep.read_csv(out / "sweep.csv")})
         self.assertGreaterEqual(len(spps), 1)
         self.assertLess(spps[-1], 64)
@@ -166,6 +208,9 @@ class TinySweep(unittest.TestCase):
         with self.assertRaises(SystemExit):
             sweep.main([str(SCENE), "--reference", str(self.reference), "--seed", "1000", "--out", str(WORK / "x"),
                         "--gmonrt", str(GMONRT)])
+        with self.assertRaises(SystemExit):  # seeds 998, 999, 1000, 1001
+            sweep.main([str(SCENE), "--reference", str(self.reference), "--seed", "998", "--seeds", "4",
+                        "--out", str(WORK / "x"), "--gmonrt", str(GMONRT)])
 
     def test_another_resolution_is_refused(self):
         with self.assertRaises(SystemExit):
