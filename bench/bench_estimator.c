@@ -3,7 +3,7 @@
  *
  * The estimator is a streaming kernel: each pixel reads its M set sums per
  * channel once and writes a few RGB images. Its practical limit is memory
- * bandwidth, measured here by the copy kernel (kernels/bench_copy.cl) moving
+ * bandwidth, measured here by the copy kernel (kernels/film/bench_copy.cl) moving
  * the same input bytes. Timed, each a program of its own (builds timed
  * apart): every estimate alone, the default set (mean, MoN, G-MoN), all
  * estimates, and all estimates with their standard errors. The goals: the

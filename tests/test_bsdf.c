@@ -1,4 +1,4 @@
-/* BSDFs (kernels/bsdf.h, compiled on the host): sampling agrees with
+/* BSDFs (kernels/tracing/bsdf.h, compiled on the host): sampling agrees with
  * evaluation, the sampling density integrates to the chance of a sample,
  * energy is conserved, and reflection is reciprocal. */
 #include "bsdf.h"

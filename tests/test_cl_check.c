@@ -84,16 +84,16 @@ static void test_embedded_source_has_line_markers(void **state)
 {
     (void)state;
     char error[256];
-    const char *include_dir = NULL;
-    char *source = kernel_source_load("estimator", NULL, &include_dir, error, sizeof error);
+    char include_dir[4096];
+    char *source = kernel_source_load("estimator", NULL, include_dir, sizeof include_dir, error, sizeof error);
     assert_non_null(source);
-    assert_null(include_dir);
-    assert_non_null(strstr(source, "#line 1 \"kernels/estimators.h\""));
-    assert_non_null(strstr(source, "#line 1 \"kernels/compat.h\""));
+    assert_string_equal(include_dir, "");
+    assert_non_null(strstr(source, "#line 1 \"kernels/film/estimators.h\""));
+    assert_non_null(strstr(source, "#line 1 \"kernels/common/compat.h\""));
     /* The sorting networks the build generated, under their include name. */
-    assert_non_null(strstr(source, "#line 1 \"kernels/sorting_networks.h\""));
+    assert_non_null(strstr(source, "#line 1 \"kernels/film/sorting_networks.h\""));
     assert_non_null(strstr(source, "#define EST_NETWORK_64(CE)"));
-    assert_non_null(strstr(source, "\"kernels/estimator.cl\""));
+    assert_non_null(strstr(source, "\"kernels/film/estimator.cl\""));
     assert_null(strstr(source, "#include \"estimators.h\""));
     free(source);
 }
@@ -102,14 +102,16 @@ static void test_kernel_dir_override(void **state)
 {
     (void)state;
     char error[256];
-    const char *include_dir = NULL;
-    char *source = kernel_source_load("estimator", GMON_SOURCE_DIR "/kernels", &include_dir, error, sizeof error);
+    char include_dir[4096];
+    char *source = kernel_source_load("estimator", GMON_SOURCE_DIR "/kernels", include_dir, sizeof include_dir, error,
+                                      sizeof error);
     assert_non_null(source);
-    assert_string_equal(include_dir, GMON_SOURCE_DIR "/kernels");
+    assert_string_equal(include_dir, GMON_SOURCE_DIR "/kernels/film");
     assert_non_null(strstr(source, "#include \"estimators.h\""));
     free(source);
-    assert_null(kernel_source_load("estimator", "/nonexistent-dir", &include_dir, error, sizeof error));
-    assert_non_null(strstr(error, "/nonexistent-dir/estimator.cl"));
+    assert_null(
+        kernel_source_load("estimator", "/nonexistent-dir", include_dir, sizeof include_dir, error, sizeof error));
+    assert_non_null(strstr(error, "/nonexistent-dir/film/estimator.cl"));
 }
 
 int main(void)

@@ -90,7 +90,7 @@ static void test_subcommands(void **state)
     assert_non_null(strstr(options_help(COMMAND_RENDER), "143"));
 }
 
-/* --help lists every estimator and parameter of kernels/passes.h's tables
+/* --help lists every estimator and parameter of kernels/film/passes.h's tables
  * (a new row is listed without a line in options.c). */
 #define PARAMETER_NAME_(type, field, name, value, lowest, highest) name,
 static void test_help_lists_the_tables(void **state)

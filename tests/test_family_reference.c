@@ -23,7 +23,7 @@
 
 #include <cmocka.h>
 
-/* Every set-based estimator, from the rows of kernels/passes.h (NULL for
+/* Every set-based estimator, from the rows of kernels/film/passes.h (NULL for
  * the other rows), so that a new row is checked here too. */
 #define ESTIMATE_NAME_(id, name, type, kind, traits, of_sorted) (kind) == PASS_ESTIMATE ? name : NULL,
 static const char *const all_names[] = {GMON_PASSES(ESTIMATE_NAME_)};

@@ -1,4 +1,4 @@
-/* The light tree (kernels/light_tree.h, host/render/light_tree_build.c)
+/* The light tree (kernels/tracing/light_tree.h, host/render/light_tree_build.c)
  * and the light samplers' chances (lights.h pick_light_at, light_pick_pmf),
  * on the host: chances that sum to 1 over the lights at any shading point;
  * a walk down the tree picks each light as often as light_pick_pmf says,

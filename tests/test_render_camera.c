@@ -1,4 +1,4 @@
-/* Cameras and pixel filters. On the host (kernels/camera.h compiled as C):
+/* Cameras and pixel filters. On the host (kernels/tracing/camera.h compiled as C):
  * the pinhole with the box filter makes exactly the rays it always made;
  * screen windows and the orthographic camera put image points where pbrt
  * puts them; thin-lens rays pass through the plane of focus; each filter's

@@ -1,4 +1,4 @@
-/* The per-sample estimators (kernels/sample_passes.h): clamp and clamp-sum
+/* The per-sample estimators (kernels/film/sample_passes.h): clamp and clamp-sum
  * on a hand-computed sample stream, the kernels' accumulation and
  * estimation equal to the host's bit for bit, and in renders: clamp at
  * V = infinity equals the mean bit for bit, the set sums and set-based

@@ -1,4 +1,4 @@
-/* The samplers (kernels/sampler.h), on the host: the Sobol points behind
+/* The samplers (kernels/tracing/sampler.h), on the host: the Sobol points behind
  * them form a (0,2)-sequence; every 2D dimension of a stream is a
  * (0,k,2)-net at every power of two 2^k and every 1D dimension stratified,
  * for both Sobol samplers and any M; the scrambling gives each pixel,

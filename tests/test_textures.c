@@ -1,7 +1,7 @@
 /* Textures: lookups against hand-computed texel values (nearest,
  * bilinear, every wrap mode, sRGB bytes), MIP pyramids and level
  * selection at a known distance, procedural textures and mappings at known
- * points (kernels/texture.h, included here as the kernels include it); the
+ * points (kernels/tracing/texture.h, included here as the kernels include it); the
  * scene reader's and converter's textures and their errors; "texture
  * alpha" in the host's ray traversal; and on a
  * device: a constant displacement changes nothing, a flat normal map is no

@@ -111,8 +111,8 @@ static void print_build_log(const ClDevice *device, cl_program program, const ch
 cl_program cl_program_build(ClDevice *device, const char *name, const char *options, const char *kernel_dir)
 {
     char error[512];
-    const char *include_dir = NULL;
-    char *source = kernel_source_load(name, kernel_dir, &include_dir, error, (int)sizeof error);
+    char include_dir[4096];
+    char *source = kernel_source_load(name, kernel_dir, include_dir, sizeof include_dir, error, (int)sizeof error);
     if (!source) {
         fprintf(stderr, "%s\n", error);
         return NULL;
@@ -121,7 +121,7 @@ cl_program cl_program_build(ClDevice *device, const char *name, const char *opti
      * division (GPUs) bit-identical with the host. Sources read from a
      * directory include its headers, then the ones the build generated. */
     const char *generated_dir = kernel_source_generated_dir();
-    size_t length = strlen(options) + (include_dir ? strlen(include_dir) + strlen(generated_dir) : 0) + 128;
+    size_t length = strlen(options) + strlen(include_dir) + strlen(generated_dir) + 128;
     char *all_options = malloc(length);
     if (!all_options) {
         free(source);
@@ -129,7 +129,7 @@ cl_program cl_program_build(ClDevice *device, const char *name, const char *opti
     }
     int used = snprintf(all_options, length, "-cl-std=CL1.2%s",
                         device->info.correctly_rounded_divide ? " -cl-fp32-correctly-rounded-divide-sqrt" : "");
-    if (include_dir)
+    if (include_dir[0])
         used += snprintf(all_options + used, length - (size_t)used, " -I %s -I %s", include_dir, generated_dir);
     snprintf(all_options + used, length - (size_t)used, " %s", options);
 

@@ -25,8 +25,8 @@ static char *read_text_file(const char *path)
     return text;
 }
 
-char *kernel_source_load(const char *name, const char *kernel_dir, const char **include_dir, char *error,
-                         int error_size)
+char *kernel_source_load(const char *name, const char *kernel_dir, char *include_dir, size_t include_dir_size,
+                         char *error, int error_size)
 {
     const EmbeddedKernel *embedded = kernel_source_embedded(name);
     if (!embedded) {
@@ -35,7 +35,7 @@ char *kernel_source_load(const char *name, const char *kernel_dir, const char **
     }
     if (!kernel_dir)
         kernel_dir = getenv(KERNEL_DIR_ENV);
-    *include_dir = NULL;
+    include_dir[0] = '\0';
     if (!kernel_dir || !*kernel_dir) {
         char *copy = malloc(strlen(embedded->source) + 1);
         if (copy)
@@ -44,8 +44,8 @@ char *kernel_source_load(const char *name, const char *kernel_dir, const char **
             snprintf(error, (size_t)error_size, "out of memory");
         return copy;
     }
-    /* embedded->path is "kernels/<file>"; take the file name. */
-    const char *file = strrchr(embedded->path, '/');
+    /* embedded->path is "kernels/<folder>/<file>": the same place below kernel_dir. */
+    const char *file = strchr(embedded->path, '/');
     file = file ? file + 1 : embedded->path;
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", kernel_dir, file);
@@ -55,7 +55,10 @@ char *kernel_source_load(const char *name, const char *kernel_dir, const char **
                  getenv(KERNEL_DIR_ENV) == kernel_dir ? KERNEL_DIR_ENV : "--kernel-dir");
         return NULL;
     }
-    *include_dir = kernel_dir;
+    snprintf(include_dir, include_dir_size, "%s", path);
+    char *slash = strrchr(include_dir, '/');
+    if (slash)
+        *slash = '\0';
     return text;
 }
 

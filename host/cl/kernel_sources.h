@@ -4,9 +4,11 @@
 #ifndef HOST_CL_KERNEL_SOURCES_H
 #define HOST_CL_KERNEL_SOURCES_H
 
+#include <stddef.h>
+
 typedef struct {
     const char *name;   /* e.g. "estimator" */
-    const char *path;   /* e.g. "kernels/estimator.cl", relative to the repository */
+    const char *path;   /* e.g. "kernels/film/estimator.cl", relative to the repository */
     const char *source; /* includes inlined, with #line markers */
 } EmbeddedKernel;
 
@@ -18,14 +20,16 @@ const EmbeddedKernel *kernel_source_embedded(const char *name);
 #define KERNEL_DIR_ENV "GMON_KERNEL_DIR"
 
 /* The source of kernel `name`: read from `kernel_dir` (or $GMON_KERNEL_DIR
- * when kernel_dir is NULL) if set, else the embedded copy. Returns a malloc'd
- * string and sets *include_dir to the directory to pass as -I (NULL when
- * embedded), or NULL with a message in `error`. */
-char *kernel_source_load(const char *name, const char *kernel_dir, const char **include_dir, char *error,
-                         int error_size);
+ * when kernel_dir is NULL) if set, at its place below it (e.g.
+ * film/estimator.cl), else the embedded copy. Returns a malloc'd string and
+ * writes the directory to pass as -I to include_dir (the source file's own,
+ * from which its includes are relative; "" when embedded), or NULL with a
+ * message in `error`. */
+char *kernel_source_load(const char *name, const char *kernel_dir, char *include_dir, size_t include_dir_size,
+                         char *error, int error_size);
 
 /* The directory of the kernel headers this build generated (its
- * generated/kernels: sorting_networks.h), which a kernels/ directory does
+ * generated/kernels/film: sorting_networks.h), which a kernels/ directory does
  * not hold: a program read from a directory is built with -I for it after
  * the kernel directory's own. */
 const char *kernel_source_generated_dir(void);

@@ -180,7 +180,7 @@ static void append_words(char *out, size_t size, const char *text, int width)
 #define PARAMETER_NAME_(type, field, name, value, lowest, highest) name ", "
 
 /* The help of --estimators and --estimator-param: their text, then the
- * names from kernels/passes.h's tables, so that no list is kept here. */
+ * names from kernels/film/passes.h's tables, so that no list is kept here. */
 static const char *flag_help(const Flag *f, char *out, size_t size)
 {
     const int estimators = strcmp(f->name, "--estimators") == 0;

@@ -1,4 +1,4 @@
-/* The estimator kernels (kernels/estimator.cl) on an OpenCL device. */
+/* The estimator kernels (kernels/film/estimator.cl) on an OpenCL device. */
 #ifndef HOST_FILM_ESTIMATOR_PROGRAM_H
 #define HOST_FILM_ESTIMATOR_PROGRAM_H
 

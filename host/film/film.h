@@ -1,6 +1,6 @@
 /* The film: a render's per-set sums and the passes estimated from them
- * (kernels/passes.h lists every pass). This header is the host side of the
- * one estimation code in kernels/estimators.h: the settings (with the only
+ * (kernels/film/passes.h lists every pass). This header is the host side of the
+ * one estimation code in kernels/film/estimators.h: the settings (with the only
  * check of M's range), the pass and parameter names, and the host
  * estimation, the reference the kernels are tested against and what
  * re-estimates a saved render. estimator_program.h runs the same on a device,
@@ -9,7 +9,7 @@
  *
  * Set sums are planes [set][channel][pixel] of floats; accumulators are the
  * renderer's exact sums, accumulator_planes(M) planes of uint64 (the grid
- * plane, then [set][channel][word][pixel]: kernels/accumulate.h). Every
+ * plane, then [set][channel][word][pixel]: kernels/film/accumulate.h). Every
  * pixel has sample_count samples, sample s in set s mod M. */
 #ifndef HOST_FILM_FILM_H
 #define HOST_FILM_FILM_H

@@ -1,5 +1,5 @@
 /* Merging the films of renders of disjoint sample ranges of one scene:
- * their exact set sums add (kernels/accumulate.h), so the merged film holds
+ * their exact set sums add (kernels/film/accumulate.h), so the merged film holds
  * the sums one render of the whole range would have. */
 #ifndef HOST_FILM_FILM_MERGE_H
 #define HOST_FILM_FILM_MERGE_H

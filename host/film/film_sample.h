@@ -1,4 +1,4 @@
-/* The host side of the per-sample estimators (kernels/sample_passes.h):
+/* The host side of the per-sample estimators (kernels/film/sample_passes.h):
  * which state and images a render's settings ask for, the kernels' build
  * options, the layer names, and the host estimation (the reference the
  * kernels are tested against, and what a render without a device left

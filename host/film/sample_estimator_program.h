@@ -1,4 +1,4 @@
-/* The per-sample estimators' kernels (kernels/sample_estimator.cl) on an
+/* The per-sample estimators' kernels (kernels/film/sample_estimator.cl) on an
  * OpenCL device: film_sample.h's estimation, bit for bit. */
 #ifndef HOST_FILM_SAMPLE_ESTIMATOR_PROGRAM_H
 #define HOST_FILM_SAMPLE_ESTIMATOR_PROGRAM_H

@@ -16,7 +16,7 @@
 #define SUM_WORDS 4   /* 32-bit channels per 128-bit set sum */
 #define GRID_SET (-1) /* the set of the grid channel, sets.grid */
 /* The grid word of files written before sets.grid existed: their sums
- * count units of 2^-56 (kernels/accumulate.h, EST_GRID_BIAS). */
+ * count units of 2^-56 (kernels/film/accumulate.h, EST_GRID_BIAS). */
 #define LEGACY_GRID_WORD (1024u - 56u)
 #define NAME_CAPACITY 32 /* EXR short names: at most 31 bytes */
 #define METADATA_PREFIX "gmon."

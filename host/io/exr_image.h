@@ -12,7 +12,7 @@
  *                                    values span more than its sums hold)
  *   sets.grid                UINT    the pixel's grid word: 0 (no nonzero
  *                                    sample) or E + 1024, the sums counting
- *                                    units of 2^E (kernels/accumulate.h);
+ *                                    units of 2^E (kernels/film/accumulate.h);
  *                                    files without it: units of 2^-56
  *   sets.<j>.<R|G|B>.w<k>    UINT    set j's exact sum (signed 128-bit
  *                                    integer, below 2^126 in magnitude) as
@@ -98,7 +98,7 @@ typedef struct {
     const uint32_t *rounded;      /* one value per pixel */
     const uint64_t *accumulators; /* metadata.set_count sets: the grid plane,
                                      then planes [set][channel][word][pixel],
-                                     as in kernels/accumulate.h */
+                                     as in kernels/film/accumulate.h */
     ExrMetadata metadata;
     void *storage; /* memory owned by an image from exr_image_read */
 } ExrImage;

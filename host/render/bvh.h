@@ -1,6 +1,6 @@
 /* Bounding volume hierarchy over triangles and spheres, built on the host
  * as a binary tree with the surface area heuristic (binned), then collapsed
- * into the 8-wide tree the kernels traverse (kernels/intersect.h). */
+ * into the 8-wide tree the kernels traverse (kernels/tracing/intersect.h). */
 #ifndef HOST_RENDER_BVH_H
 #define HOST_RENDER_BVH_H
 

@@ -1,4 +1,4 @@
-/* The light tree's build (kernels/light_tree.h samples it). */
+/* The light tree's build (kernels/tracing/light_tree.h samples it). */
 #ifndef HOST_RENDER_LIGHT_TREE_BUILD_H
 #define HOST_RENDER_LIGHT_TREE_BUILD_H
 

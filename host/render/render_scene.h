@@ -74,7 +74,7 @@ typedef struct {
     int instance_count;
 } RenderScene;
 
-/* The arrays of kernels/scene_types.h's list, as the path tracer takes them. */
+/* The arrays of kernels/tracing/scene_types.h's list, as the path tracer takes them. */
 #define RENDER_SCENE_ARRAY(name, type)                                                                                 \
     const type *name;                                                                                                  \
     size_t name##_count;
@@ -230,7 +230,7 @@ void render_scene_set_light_sampler(RenderScene *scene, uint32_t light_sampler);
 const char *light_sampler_name(uint32_t light_sampler);
 int light_sampler_from_name(const char *name);
 
-/* The samplers (kernels/sampler.h) by name, as --sampler and the EXR's
+/* The samplers (kernels/tracing/sampler.h) by name, as --sampler and the EXR's
  * gmon.sampler spell them: sampler_name of a SAMPLER_* value, and
  * sampler_from_name of a name (-1: none). */
 const char *sampler_name(uint32_t sampler);
@@ -243,7 +243,7 @@ int sampler_from_name(const char *name);
 #define SAMPLER_DEFAULT SAMPLER_SOBOL_SETS
 uint32_t sampler_for_scene(const char *name);
 
-/* The feature mask (kernels/feature_mask.h) of what rendering the scene uses. */
+/* The feature mask (kernels/tracing/feature_mask.h) of what rendering the scene uses. */
 uint64_t render_scene_features(const RenderScene *scene);
 
 #endif

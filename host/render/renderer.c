@@ -700,9 +700,9 @@ void path_tracer_build_options(const EstimatorSettings *estimator, uint64_t feat
 
 static int dump_kernel(const RenderSettings *s, const char *options, char *error, size_t error_size)
 {
-    const char *include_dir = NULL;
-    char message[512];
-    char *source = kernel_source_load("path_tracer", s->kernel_dir, &include_dir, message, (int)sizeof message);
+    char include_dir[4096], message[512];
+    char *source =
+        kernel_source_load("path_tracer", s->kernel_dir, include_dir, sizeof include_dir, message, (int)sizeof message);
     if (!source) {
         snprintf(error, error_size, "%s", message);
         return -1;

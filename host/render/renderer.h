@@ -78,8 +78,8 @@ struct RenderOutput {
     char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
     uint32_t max_depth;
     const char *integrator;        /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
-    uint32_t sampler;              /* SAMPLER_* (kernels/sampler.h) */
-    uint32_t light_sampler;        /* LIGHT_SAMPLER_* (kernels/scene_types.h) */
+    uint32_t sampler;              /* SAMPLER_* (kernels/tracing/sampler.h) */
+    uint32_t light_sampler;        /* LIGHT_SAMPLER_* (kernels/tracing/scene_types.h) */
     uint64_t *accumulators;        /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
     uint32_t *rejected;            /* per pixel, REJECTED_PLANES planes: non-finite samples, then rounded ones */
     uint64_t rejected_total;       /* non-finite samples (added as 0) */

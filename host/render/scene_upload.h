@@ -1,5 +1,5 @@
 /* The path tracer's input, as uploaded: the constants and the typed arrays
- * of kernels/scene_types.h's GMON_SCENE_ARRAYS list. The only place that
+ * of kernels/tracing/scene_types.h's GMON_SCENE_ARRAYS list. The only place that
  * creates the scene's device buffers and binds the path tracer's
  * arguments; the scene hash is taken from exactly the uploaded bytes. */
 #ifndef HOST_RENDER_SCENE_UPLOAD_H

@@ -1,7 +1,7 @@
 /* The scene as read from a pbrt-v4 file (the subset in host/scene/README.md):
  * camera, film, sampling settings, materials and shapes, flattened into world
  * space. Plain data owned by the Scene; the renderer converts it to the
- * device layout (kernels/scene_types.h). */
+ * device layout (kernels/tracing/scene_types.h). */
 #ifndef HOST_SCENE_SCENE_H
 #define HOST_SCENE_SCENE_H
 

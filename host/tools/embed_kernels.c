@@ -7,7 +7,7 @@
  * markers naming the real file and line, so an OpenCL build log points at
  * kernels/x.h:42 rather than at a string. Paths are relative to the first
  * ROOT that holds them: the source tree, then the build's generated files
- * (kernels/sorting_networks.h). */
+ * (kernels/film/sorting_networks.h). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -63,6 +63,20 @@ static FILE *open_in_roots(const char *path)
     exit(1);
 }
 
+/* Removes each "<folder>/../" from a relative path, so that a header the
+ * kernels reach from two folders ("../common/compat.h") is one file: inlined
+ * once, and named alike in #line markers. */
+static void normalize_path(char *path)
+{
+    char *up;
+    while ((up = strstr(path, "/../")) != NULL) {
+        char *start = up;
+        while (start > path && start[-1] != '/')
+            --start;
+        memmove(start, up + 4, strlen(up + 4) + 1);
+    }
+}
+
 static void inline_file(Buffer *out, const char *path)
 {
     for (int i = 0; i < included_count; ++i)
@@ -95,6 +109,7 @@ static void inline_file(Buffer *out, const char *path)
         if (sscanf(p, "#include \"%255[^\"]\"", name) == 1) {
             char child[768];
             snprintf(child, sizeof child, "%s%s", directory, name);
+            normalize_path(child);
             inline_file(out, child);
             buffer_printf(out, "#line %d \"%s\"\n", path, line_number + 1);
             continue;

@@ -33,7 +33,8 @@ add_library(fuzz_code STATIC
   host/io/image_read.c
   host/io/image_probe.c
   tests/fuzz/fuzz_input.c)
-target_include_directories(fuzz_code PUBLIC host kernels ${GMON_GENERATED_DIR}/kernels tests/fuzz)
+target_include_directories(fuzz_code PUBLIC host kernels/common kernels/film kernels/tracing ${GMON_GENERATED_DIR}/kernels/film
+                                            tests/fuzz)
 add_dependencies(fuzz_code sorting_networks)
 target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB OpenEXR::OpenEXRCore ZLIB::ZLIB ${MATH_LIBRARY})
 

@@ -22,7 +22,7 @@ from gmon_sweep import calibration, references, renderer, results, sweep, uncert
 GMONRT = Path(os.environ.get("GMONRT", ROOT / "build" / "gmonrt"))
 WORK = Path(os.environ.get("WORK_DIR", ROOT / "build")) / "sweep-tiny"
 SCENE = ROOT / "scenes" / "cornell-diffuse.pbrt"
-# The set-based estimators ("all"), from the rows of kernels/passes.h, so
+# The set-based estimators ("all"), from the rows of kernels/film/passes.h, so
 # that a new row needs no change here.
 SET_ESTIMATORS = re.findall(r'PASS\(\w+, "([^"]+)", PASS_FLOAT, PASS_ESTIMATE,',
                             (ROOT / "kernels" / "passes.h").read_text())

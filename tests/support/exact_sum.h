@@ -25,7 +25,7 @@ float exact_sum_to_float(const ExactSum *sum);
 long double exact_sum_to_long_double(const ExactSum *sum);
 
 /* Set j, channel c of pixel p of an accumulation buffer (the renderer's
- * layout: kernels/accumulate.h) as a long double. */
+ * layout: kernels/film/accumulate.h) as a long double. */
 long double test_set_sum(const uint64_t *accumulators, uint32_t set, uint32_t channel, size_t pixel,
                          size_t pixel_count);
 

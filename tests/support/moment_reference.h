@@ -1,6 +1,6 @@
 /* An independent long-double implementation of the moment-based estimators
  * (docs/estimators.md, "Estimators that see each sample": abmm, gabmm, mean-or-mon), written from
- * the spec, not from kernels/sample_passes.h: two-pass central moments and
+ * the spec, not from kernels/film/sample_passes.h: two-pass central moments and
  * the paper's Gini of the set means. */
 #ifndef TESTS_SUPPORT_MOMENT_REFERENCE_H
 #define TESTS_SUPPORT_MOMENT_REFERENCE_H

@@ -1,7 +1,7 @@
 /* An independent long-double implementation of zirr (Zirr, Hanika,
  * Dachsbacher, "Re-Weighting Firefly Samples for Improved Finite-Sample
  * Monte Carlo Estimates", CGF 2018), written from the paper's description
- * and docs/estimators.md's statement of it, not from kernels/sample_passes.h: the
+ * and docs/estimators.md's statement of it, not from kernels/film/sample_passes.h: the
  * split is derived from its two conditions (weights sum to 1, counts sum to
  * 1) rather than from the closed form, and cascades and reliabilities are
  * long double. */

@@ -15,7 +15,7 @@
 #include "mis.h"
 #include "rng.h"
 #include "scene_types.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 typedef struct {
     Vec3 wi;

@@ -12,7 +12,7 @@
 #define KERNELS_LIGHT_TREE_H
 
 #include "scene_types.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 /* cos(a - b) from the cosines of a and b in [0, pi], or 1 where a <= b. */
 KERNEL_FN float cos_difference_clamped(float cos_a, float cos_b)

@@ -15,7 +15,7 @@
 #include "feature_mask.h"
 #include "sampler.h"
 #include "scene_types.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 #define CAMERA_LENS_DIMENSION 0xfffffff0u
 

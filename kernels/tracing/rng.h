@@ -4,7 +4,7 @@
 #ifndef KERNELS_RNG_H
 #define KERNELS_RNG_H
 
-#include "compat.h"
+#include "../common/compat.h"
 
 /* splitmix64's finalizer: a bijective 64-bit mix. */
 KERNEL_FN uint64_t rng_mix(uint64_t x)

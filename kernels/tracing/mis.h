@@ -3,7 +3,7 @@
 #ifndef KERNELS_MIS_H
 #define KERNELS_MIS_H
 
-#include "compat.h"
+#include "../common/compat.h"
 
 /* The power heuristic (exponent 2) for one sample of each strategy:
  * a^2 / (a^2 + b^2), as 1 / (1 + (b / a)^2) so that densities past 1e19

@@ -39,7 +39,7 @@
  *
  * Valid C11 and OpenCL C 1.2 (host/film/film_sample.c is the host side, the
  * reference the kernels are tested against). In the path tracer and in
- * kernels/sample_estimator.cl EST_SAMPLE_PASSES is the mask of requested
+ * kernels/film/sample_estimator.cl EST_SAMPLE_PASSES is the mask of requested
  * passes and EST_CLAMP_LEVEL_VALUES their levels (build options); the host
  * passes both at run time. */
 #ifndef KERNELS_SAMPLE_PASSES_H
@@ -48,7 +48,7 @@
 #include "accumulate.h"
 #include "estimator_numerics.h"
 #include "passes.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 /* SAMPLE_SUMS_DOUBLE: the moments' double sums (moment_sum_add), in the
  * path tracer and wherever SAMPLE_PASSES_DOUBLE (their estimation) is;

@@ -7,10 +7,10 @@
 #ifndef KERNELS_SURFACE_UV_H
 #define KERNELS_SURFACE_UV_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "scene_types.h"
 #include "texture.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 #ifndef __OPENCL_C_VERSION__
 #define surface_acos(x) acosf(x)

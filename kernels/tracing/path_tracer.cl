@@ -16,7 +16,7 @@
 #ifdef SAMPLE_SUMS_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
-#include "accumulate.h"
+#include "../film/accumulate.h"
 #include "bsdf.h"
 #include "camera.h"
 #include "lights.h"
@@ -30,7 +30,7 @@
 #endif
 
 #ifdef EST_SAMPLE_PASSES
-#include "sample_passes.h"
+#include "../film/sample_passes.h"
 #define SAMPLE_PASSES EST_SAMPLE_PASSES
 /* clamp-sum needs a sample's direct and indirect light apart. */
 #define TRACK_DIRECT ((SAMPLE_PASSES & PASS_BIT(PASS_CLAMP_SUM)) != 0)

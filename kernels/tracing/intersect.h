@@ -3,7 +3,7 @@
 #ifndef KERNELS_INTERSECT_H
 #define KERNELS_INTERSECT_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "rng.h"
 #include "scene_types.h"
 #include "surface_uv.h"

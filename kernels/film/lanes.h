@@ -22,7 +22,7 @@
 #ifndef KERNELS_LANES_H
 #define KERNELS_LANES_H
 
-#include "compat.h"
+#include "../common/compat.h"
 
 #ifndef EST_VECTOR_WIDTH
 #define EST_VECTOR_WIDTH 1

@@ -5,7 +5,7 @@
 #ifndef KERNELS_DISTRIBUTION_H
 #define KERNELS_DISTRIBUTION_H
 
-#include "compat.h"
+#include "../common/compat.h"
 
 /* Index i of the interval [cdf[i], cdf[i + 1]) that holds u, among n. */
 KERNEL_FN uint32_t cdf_find(const GLOBAL float *cdf, uint32_t n, float u)

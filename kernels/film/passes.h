@@ -3,7 +3,7 @@
  * an output mask, the EXR layer names, the command-line names and help, the
  * checkpoint columns and the masks below that steer the estimator code all
  * come from it: adding a set-based estimator is one row here (and its
- * parameters' rows below) and one file under kernels/estimators/
+ * parameters' rows below) and one file under kernels/film/estimators/
  * (docs/estimators.md, "Adding an estimator").
  *
  * PASS(id, name, type, kind, traits, of_sorted)
@@ -43,7 +43,7 @@
 #ifndef KERNELS_PASSES_H
 #define KERNELS_PASSES_H
 
-#include "compat.h"
+#include "../common/compat.h"
 
 #define PASS_FLOAT 0
 #define PASS_INT 1

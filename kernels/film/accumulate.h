@@ -7,7 +7,7 @@
 #ifndef KERNELS_ACCUMULATE_H
 #define KERNELS_ACCUMULATE_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "lanes.h"
 
 #define EST_MAX_SETS 64

@@ -11,11 +11,11 @@
 #ifndef KERNELS_TEXTURE_H
 #define KERNELS_TEXTURE_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "equal_area.h"
 #include "feature_mask.h"
 #include "scene_types.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 #ifndef __OPENCL_C_VERSION__
 #define floor_float(x) floorf(x)

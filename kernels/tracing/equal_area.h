@@ -6,8 +6,8 @@
 #ifndef KERNELS_EQUAL_AREA_H
 #define KERNELS_EQUAL_AREA_H
 
-#include "compat.h"
-#include "vec3.h"
+#include "../common/compat.h"
+#include "../common/vec3.h"
 
 #ifdef __OPENCL_C_VERSION__
 #define ea_atan(x) atan(x)

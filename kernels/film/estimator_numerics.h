@@ -7,7 +7,7 @@
 #ifndef KERNELS_ESTIMATOR_NUMERICS_H
 #define KERNELS_ESTIMATOR_NUMERICS_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "lanes.h"
 
 /* Neumaier's compensated sum: adds x to *sum and the rounding error of that

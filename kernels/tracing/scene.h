@@ -6,7 +6,7 @@
 #include "feature_mask.h"
 #include "intersect.h"
 #include "scene_types.h"
-#include "vec3.h"
+#include "../common/vec3.h"
 
 #define SCENE_ARRAY_MEMBER(name, type) GLOBAL const type *name;
 typedef struct {

@@ -7,7 +7,7 @@
  * treats it.
  *
  * Valid C11 and OpenCL C 1.2. The host reference (host/film) and the
- * estimator kernel (kernels/estimator.cl) compile these files, so they
+ * estimator kernel (kernels/film/estimator.cl) compile these files, so they
  * agree bit for bit.
  *
  * In a kernel, EST_SETS (M) is a compile-time constant and sizes the private

@@ -4,7 +4,7 @@
 #ifndef KERNELS_SCENE_TYPES_H
 #define KERNELS_SCENE_TYPES_H
 
-#include "compat.h"
+#include "../common/compat.h"
 #include "feature_mask.h"
 
 /* Primitive kinds. */
@@ -140,7 +140,7 @@ typedef struct {
 /* Textures. A material parameter given by a texture names a texture
  * program: TextureNode blocks [first, first + program_length) of the
  * textures array (program_length is set on the first), evaluated in order
- * (kernels/texture.h), each node's operands being earlier nodes of the
+ * (kernels/tracing/texture.h), each node's operands being earlier nodes of the
  * same program (their slot in it, 0-based) or its constants; the last
  * node's value is the parameter's. pbrt-v4's textures referencing textures
  * (scale, mix, ...) become one program each, without recursion. */
@@ -153,7 +153,7 @@ typedef struct {
 #define TEXTURE_DIRECTION_MIX 5u
 #define TEXTURE_BILERP 6u
 /* pbrt-v4's procedural textures (FEATURE_PROCEDURAL_TEXTURES; Perlin noise,
- * kernels/texture.h). dots: operand 0 inside a dot, 1 outside, a 2D
+ * kernels/tracing/texture.h). dots: operand 0 inside a dot, 1 outside, a 2D
  * mapping. The others a 3D mapping (the point in texture space) and
  * value[3] = (omega, variation, octaves): fbm, wrinkled (turbulence),
  * windy, marble (also `scale`, an RGB texture). */
