@@ -946,7 +946,7 @@ static void test_procedural_material_renders(void **state)
 /* The device evaluates the procedural textures as the host does: bit for
  * bit where only +, -, *, / and floor enter (dots, fbm, wrinkled, windy),
  * within float rounding for marble (sin). One program per texture, at 2000
- * points and footprints, through kernels/texture_probe.cl. */
+ * points and footprints, through kernels/tracing/texture_probe.cl. */
 static void test_procedural_textures_on_device(void **state)
 {
     (void)state;

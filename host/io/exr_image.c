@@ -370,7 +370,7 @@ static ChannelSpec *channels_of_image(const ExrImage *image, int *count)
     return specs;
 }
 
-/* A word of the sums in memory, in the layout of kernels/accumulate.h. */
+/* A word of the sums in memory, in the layout of kernels/film/accumulate.h. */
 static size_t accumulator_word(int set, int channel, int word, size_t pixel, size_t pixel_count)
 {
     if (set == GRID_SET)

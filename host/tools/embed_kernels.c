@@ -5,7 +5,7 @@
  * Each PATH becomes `const char *` text NAME with every quoted #include
  * inlined once (include-once, as the headers are guarded anyway) and #line
  * markers naming the real file and line, so an OpenCL build log points at
- * kernels/x.h:42 rather than at a string. Paths are relative to the first
+ * kernels/film/x.h:42 rather than at a string. Paths are relative to the first
  * ROOT that holds them: the source tree, then the build's generated files
  * (kernels/film/sorting_networks.h). */
 #include <stdio.h>

@@ -3,7 +3,7 @@
  *
  * It is written from the textbook definitions (set means S_j / n_j, sort,
  * median, the plain Gini formula, plain sums) and shares no code and no
- * numerical tricks with kernels/estimator_core.h: no power-of-two scaling, no
+ * numerical tricks with kernels/film/estimators.h: no power-of-two scaling, no
  * compensated sums, no cancellation-free Gini numerator. Long double's 64-bit
  * significand and wide exponent make the textbook form accurate far beyond
  * float for every test input, so the float implementation can be judged

@@ -1,6 +1,6 @@
 /* An independent long-double evaluation of pbrt-v4's Perlin noise and its
  * procedural textures (dots, fbm, wrinkled, windy, marble), for tests of
- * kernels/texture.h.
+ * kernels/tracing/texture.h.
  *
  * Written from the definitions (Perlin's "Improving Noise", SIGGRAPH 2002,
  * with pbrt-v4's choice of gradients; pbrt-v4's FBm, Turbulence and
