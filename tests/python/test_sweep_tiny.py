@@ -25,7 +25,7 @@ SCENE = ROOT / "scenes" / "cornell-diffuse.pbrt"
 # The set-based estimators ("all"), from the rows of kernels/film/passes.h, so
 # that a new row needs no change here.
 SET_ESTIMATORS = re.findall(r'PASS\(\w+, "([^"]+)", PASS_FLOAT, PASS_ESTIMATE,',
-                            (ROOT / "kernels" / "passes.h").read_text())
+                            (ROOT / "kernels" / "film" / "passes.h").read_text())
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
