@@ -148,7 +148,7 @@ static int features_mode(ClDevice *device, const Options *o)
      * that the cold builds below are the path tracer's alone. */
     RenderSettings defaults;
     render_settings_default(&defaults);
-    EstimatorProgram *estimator = estimator_program_new(device, &defaults.estimator, NULL);
+    EstimatorProgram *estimator = estimator_program_new(device, &defaults.estimator, NULL, NULL);
     if (!estimator)
         return 1;
     estimator_program_destroy(estimator);

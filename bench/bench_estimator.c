@@ -345,8 +345,9 @@ typedef struct {
 typedef struct {
     ClDevice device;
     int device_open;
-    EstimatorProgram *estimator; /* the variant being timed */
-    EstimatorLaunch launch;      /* the estimator's (the same for every variant) */
+    EstimatorProgram *estimator;         /* the variant being timed */
+    EstimatorLaunchChoice launch_choice; /* fixed by hand in the environment (GMON_ESTIMATOR_*) */
+    EstimatorLaunch launch;              /* the estimator's (the same for every variant) */
     cl_program copy_program;
     cl_kernel copy_kernel;
     Tile *tiles;
@@ -647,7 +648,7 @@ static int time_variant(Bench *b, const Options *o, uint64_t sample_count, Varia
         return -1;
     }
     double build_start = wall_seconds();
-    b->estimator = estimator_program_new(&b->device, &settings, NULL);
+    b->estimator = estimator_program_new(&b->device, &settings, &b->launch_choice, NULL);
     if (!b->estimator)
         return -1;
     v->build_seconds = wall_seconds() - build_start;
@@ -758,6 +759,8 @@ int main(int argc, char **argv)
 
     Bench b;
     memset(&b, 0, sizeof b);
+    if (estimator_launch_from_environment(&b.launch_choice) != 0)
+        return 2;
     static Variant variants[MAX_VARIANTS];
     const int variant_count =
         keep_variants(o.only, variants, list_variants(o.each_with_stderr, o.groups_only, variants));

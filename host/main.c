@@ -3,6 +3,7 @@
  * default) to one EXR plus a PNG preview. */
 #define _POSIX_C_SOURCE 200809L
 #include "cl/cl_device.h"
+#include "cl/kernel_sources.h"
 #include "cli/check.h"
 #include "cli/checkpoints.h"
 #include "cli/devices.h"
@@ -15,6 +16,7 @@
 #include "film/film.h"
 #include "film/film_sample.h"
 #include "io/exr_image.h"
+#include "render/memory_check.h"
 #include "render/render_exr.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
@@ -88,6 +90,11 @@ static void on_progress(void *user, uint64_t done, uint64_t total, double second
 
 static int render(const Options *o)
 {
+    /* The developer settings in the environment, read once here. */
+    uint64_t memory_limit;
+    EstimatorLaunchChoice launch;
+    if (memory_limit_from_environment(&memory_limit) != 0 || estimator_launch_from_environment(&launch) != 0)
+        return 2;
     /* Devices first: a --device that names none here is a bad command line,
      * reported before a long scene load. */
     ClDevice devices[DEVICES_MAX];
@@ -147,10 +154,13 @@ static int render(const Options *o)
     settings.sample_count = o->spp ? o->spp : (summary.pixel_samples ? summary.pixel_samples : 64);
     settings.time_budget = o->time_budget;
     settings.cancel = &interrupt_signal;
-    settings.kernel_dir = o->kernel_dir;
+    settings.kernel_dir = o->kernel_dir ? o->kernel_dir : getenv(KERNEL_DIR_ENV);
     settings.keep_sets = o->write_sets;
     settings.all_features = o->all_features;
     settings.dump_kernel = o->dump_kernel;
+    settings.fault = getenv(RENDER_FAULT_ENV);
+    settings.host_memory_limit = memory_limit;
+    settings.estimator_launch = launch;
     if (o->checkpoints) {
         settings.checkpoint = checkpoints_write;
         settings.checkpoint_user = &checkpoints;

@@ -66,7 +66,7 @@ static void test_kernel_equals_host_on_all_cases(void **state)
             if (vi > 0 && set_counts[mi] != 4 && set_counts[mi] != ESTIMATOR_DEFAULT_SETS)
                 continue;
             EstimatorSettings settings = variant_settings(set_counts[mi], &variants[vi]);
-            EstimatorProgram *program = estimator_program_new(&test_device, &settings, NULL);
+            EstimatorProgram *program = estimator_program_new(&test_device, &settings, NULL, NULL);
             assert_non_null(program);
             for (int kind = 0; kind < CASE_COUNT; ++kind) {
                 EstimatorCase c = estimator_case_make((EstimatorCaseKind)kind, set_counts[mi], 1);
@@ -214,7 +214,7 @@ static void test_streams_with_nan_and_inf(void **state)
             if (m != ESTIMATOR_DEFAULT_SETS && vi != 0 && vi != VARIANTS - 1)
                 continue;
             EstimatorSettings settings = variant_settings(m, &variants[vi]);
-            EstimatorProgram *est = estimator_program_new(&test_device, &settings, NULL);
+            EstimatorProgram *est = estimator_program_new(&test_device, &settings, NULL, NULL);
             assert_non_null(est);
             EstimatorImages host = test_images_new(settings.passes, settings.with_stderr, pixel_count);
             EstimatorImages kern = test_images_new(settings.passes, settings.with_stderr, pixel_count);

@@ -184,9 +184,9 @@ static void assert_fault_changes_nothing(const char *fault, int failed, RenderOu
     RenderSettings s = small_settings();
     RenderOutput one;
     assert_int_equal(render_on(0, 1, &s, &one), RENDER_OK);
-    setenv(RENDER_FAULT_ENV, fault, 1);
+    s.fault = fault;
     RenderStatus status = render_on(0, device_count, &s, rest);
-    unsetenv(RENDER_FAULT_ENV);
+    s.fault = NULL;
     assert_int_equal(status, RENDER_OK);
     for (int i = 0; i < device_count; ++i)
         assert_int_equal(rest->devices[i].failed, i == failed);
@@ -226,10 +226,10 @@ static void test_every_device_failing_keeps_saved_samples(void **state)
     char faults[256] = "";
     for (int i = 0; i < device_count; ++i)
         snprintf(faults + strlen(faults), sizeof faults - strlen(faults), "%s%d:pass:6", i ? "," : "", i);
-    setenv(RENDER_FAULT_ENV, faults, 1);
+    s.fault = faults;
     RenderOutput partial, expected;
     RenderStatus status = render_on(0, device_count, &s, &partial);
-    unsetenv(RENDER_FAULT_ENV);
+    s.fault = NULL;
     assert_int_equal(status, RENDER_INCOMPLETE);
     assert_true(partial.sample_count <= 5);
     printf("  every device failed at pass 6: %llu samples per pixel kept\n", (unsigned long long)partial.sample_count);

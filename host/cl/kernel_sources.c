@@ -33,8 +33,6 @@ char *kernel_source_load(const char *name, const char *kernel_dir, char *include
         snprintf(error, (size_t)error_size, "no kernel source named '%s'", name);
         return NULL;
     }
-    if (!kernel_dir)
-        kernel_dir = getenv(KERNEL_DIR_ENV);
     include_dir[0] = '\0';
     if (!kernel_dir || !*kernel_dir) {
         char *copy = malloc(strlen(embedded->source) + 1);
@@ -51,8 +49,7 @@ char *kernel_source_load(const char *name, const char *kernel_dir, char *include
     snprintf(path, sizeof path, "%s/%s", kernel_dir, file);
     char *text = read_text_file(path);
     if (!text) {
-        snprintf(error, (size_t)error_size, "cannot read kernel source %s (from %s)", path,
-                 getenv(KERNEL_DIR_ENV) == kernel_dir ? KERNEL_DIR_ENV : "--kernel-dir");
+        snprintf(error, (size_t)error_size, "cannot read kernel source %s (--kernel-dir or %s)", path, KERNEL_DIR_ENV);
         return NULL;
     }
     snprintf(include_dir, include_dir_size, "%s", path);

@@ -19,9 +19,10 @@ const EmbeddedKernel *kernel_source_embedded(const char *name);
  * instead of the embedded copies. */
 #define KERNEL_DIR_ENV "GMON_KERNEL_DIR"
 
-/* The source of kernel `name`: read from `kernel_dir` (or $GMON_KERNEL_DIR
- * when kernel_dir is NULL) if set, at its place below it (e.g.
- * film/estimator.cl), else the embedded copy. Returns a malloc'd string and
+/* The source of kernel `name`: read from `kernel_dir` (gmonrt's
+ * --kernel-dir, else $GMON_KERNEL_DIR, which its main reads) if set, at
+ * its place below it (e.g. film/estimator.cl), else the embedded copy.
+ * Returns a malloc'd string and
  * writes the directory to pass as -I to include_dir (the source file's own,
  * from which its includes are relative; "" when embedded), or NULL with a
  * message in `error`. */

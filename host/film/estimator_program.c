@@ -14,11 +14,12 @@ struct EstimatorProgram {
     ClProgram cl; /* kernels by the enum above */
 };
 
-/* An integer setting from the environment: *value is left alone when `name`
- * is unset or empty. Returns 0, or -1 (reported) when the value is not an
+/* An integer setting from the environment: *value is -1 when `name` is
+ * unset or empty. Returns 0, or -1 (reported) when the value is not an
  * integer in lo..hi or, with power_of_two, not a power of two. */
 static int setting_from_environment(const char *name, long lo, long hi, int power_of_two, int *value)
 {
+    *value = -1;
     const char *text = getenv(name);
     if (!text || !*text)
         return 0;
@@ -33,6 +34,15 @@ static int setting_from_environment(const char *name, long lo, long hi, int powe
     return 0;
 }
 
+int estimator_launch_from_environment(EstimatorLaunchChoice *choice)
+{
+    return setting_from_environment(ESTIMATOR_VECTOR_WIDTH_ENV, 1, 16, 1, &choice->vector_width) != 0 ||
+                   setting_from_environment(ESTIMATOR_LOCAL_SIZE_ENV, 0, 1 << 16, 0, &choice->local_size) != 0 ||
+                   setting_from_environment(ESTIMATOR_PREFETCH_ENV, 0, 64, 0, &choice->prefetch) != 0
+               ? -1
+               : 0;
+}
+
 /* The launch configuration. On CPUs: several pixels a work item, as CPU
  * OpenCL runtimes do not vectorize this kernel across work items: 8, or one
  * per float lane of a wider native vector register (16 with AVX-512) where
@@ -45,28 +55,30 @@ static int setting_from_environment(const char *name, long lo, long hi, int powe
  * (below), and the next work item's input prefetched (M * 3 input streams
  * are more than hardware prefetchers follow). Elsewhere one pixel per work
  * item (a GPU runs a work item per SIMD lane) and the runtime's work-group
- * size. The ESTIMATOR_*_ENV variables override each. Returns 0 on success. */
-static int choose_launch(const ClDevice *device, const EstimatorSettings *settings, EstimatorLaunch *launch)
+ * size. `choice` fixes any of them by hand. */
+static void choose_launch(const ClDevice *device, const EstimatorSettings *settings,
+                          const EstimatorLaunchChoice *choice, EstimatorLaunch *launch)
 {
     int cpu = (device->info.type & CL_DEVICE_TYPE_CPU) != 0;
     int arithmetic_bound = settings->with_stderr || (settings->passes & ~PASSES_DEFAULT) != 0;
     launch->vector_width = !cpu ? 1 : arithmetic_bound && device->info.native_float_width >= 16 ? 16 : 8;
     launch->prefetch = cpu ? 1 : 0;
-    if (setting_from_environment(ESTIMATOR_VECTOR_WIDTH_ENV, 1, 16, 1, &launch->vector_width) != 0)
-        return -1;
+    if (choice->vector_width >= 0)
+        launch->vector_width = choice->vector_width;
     /* PoCL keeps a work group's private arrays on one thread's stack: 256
      * pixels a group fit at 8 and 16 lanes, while 16 lanes times 32 items
      * crashed test_estimator_kernel (a stack overflow). */
     launch->local_size = cpu ? 256 / launch->vector_width : 0;
-    if (setting_from_environment(ESTIMATOR_LOCAL_SIZE_ENV, 0, 1 << 16, 0, &launch->local_size) != 0 ||
-        setting_from_environment(ESTIMATOR_PREFETCH_ENV, 0, 64, 0, &launch->prefetch) != 0)
-        return -1;
+    if (choice->local_size >= 0)
+        launch->local_size = choice->local_size;
+    if (choice->prefetch >= 0)
+        launch->prefetch = choice->prefetch;
     if (!cpu)
         launch->prefetch = 0; /* the kernel's prefetch assumes one flat address space */
-    return 0;
 }
 
-EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, const char *kernel_dir)
+EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings,
+                                        const EstimatorLaunchChoice *choice, const char *kernel_dir)
 {
     char message[256];
     if (estimator_settings_check(settings, message, sizeof message) != 0) {
@@ -80,8 +92,8 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
     p->settings = *settings;
     p->settings.passes &= ~PASSES_SAMPLE; /* sample_estimator_program.h's */
     settings = &p->settings;
-    if (choose_launch(device, settings, &p->launch) != 0)
-        goto fail;
+    const EstimatorLaunchChoice chosen_per_device = ESTIMATOR_LAUNCH_CHOSEN_PER_DEVICE;
+    choose_launch(device, settings, choice ? choice : &chosen_per_device, &p->launch);
     char options[256];
     snprintf(options, sizeof options,
              "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DEST_PASSES=0x%x -DEST_STDERR=%d "

@@ -7,15 +7,9 @@
 
 typedef struct EstimatorProgram EstimatorProgram;
 
-/* Builds the estimator program for the settings (M, Gini mode, passes,
- * standard errors; the parameters go with each run). Returns NULL after
- * printing the reason. kernel_dir: see kernel_sources.h. */
-EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings, const char *kernel_dir);
-void estimator_program_destroy(EstimatorProgram *program);
-
 /* How the estimator kernels run; chosen per device by
- * estimator_program_new, each overridable by an environment variable (for
- * experiments). */
+ * estimator_program_new, each fixable by hand (EstimatorLaunchChoice, from
+ * an environment variable: for experiments). */
 typedef struct {
     int vector_width; /* pixels per work item, one per vector lane: 1, 2, 4, 8 or 16
                          (ESTIMATOR_VECTOR_WIDTH_ENV; default on CPUs 8, or 16 with AVX-512
@@ -29,6 +23,27 @@ typedef struct {
 #define ESTIMATOR_VECTOR_WIDTH_ENV "GMON_ESTIMATOR_VECTOR_WIDTH"
 #define ESTIMATOR_LOCAL_SIZE_ENV "GMON_ESTIMATOR_LOCAL_SIZE"
 #define ESTIMATOR_PREFETCH_ENV "GMON_ESTIMATOR_PREFETCH"
+
+/* Launch settings fixed by hand (developer options: main programs read
+ * them once from the environment, estimator_launch_from_environment); a
+ * field of -1 leaves its choice to estimator_program_new. */
+typedef struct {
+    int vector_width, local_size, prefetch;
+} EstimatorLaunchChoice;
+#define ESTIMATOR_LAUNCH_CHOSEN_PER_DEVICE ((EstimatorLaunchChoice){-1, -1, -1})
+
+/* Fills *choice from ESTIMATOR_VECTOR_WIDTH_ENV, ESTIMATOR_LOCAL_SIZE_ENV
+ * and ESTIMATOR_PREFETCH_ENV (-1 where unset or empty). Returns 0, or -1
+ * after reporting a value out of range. */
+int estimator_launch_from_environment(EstimatorLaunchChoice *choice);
+
+/* Builds the estimator program for the settings (M, Gini mode, passes,
+ * standard errors; the parameters go with each run), launched as `choice`
+ * fixes (NULL: chosen per device). Returns NULL after printing the reason.
+ * kernel_dir: see kernel_sources.h. */
+EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings,
+                                        const EstimatorLaunchChoice *choice, const char *kernel_dir);
+void estimator_program_destroy(EstimatorProgram *program);
 
 EstimatorLaunch estimator_program_launch(const EstimatorProgram *program);
 

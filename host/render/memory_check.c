@@ -77,13 +77,25 @@ static void consider(uint64_t candidate, const char *name, uint64_t *best, char 
     }
 }
 
-uint64_t memory_host_available(char *source, size_t source_size)
+int memory_limit_from_environment(uint64_t *limit)
+{
+    *limit = 0;
+    const char *setting = getenv(MEMORY_LIMIT_ENV);
+    if (!setting || !*setting)
+        return 0;
+    *limit = parse_size(setting);
+    if (*limit == 0) {
+        fprintf(stderr, "%s=%s: expected a size in bytes, e.g. 512M or 2.5G\n", MEMORY_LIMIT_ENV, setting);
+        return -1;
+    }
+    return 0;
+}
+
+uint64_t memory_host_available(uint64_t limit, char *source, size_t source_size)
 {
     uint64_t best = UINT64_MAX;
     snprintf(source, source_size, "no limit found");
-    const char *setting = getenv(MEMORY_LIMIT_ENV);
-    if (setting && *setting)
-        consider(parse_size(setting), MEMORY_LIMIT_ENV, &best, source, source_size);
+    consider(limit, MEMORY_LIMIT_ENV, &best, source, source_size);
     char directory[1024], path[1100];
     if (cgroup_directory(directory, sizeof directory)) {
         snprintf(path, sizeof path, "%s/memory.max", directory);
@@ -95,10 +107,10 @@ uint64_t memory_host_available(char *source, size_t source_size)
     }
     /* The address space limit counts what the process maps already (the
      * OpenCL runtime maps much). */
-    struct rlimit limit;
-    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+    struct rlimit address_space;
+    if (getrlimit(RLIMIT_AS, &address_space) == 0 && address_space.rlim_cur != RLIM_INFINITY) {
         uint64_t mapped = read_number("/proc/self/statm") * 4096u;
-        uint64_t left = (uint64_t)limit.rlim_cur > mapped ? (uint64_t)limit.rlim_cur - mapped : 1;
+        uint64_t left = (uint64_t)address_space.rlim_cur > mapped ? (uint64_t)address_space.rlim_cur - mapped : 1;
         consider(left, "RLIMIT_AS (ulimit -v) less the mapped memory", &best, source, source_size);
     }
     consider(mem_available(), "MemAvailable in /proc/meminfo", &best, source, source_size);

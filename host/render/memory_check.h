@@ -12,10 +12,14 @@
  * for users who want a tighter budget than the machine's. */
 #define MEMORY_LIMIT_ENV "GMON_HOST_MEMORY"
 
-/* The host memory this process can still use: the smallest of the
- * GMON_HOST_MEMORY setting, the cgroup's memory.max less its memory.current,
- * RLIMIT_AS and MemAvailable from /proc/meminfo. `source` names the one
- * that decided it. UINT64_MAX when nothing limits it. */
-uint64_t memory_host_available(char *source, size_t source_size);
+/* MEMORY_LIMIT_ENV's value in bytes, for main programs to read once and
+ * pass down: 0 when unset or empty; -1 (reported) when it is no size. */
+int memory_limit_from_environment(uint64_t *limit);
+
+/* The host memory this process can still use: the smallest of `limit`
+ * (the MEMORY_LIMIT_ENV setting; 0: none), the cgroup's memory.max less its
+ * memory.current, RLIMIT_AS and MemAvailable from /proc/meminfo. `source`
+ * names the one that decided it. UINT64_MAX when nothing limits it. */
+uint64_t memory_host_available(uint64_t limit, char *source, size_t source_size);
 
 #endif

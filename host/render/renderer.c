@@ -29,6 +29,7 @@ void render_settings_default(RenderSettings *s)
     estimator_settings_default(&s->estimator);
     s->sample_count = 64;
     s->seconds_per_pass = 0.5;
+    s->estimator_launch = ESTIMATOR_LAUNCH_CHOSEN_PER_DEVICE;
 }
 
 void render_output_free(RenderOutput *o)
@@ -117,6 +118,8 @@ typedef struct {
     uint64_t saved_samples;
     double save_seconds; /* cost of the last copy */
     double saved_at;
+    double start;            /* of the first pass */
+    double callback_seconds; /* spent in the checkpoint callbacks, not counted as render time */
 } Render;
 
 static int live_workers(const Render *r)
@@ -208,11 +211,10 @@ static void track_peak(const Render *r, Worker *w, size_t extra)
         w->report->peak_bytes = bytes;
 }
 
-/* Parses RENDER_FAULT_ENV for device `index`: -1 to fail its build, a pass
- * number, or 0 for no fault. */
-static int injected_fault(int index)
+/* The fault injected in device `index` (RenderSettings.fault): -1 to fail
+ * its build, a pass number, or 0 for no fault. */
+static int injected_fault(const char *spec, int index)
 {
-    const char *spec = getenv(RENDER_FAULT_ENV);
     while (spec && *spec) {
         int device = -1, pass = 0, used = 0;
         if (sscanf(spec, "%d:pass:%d%n", &device, &pass, &used) == 2 && device == index)
@@ -251,7 +253,7 @@ static int start_worker(Render *r, Worker *w, const char *options)
         return -1;
     }
     if (r->estimator.passes & PASSES_ALL) {
-        w->estimator = estimator_program_new(w->device, &r->estimator, s->kernel_dir);
+        w->estimator = estimator_program_new(w->device, &r->estimator, &s->estimator_launch, s->kernel_dir);
         if (!w->estimator) {
             drop_worker(r, w, "the estimator failed to build (build log above)");
             return -1;
@@ -775,7 +777,7 @@ static int check_memory(const Render *r, ClDevice *devices, int device_count, ch
         }
     }
     char source[128];
-    uint64_t available = memory_host_available(source, sizeof source);
+    uint64_t available = memory_host_available(r->settings->host_memory_limit, source, sizeof source);
     if (host > available) {
         snprintf(error, error_size,
                  "the render needs %.2f GiB of host memory (%llu B of set sums and counters a pixel at M = %d, %s "
@@ -810,117 +812,126 @@ static int allocate_state(HostState *h, size_t planes, size_t sample_planes, siz
     return h->accumulators && h->rejected && h->rays && (h->samples || !sample_planes) ? 0 : -1;
 }
 
-RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene *scene, const RenderSettings *s,
-                          RenderOutput *out, char *error, size_t error_size)
+/* Step 1: what the render keeps (M sets, or one sum when only the mean is
+ * asked for; the per-sample state) and what the output records of its
+ * settings. Returns 0, or -1 with the reason in `error`. */
+static int plan_render(Render *r, int device_count, const RenderScene *scene, const RenderSettings *s,
+                       RenderOutput *out, char *error, size_t error_size)
 {
-    memset(out, 0, sizeof *out);
     const int m = s->estimator.set_count;
-    if (estimator_settings_check(&s->estimator, error, error_size) != 0)
-        return RENDER_FAILED;
-    if (device_count < 1 || device_count > RENDER_MAX_DEVICES) {
-        snprintf(error, error_size, "%d devices given, 1..%d supported", device_count, RENDER_MAX_DEVICES);
-        return RENDER_FAILED;
-    }
-    Render r;
-    memset(&r, 0, sizeof r);
-    r.scene = scene;
-    r.settings = s;
-    scene_upload_init(&r.upload, scene, s->seed);
+    r->scene = scene;
+    r->settings = s;
+    scene_upload_init(&r->upload, scene, s->seed);
     /* Only the mean needs no sets: one sum per pixel (the per-sample passes
      * keep their own state). */
-    r.sets = (s->estimator.passes & PASSES_ALL & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ||
-                     film_sample_needs_sets(&s->estimator)
-                 ? m
-                 : 1;
-    r.estimator = s->estimator;
-    r.estimator.set_count = r.sets;
+    r->sets = (s->estimator.passes & PASSES_ALL & ~PASS_BIT(PASS_MEAN)) || s->estimator.with_stderr || s->keep_sets ||
+                      film_sample_needs_sets(&s->estimator)
+                  ? m
+                  : 1;
+    r->estimator = s->estimator;
+    r->estimator.set_count = r->sets;
     /* pbrt-v4's Film "maxcomponentvalue" is the per-sample clamp at that
      * level: the sets get the samples as they are. */
     if (scene->constants.film.max_component_value < INFINITY &&
-        film_sample_select_film_clamp(&r.estimator, scene->constants.film.max_component_value) < 0) {
+        film_sample_select_film_clamp(&r->estimator, scene->constants.film.max_component_value) < 0) {
         snprintf(error, error_size, "Film \"maxcomponentvalue\" needs a clamp level, but clamp.levels has %d already",
                  EST_CLAMP_LEVELS_MAX);
-        return RENDER_FAILED;
+        return -1;
     }
-    r.sample_planes = film_sample_planes(&r.estimator);
-    r.estimator.first_sample = s->first_sample;
-    r.pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
-    r.planes = accumulator_planes((uint32_t)r.sets);
-    scene_upload_hash(&r.upload, m, out->scene_hash, sizeof out->scene_hash);
+    r->sample_planes = film_sample_planes(&r->estimator);
+    r->estimator.first_sample = s->first_sample;
+    r->pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
+    r->planes = accumulator_planes((uint32_t)r->sets);
+    r->worker_count = device_count;
+    scene_upload_hash(&r->upload, m, out->scene_hash, sizeof out->scene_hash);
     out->max_depth = scene->constants.integrator.max_depth;
     out->integrator = (scene->constants.integrator.flags & RENDER_NEE) ? "path" : "bsdf";
     out->sampler = scene->constants.integrator.sampler;
     out->light_sampler = scene->constants.integrator.light_sampler;
-    r.worker_count = device_count;
     out->width = scene->constants.camera.width;
     out->height = scene->constants.camera.height;
-    out->set_count = r.sets;
-    out->estimator = r.estimator;
+    out->set_count = r->sets;
+    out->estimator = r->estimator;
     out->seed = s->seed;
     out->first_sample = s->first_sample;
     out->device_count = device_count;
     out->features = s->all_features ? FEATURES_ALL : render_scene_features(scene);
-    RenderStatus status = RENDER_FAILED;
+    return 0;
+}
 
-    if (check_memory(&r, devices, device_count, error, error_size))
-        goto done;
-    if (allocate_state(&r.saved, r.planes, r.sample_planes, r.pixels) ||
-        (host_copies(device_count) > 1 && allocate_state(&r.scratch, r.planes, r.sample_planes, r.pixels)) ||
-        allocate_images(out, &r.estimator, r.pixels))
-        goto out_of_memory;
-
+/* Step 2: host memory, the programs on every device (the path tracer
+ * specialized for the scene's features), the first split of the pixels,
+ * and a launch of nothing so that runtimes finish compiling before the
+ * clock starts. Returns 0; -1 with the reason in `error`; -2 out of host
+ * memory. */
+static int start_devices(Render *r, ClDevice *devices, RenderOutput *out, double *weights, char *error,
+                         size_t error_size)
+{
+    const RenderSettings *s = r->settings;
+    if (check_memory(r, devices, r->worker_count, error, error_size))
+        return -1;
+    if (allocate_state(&r->saved, r->planes, r->sample_planes, r->pixels) ||
+        (host_copies(r->worker_count) > 1 && allocate_state(&r->scratch, r->planes, r->sample_planes, r->pixels)) ||
+        allocate_images(out, &r->estimator, r->pixels))
+        return -2;
     /* The path tracer needs no bit-exact agreement with the host (only its
      * integer accumulation does, which no float option touches), so it may
      * reassociate: about 10% faster on PoCL. */
     char options[1024];
-    path_tracer_build_options(&r.estimator, out->features, out->sampler, m, scene->bvh.stack_need, options,
-                              sizeof options);
+    path_tracer_build_options(&r->estimator, out->features, out->sampler, s->estimator.set_count,
+                              r->scene->bvh.stack_need, options, sizeof options);
     if (s->dump_kernel && dump_kernel(s, options, error, error_size))
-        goto done;
-    for (int i = 0; i < device_count; ++i) {
-        Worker *w = &r.workers[i];
+        return -1;
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
         w->device = &devices[i];
         w->report = &out->devices[i];
         w->live = 1;
-        w->fault_pass = injected_fault(i);
+        w->fault_pass = injected_fault(s->fault, i);
         snprintf(w->report->name, sizeof w->report->name, "%s", devices[i].info.name);
     }
-    for (int i = 0; i < device_count; ++i) {
-        start_worker(&r, &r.workers[i], options);
-        out->build_seconds += r.workers[i].report->build_seconds;
+    for (int i = 0; i < r->worker_count; ++i) {
+        start_worker(r, &r->workers[i], options);
+        out->build_seconds += r->workers[i].report->build_seconds;
     }
-    double weights[RENDER_MAX_DEVICES];
-    for (int i = 0; i < device_count; ++i)
+    for (int i = 0; i < r->worker_count; ++i)
         weights[i] = 1.0;
-    if (assign_until_settled(&r, weights, error, error_size) == -2)
-        goto done;
+    if (assign_until_settled(r, weights, error, error_size) == -2)
+        return -1;
     /* Runtimes such as PoCL finish compiling a kernel at its first launch:
      * a pass of no samples and an estimate of nothing do that here, so that
      * build times include it and render times (and checkpoints) do not. */
     double prime_start = now_seconds();
-    if (run_pass(&r, s->first_sample, 0, 0) > 0 || estimate_on_devices(&r, 0, out) != 0) {
-        if (assign_until_settled(&r, weights, error, error_size) == -2)
-            goto done;
+    if (run_pass(r, s->first_sample, 0, 0) > 0 || estimate_on_devices(r, 0, out) != 0) {
+        if (assign_until_settled(r, weights, error, error_size) == -2)
+            return -1;
     }
     out->build_seconds += now_seconds() - prime_start;
+    return 0;
+}
 
-    /* Progressive passes, all devices on the same samples: the first pass
-     * renders one sample per pixel, later ones as many as fit the pass
-     * length, judged from the slowest device's speed. */
+/* Step 3: progressive passes, all devices on the same samples, until the
+ * samples, the time budget or a cancel end them; host copies of the sums
+ * along the way, the split rebalanced, checkpoints written. Returns 0, or
+ * -1 with the reason in `error`. */
+static int render_passes(Render *r, double *weights, RenderOutput *out, char *error, size_t error_size)
+{
+    const RenderSettings *s = r->settings;
+    /* The first pass renders one sample per pixel, later ones as many as
+     * fit the pass length, judged from the slowest device's speed. */
     const double target = s->seconds_per_pass > 0.0 ? s->seconds_per_pass : 0.5;
-    const double start = now_seconds();
-    double callback_seconds = 0.0;
+    const double start = r->start = now_seconds();
     uint64_t done_samples = 0;
     uint32_t per_pass = 1;
     int pass_number = 0, stop = 0;
-    r.saved_at = start;
-    while (live_workers(&r) > 0) {
+    r->saved_at = start;
+    while (live_workers(r) > 0) {
         if (done_samples >= s->sample_count || stop) {
-            if (save_state(&r, done_samples) == 0)
+            if (save_state(r, done_samples) == 0)
                 break;
             /* A device failed while its sums were read. */
-            if (roll_back(&r, weights, &done_samples, error, error_size))
-                goto done;
+            if (roll_back(r, weights, &done_samples, error, error_size))
+                return -1;
             continue;
         }
         if (s->cancel && *s->cancel) {
@@ -936,15 +947,15 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
             if (next - done_samples < count)
                 count = (uint32_t)(next - done_samples);
         }
-        int failures = run_pass(&r, s->first_sample + done_samples, count, ++pass_number);
+        int failures = run_pass(r, s->first_sample + done_samples, count, ++pass_number);
         if (failures > 0) {
-            if (roll_back(&r, weights, &done_samples, error, error_size))
-                goto done;
+            if (roll_back(r, weights, &done_samples, error, error_size))
+                return -1;
             per_pass = 1;
             continue;
         }
         done_samples += count;
-        double elapsed = now_seconds() - start - callback_seconds;
+        double elapsed = now_seconds() - start - r->callback_seconds;
         if (s->progress)
             s->progress(s->progress_user, done_samples, s->sample_count, elapsed);
         if (s->time_budget > 0.0 && elapsed >= s->time_budget)
@@ -955,8 +966,8 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
          * takes 10% longer than the fastest). */
         double slowest = 0.0, fastest = 0.0;
         int live = 0;
-        for (int i = 0; i < r.worker_count; ++i) {
-            Worker *w = &r.workers[i];
+        for (int i = 0; i < r->worker_count; ++i) {
+            Worker *w = &r->workers[i];
             if (!w->live)
                 continue;
             double seconds = w->pass_seconds > 1e-9 ? w->pass_seconds : 1e-9;
@@ -968,31 +979,31 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         int rebalance = live > 1 && slowest > 1.1 * fastest && !stop && done_samples < s->sample_count;
         /* A host copy of the sums whenever it costs under 5% of the time
          * since the last one, so that a failure loses little. */
-        int save_due = now_seconds() - r.saved_at >= 20.0 * r.save_seconds;
+        int save_due = now_seconds() - r->saved_at >= 20.0 * r->save_seconds;
         if ((rebalance || save_due) && done_samples < s->sample_count && !stop) {
-            if (save_state(&r, done_samples) != 0 ||
-                (rebalance && (++out->rebalances, assign_pixels(&r, weights, 0, error, error_size) != 0))) {
-                if (roll_back(&r, weights, &done_samples, error, error_size))
-                    goto done;
+            if (save_state(r, done_samples) != 0 ||
+                (rebalance && (++out->rebalances, assign_pixels(r, weights, 0, error, error_size) != 0))) {
+                if (roll_back(r, weights, &done_samples, error, error_size))
+                    return -1;
                 per_pass = 1;
                 continue;
             }
         }
         if (s->checkpoint && (is_power_of_two(done_samples) || done_samples == s->sample_count)) {
-            if (estimate_on_devices(&r, done_samples, out) != 0) {
-                if (roll_back(&r, weights, &done_samples, error, error_size))
-                    goto done;
+            if (estimate_on_devices(r, done_samples, out) != 0) {
+                if (roll_back(r, weights, &done_samples, error, error_size))
+                    return -1;
                 continue;
             }
             double callback_start = now_seconds();
             out->sample_count = done_samples;
-            out->seconds = callback_start - start - callback_seconds;
+            out->seconds = callback_start - start - r->callback_seconds;
             int refused = s->checkpoint(s->checkpoint_user, out);
-            callback_seconds += now_seconds() - callback_start;
+            r->callback_seconds += now_seconds() - callback_start;
             if (refused) {
                 snprintf(error, error_size, "writing the checkpoint at %llu samples failed",
                          (unsigned long long)done_samples);
-                goto done;
+                return -1;
             }
         }
         double per_sample = slowest / count;
@@ -1001,55 +1012,83 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         per_pass = fit < 1.0 ? 1u : (fit > 4096.0 ? 4096u : (uint32_t)fit);
     }
 
+    return 0;
+}
+
+/* Step 4: the image from the saved state, estimated on the devices (or on
+ * the host when none is left), and the sums and counters handed to the
+ * output. Returns RENDER_OK, RENDER_INCOMPLETE (every device failed; the
+ * host estimated), RENDER_FAILED with the reason in `error`, or -2 out of
+ * host memory. */
+static int finish_render(Render *r, RenderOutput *out, char *error, size_t error_size)
+{
     /* The image: the saved state, estimated on the devices (or on the host
      * when none is left). */
-    out->sample_count = r.saved_samples;
-    int complete = live_workers(&r) > 0;
-    if (complete && estimate_on_devices(&r, r.saved_samples, out) != 0)
+    out->sample_count = r->saved_samples;
+    int complete = live_workers(r) > 0;
+    if (complete && estimate_on_devices(r, r->saved_samples, out) != 0)
         complete = 0;
-    if (!complete && r.saved_lost) {
+    if (!complete && r->saved_lost) {
         snprintf(error, error_size,
                  "the only device failed while its sums were copied to the host: no consistent copy of them is left");
-        goto done;
+        return RENDER_FAILED;
     }
-    if (!complete && estimate_on_host(&r, r.saved_samples, out) != 0)
-        goto out_of_memory;
-    out->seconds = now_seconds() - start - callback_seconds;
+    if (!complete && estimate_on_host(r, r->saved_samples, out) != 0)
+        return -2;
+    out->seconds = now_seconds() - r->start - r->callback_seconds;
     /* The sums in their canonical form: the same bits for the same sums,
      * whatever the devices, passes and pixel moves that built them. */
-    for (size_t p = 0; p < r.pixels; ++p)
-        accumulators_normalize(r.saved.accumulators, p, r.pixels, (uint32_t)r.sets);
-    out->accumulators = r.saved.accumulators;
-    out->rejected = r.saved.rejected;
-    for (size_t i = 0; i < r.pixels; ++i) {
-        out->rays += r.saved.rays[i];
-        out->rejected_total += r.saved.rejected[i];
-        out->rounded_total += r.saved.rejected[r.pixels + i];
-        out->rounded_pixels += r.saved.rejected[r.pixels + i] != 0;
+    for (size_t p = 0; p < r->pixels; ++p)
+        accumulators_normalize(r->saved.accumulators, p, r->pixels, (uint32_t)r->sets);
+    out->accumulators = r->saved.accumulators;
+    out->rejected = r->saved.rejected;
+    for (size_t i = 0; i < r->pixels; ++i) {
+        out->rays += r->saved.rays[i];
+        out->rejected_total += r->saved.rejected[i];
+        out->rounded_total += r->saved.rejected[r->pixels + i];
+        out->rounded_pixels += r->saved.rejected[r->pixels + i] != 0;
     }
-    out->bytes_per_pixel = pixel_state_bytes(&r);
-    out->sample_bytes_per_pixel = r.sample_planes * sizeof(uint64_t);
-    r.saved.accumulators = NULL;
-    r.saved.rejected = NULL;
-    if (complete) {
-        status = RENDER_OK;
-    } else {
-        size_t used = (size_t)snprintf(error, error_size, "every device failed:");
-        for (int i = 0; i < device_count && used < error_size; ++i)
-            used += (size_t)snprintf(error + used, error_size - used, " '%s': %s;", out->devices[i].name,
-                                     out->devices[i].error);
-        status = RENDER_INCOMPLETE;
-    }
-    goto done;
+    out->bytes_per_pixel = pixel_state_bytes(r);
+    out->sample_bytes_per_pixel = r->sample_planes * sizeof(uint64_t);
+    r->saved.accumulators = NULL;
+    r->saved.rejected = NULL;
+    if (complete)
+        return RENDER_OK;
+    size_t used = (size_t)snprintf(error, error_size, "every device failed:");
+    for (int i = 0; i < r->worker_count && used < error_size; ++i)
+        used += (size_t)snprintf(error + used, error_size - used, " '%s': %s;", out->devices[i].name,
+                                 out->devices[i].error);
+    return RENDER_INCOMPLETE;
+}
 
-out_of_memory:
-    snprintf(error, error_size, "out of memory for a %ux%u image with M = %d", out->width, out->height, r.sets);
-done:
+RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene *scene, const RenderSettings *s,
+                          RenderOutput *out, char *error, size_t error_size)
+{
+    memset(out, 0, sizeof *out);
+    if (estimator_settings_check(&s->estimator, error, error_size) != 0)
+        return RENDER_FAILED;
+    if (device_count < 1 || device_count > RENDER_MAX_DEVICES) {
+        snprintf(error, error_size, "%d devices given, 1..%d supported", device_count, RENDER_MAX_DEVICES);
+        return RENDER_FAILED;
+    }
+    Render r;
+    memset(&r, 0, sizeof r);
+    double weights[RENDER_MAX_DEVICES];
+    int status = plan_render(&r, device_count, scene, s, out, error, error_size);
+    if (status == 0)
+        status = start_devices(&r, devices, out, weights, error, error_size);
+    if (status == 0)
+        status = render_passes(&r, weights, out, error, error_size);
+    status = status == 0 ? finish_render(&r, out, error, error_size) : status == -2 ? -2 : RENDER_FAILED;
+    if (status == -2) {
+        snprintf(error, error_size, "out of memory for a %ux%u image with M = %d", out->width, out->height, r.sets);
+        status = RENDER_FAILED;
+    }
     for (int i = 0; i < r.worker_count; ++i)
         release_worker(&r.workers[i]);
     free_state(&r.saved);
     free_state(&r.scratch);
     if (status == RENDER_FAILED)
         render_output_free(out);
-    return status;
+    return (RenderStatus)status;
 }

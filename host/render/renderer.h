@@ -14,6 +14,7 @@
 #define HOST_RENDER_RENDERER_H
 
 #include "cl/cl_device.h"
+#include "film/estimator_program.h"
 #include "film/film.h"
 #include "render/render_scene.h"
 
@@ -24,8 +25,9 @@
 #define RENDER_MAX_DEVICES 16
 
 /* Fault injection for tests, "<device>:build" or "<device>:pass:<n>" (device:
- * index among the render's devices, n: 1 for the first pass): that device
- * fails to build or fails in that pass. */
+ * index among the render's devices, n: 1 for the first pass), several
+ * separated by commas: that device fails to build or fails in that pass.
+ * gmonrt reads it from this environment variable into RenderSettings.fault. */
 #define RENDER_FAULT_ENV "GMON_FAULT"
 
 typedef struct RenderOutput RenderOutput;
@@ -54,6 +56,13 @@ typedef struct {
      * device's pixels whose state or images would pass it are held and
      * launched in several slices (tests set it to make slices). */
     uint64_t slice_bytes;
+    /* Developer settings, which gmonrt reads once from the environment:
+     * the host memory to assume (0: what the machine says; memory_check.h),
+     * the estimator kernels' launch fixed by hand (estimator_program.h), and
+     * injected device faults (RENDER_FAULT_ENV's form; NULL: none). */
+    uint64_t host_memory_limit;
+    EstimatorLaunchChoice estimator_launch;
+    const char *fault;
 } RenderSettings;
 
 typedef struct {
