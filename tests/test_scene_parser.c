@@ -927,6 +927,8 @@ static void test_spheres(void **state)
     }
     scene_destroy(&s);
     load_fails(WORLD "Scale 1 2 1\nShape \"sphere\"\n", 3, "non-uniform");
+    load_fails(WORLD "Scale 0 0 0\nShape \"sphere\"\n", 3, "singular");
+    load_fails(WORLD "Scale 1 0 1\nShape \"sphere\"\n", 3, "singular");
     load_fails(WORLD "Shape \"sphere\" \"float radius\" 0\n", 2, "radius");
     load_fails(WORLD "Shape \"sphere\" \"float zmax\" 0.5\n", 2, "unsupported parameter \"float zmax\"");
     /* The renderer squares distances in single precision. */

@@ -255,6 +255,9 @@ static int shape_sphere(Parser *p, Lexer *lex, const Token *d, ParamList *params
         return scene_error(&p->diag, lex->path, d->line, "%s: radius must be positive", params->owner);
     if (!is_affine(p->state.ctm))
         return scene_error(&p->diag, lex->path, d->line, "%s: a projective transform is not supported", params->owner);
+    if (det3(p->state.ctm) == 0.0)
+        return scene_error(&p->diag, lex->path, d->line, "%s: the transform is singular (it flattens the sphere)",
+                           params->owner);
     double scale;
     if (!is_similarity(p->state.ctm, &scale)) {
         if (scene_unsupported(&p->diag, lex->path, d->line,
