@@ -25,8 +25,10 @@ static int same_setting(const char *a_path, const char *b_path, const char *what
 static int compatible(const char *a_path, const ExrImage *a, const char *b_path, const ExrImage *b)
 {
     if (!same_setting(a_path, b_path, "integrator", a->metadata.integrator, b->metadata.integrator, "(unknown)") ||
-        !same_setting(a_path, b_path, "sampler", a->metadata.sampler, b->metadata.sampler, "independent") ||
-        !same_setting(a_path, b_path, "light sampler", a->metadata.light_sampler, b->metadata.light_sampler, "power"))
+        !same_setting(a_path, b_path, "sampler", a->metadata.sampler, b->metadata.sampler,
+                      RENDER_FILE_LEGACY_SAMPLER) ||
+        !same_setting(a_path, b_path, "light sampler", a->metadata.light_sampler, b->metadata.light_sampler,
+                      RENDER_FILE_LEGACY_LIGHT_SAMPLER))
         return 0;
     if (a->metadata.max_depth != b->metadata.max_depth) {
         fprintf(stderr, "gmonrt: merge: %s and %s differ in maxdepth (%d vs %d)\n", a_path, b_path,

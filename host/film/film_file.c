@@ -5,6 +5,12 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The film's attribute names, by FILM_ATTRIBUTE_* id. */
+#define FILM_ATTRIBUTE_NAME(id, name, meaning, legacy) RENDER_FILE_PREFIX name,
+static const char *const film_attribute_names[FILM_FILE_ATTRIBUTES] = {
+    RENDER_FILE_FILM_ATTRIBUTES(FILM_ATTRIBUTE_NAME)};
+#undef FILM_ATTRIBUTE_NAME
+
 static const char *const gini_mode_names[] = {"per_channel", "per_pixel", "sort_by_luminance"};
 #define GINI_MODE_COUNT ((int)(sizeof gini_mode_names / sizeof gini_mode_names[0]))
 
@@ -24,7 +30,7 @@ int gini_mode_from_name(const char *name)
 /* "<pass>" or "<pass>.stderr". */
 static void layer_name(int pass, int with_error, char *name, size_t size)
 {
-    snprintf(name, size, "%s%s", pass_name(pass), with_error ? ".stderr" : "");
+    snprintf(name, size, "%s%s", pass_name(pass), with_error ? RENDER_FILE_STDERR_SUFFIX : "");
 }
 
 static void append(char *list, size_t size, const char *item)
@@ -78,9 +84,13 @@ void film_file_init(FilmFile *f, int width, int height, const EstimatorSettings 
         snprintf(item, sizeof item, "%s=%s", name, value);
         append(f->params, sizeof f->params, item);
     }
-    f->attributes[0] = (ExrKeyValue){"gmon.estimators", f->estimators};
-    f->attributes[1] = (ExrKeyValue){"gmon.giniMode", gini_mode_name(settings->gini_mode)};
-    f->attributes[2] = (ExrKeyValue){"gmon.estimatorParams", f->params};
+    const char *values[FILM_FILE_ATTRIBUTES] = {
+        [FILM_ATTRIBUTE_ESTIMATORS] = f->estimators,
+        [FILM_ATTRIBUTE_GINI_MODE] = gini_mode_name(settings->gini_mode),
+        [FILM_ATTRIBUTE_ESTIMATOR_PARAMS] = f->params,
+    };
+    for (int i = 0; i < FILM_FILE_ATTRIBUTES; ++i)
+        f->attributes[i] = (ExrKeyValue){film_attribute_names[i], values[i]};
     f->image.metadata.attributes = f->attributes;
     f->image.metadata.attribute_count = FILM_FILE_ATTRIBUTES;
 }
@@ -90,16 +100,17 @@ int film_file_settings(const ExrImage *image, EstimatorSettings *s, char *messag
     estimator_settings_default(s);
     s->set_count = image->metadata.set_count;
     s->first_sample = image->metadata.first_sample;
-    const char *mode = exr_image_attribute(image, "gmon.giniMode");
+    const char *mode = exr_image_attribute(image, film_attribute_names[FILM_ATTRIBUTE_GINI_MODE]);
     if (mode) {
         int m = gini_mode_from_name(mode);
         if (m < 0) {
-            snprintf(message, message_size, "attribute gmon.giniMode = '%s' is not a known Gini mode", mode);
+            snprintf(message, message_size, "attribute %s = '%s' is not a known Gini mode",
+                     film_attribute_names[FILM_ATTRIBUTE_GINI_MODE], mode);
             return -1;
         }
         s->gini_mode = (GiniMode)m;
     }
-    const char *list = exr_image_attribute(image, "gmon.estimators");
+    const char *list = exr_image_attribute(image, film_attribute_names[FILM_ATTRIBUTE_ESTIMATORS]);
     char reason[640];
     if (list) {
         uint32_t passes = 0;
@@ -108,20 +119,22 @@ int film_file_settings(const ExrImage *image, EstimatorSettings *s, char *messag
         for (char *save = NULL, *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
             int pass = pass_from_name(item);
             if (pass < 0) {
-                snprintf(message, message_size, "attribute gmon.estimators: unknown pass '%s'", item);
+                snprintf(message, message_size, "attribute %s: unknown pass '%s'",
+                         film_attribute_names[FILM_ATTRIBUTE_ESTIMATORS], item);
                 return -1;
             }
             passes |= PASS_BIT(pass);
         }
         s->passes = passes;
     }
-    const char *params = exr_image_attribute(image, "gmon.estimatorParams");
+    const char *params = exr_image_attribute(image, film_attribute_names[FILM_ATTRIBUTE_ESTIMATOR_PARAMS]);
     if (params) {
         char copy[512];
         snprintf(copy, sizeof copy, "%s", params);
         for (char *save = NULL, *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save))
             if (estimator_param_set(&s->params, item, reason, sizeof reason) != 0) {
-                snprintf(message, message_size, "attribute gmon.estimatorParams: %s", reason);
+                snprintf(message, message_size, "attribute %s: %s",
+                         film_attribute_names[FILM_ATTRIBUTE_ESTIMATOR_PARAMS], reason);
                 return -1;
             }
     }

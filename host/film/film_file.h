@@ -1,23 +1,19 @@
-/* The render file's schema: which EXR layers and attributes hold a film's
- * images and estimator settings (io/exr_image.h writes and reads them
- * without knowing what they mean).
- *   <pass>.R/G/B         a pass (passes.h names it): FLOAT, or UINT for the
- *                        trim counts
- *   <estimate>.stderr.*  an estimate's standard error (--stderr)
- *   clamp-<V>.R/G/B, clamp-sum.R/G/B  the per-sample estimators
- *                        (film_sample.h), one clamp-<V> per level
- *   gmon.estimators      the passes estimated, comma-separated names
- *   gmon.giniMode        per_channel | per_pixel | sort_by_luminance
- *   gmon.estimatorParams the estimators' parameters, name=value,...
- * Files from before this schema have neither gmon.estimators nor
- * gmon.estimatorParams: they read as the defaults. */
+/* A film as a render file: the RGB layers of its passes, their standard
+ * errors and the per-sample images, and the film's gmon.* attributes
+ * (io/exr_image.h writes and reads them without knowing what they mean).
+ * Their names, types, meanings and the values read for files without them
+ * are in io/render_file_schema.h (RENDER_FILE_FILM_ATTRIBUTES and the
+ * film's RGB layers); this file writes and parses them. */
 #ifndef HOST_FILM_FILM_FILE_H
 #define HOST_FILM_FILM_FILE_H
 
 #include "film/film.h"
 #include "io/exr_image.h"
 
-#define FILM_FILE_ATTRIBUTES 3
+/* The film's attributes, in RENDER_FILE_FILM_ATTRIBUTES' order. */
+#define FILM_ATTRIBUTE_ID(id, name, meaning, legacy) FILM_ATTRIBUTE_##id,
+enum { RENDER_FILE_FILM_ATTRIBUTES(FILM_ATTRIBUTE_ID) FILM_FILE_ATTRIBUTES };
+#undef FILM_ATTRIBUTE_ID
 
 /* An ExrImage of a film, with the storage its names and attributes point
  * to: fill it in place (it points into itself) and do not copy it. */

@@ -7,33 +7,32 @@
 #include <errno.h>
 #include <inttypes.h>
 #include <stdarg.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #define RGB_CHANNELS 3
-#define SUM_WORDS 4   /* 32-bit channels per 128-bit set sum */
-#define GRID_SET (-1) /* the set of the grid channel, sets.grid */
-/* The grid word of files written before sets.grid existed: their sums
- * count units of 2^-56 (kernels/film/accumulate.h, EST_GRID_BIAS). */
-#define LEGACY_GRID_WORD (1024u - 56u)
+#define SUM_WORDS 4      /* 32-bit channels per 128-bit set sum */
+#define GRID_SET (-1)    /* the set of the grid channel, sets.grid */
 #define NAME_CAPACITY 32 /* EXR short names: at most 31 bytes */
-#define METADATA_PREFIX "gmon."
 
 /* ------------------------------------------------------------------------
  * Channels
  * ---------------------------------------------------------------------- */
 
+/* The layers: the RGB ones, then RENDER_FILE_LAYERS. */
+#define LAYER_ID(id, name, type, meaning, legacy) LAYER_##id,
+#define LAYER_NAME(id, name, type, meaning, legacy) name,
 typedef enum {
     LAYER_RGB, /* one of the image's RGB layers */
-    LAYER_NONFINITE,
-    LAYER_ROUNDED,
-    LAYER_SETS,
-    LAYER_COUNT
+    RENDER_FILE_LAYERS(LAYER_ID) LAYER_COUNT
 } Layer;
 
-static const char *const layer_names[LAYER_COUNT] = {"", "nonfinite", "rounded", "sets"};
+static const char *const layer_names[LAYER_COUNT] = {"", RENDER_FILE_LAYERS(LAYER_NAME)};
+#undef LAYER_ID
+#undef LAYER_NAME
 static const char channel_letters[RGB_CHANNELS] = {'R', 'G', 'B'};
 
 /* One EXR channel and where its values live in an ExrImage. */
@@ -72,7 +71,7 @@ static ChannelSpec set_channel(int set, int channel, int word)
 static ChannelSpec grid_channel(void)
 {
     ChannelSpec spec = {{0}, LAYER_SETS, 0, 0, GRID_SET, 0, 0};
-    snprintf(spec.name, sizeof spec.name, "%s.grid", layer_names[LAYER_SETS]);
+    snprintf(spec.name, sizeof spec.name, "%s." RENDER_FILE_GRID_CHANNEL, layer_names[LAYER_SETS]);
     return spec;
 }
 
@@ -110,8 +109,10 @@ static int channel_from_name(const char *name, ChannelSpec *spec)
         return 1;
     int set, word, length = 0;
     char letter;
-    if (strncmp(name, "sets.", 5) == 0) {
-        if (sscanf(name, "sets.%2d.%c.w%1d%n", &set, &letter, &word, &length) != 3 || name[length] != '\0')
+    size_t sets_length = strlen(layer_names[LAYER_SETS]);
+    if (strncmp(name, layer_names[LAYER_SETS], sets_length) == 0 && name[sets_length] == '.') {
+        const char *rest = name + sets_length + 1;
+        if (sscanf(rest, "%2d.%c.w%1d%n", &set, &letter, &word, &length) != 3 || rest[length] != '\0')
             return 0;
         if (set < 0 || set >= EST_MAX_SETS || word < 0 || word >= SUM_WORDS)
             return 0;
@@ -223,26 +224,45 @@ static exr_context_initializer_t context_initializer(IoContext *io)
  * Metadata values
  * ---------------------------------------------------------------------- */
 
-/* The gmon.* attributes this module reads and writes itself; any other
- * gmon.* string attribute is one of the film's. */
-static const char *const own_attributes[] = {
-    METADATA_PREFIX "software",      METADATA_PREFIX "sets",        METADATA_PREFIX "samples",
-    METADATA_PREFIX "seed",          METADATA_PREFIX "firstSample", METADATA_PREFIX "sceneFile",
-    METADATA_PREFIX "sceneHash",     METADATA_PREFIX "integrator",  METADATA_PREFIX "sampler",
-    METADATA_PREFIX "lightSampler",  METADATA_PREFIX "maxDepth",    METADATA_PREFIX "nonfiniteSamples",
-    METADATA_PREFIX "roundedSamples"};
+/* The gmon.* attributes this module reads and writes itself
+ * (RENDER_FILE_ATTRIBUTES); any other gmon.* string attribute is one of
+ * the film's. */
+typedef enum { ATTRIBUTE_STRING, ATTRIBUTE_INT, ATTRIBUTE_UINT64 } AttributeType;
+
+typedef struct {
+    const char *name;
+    AttributeType type;
+    size_t offset; /* of its field in ExrMetadata */
+    int min, max;  /* ATTRIBUTE_INT: the values read */
+} OwnAttribute;
+
+#define OWN_ATTRIBUTE(field, name, type, min, max, written, meaning, legacy)                                           \
+    {RENDER_FILE_PREFIX name, ATTRIBUTE_##type, offsetof(ExrMetadata, field), min, max},
+static const OwnAttribute own_attributes[] = {RENDER_FILE_ATTRIBUTES(OWN_ATTRIBUTE)};
+#undef OWN_ATTRIBUTE
+#define OWN_ATTRIBUTE_COUNT (sizeof own_attributes / sizeof own_attributes[0])
+
+/* Each row's field has its type's C type. */
+#define FIELD_TYPE_STRING const char *
+#define FIELD_TYPE_INT int
+#define FIELD_TYPE_UINT64 uint64_t
+#define CHECK_FIELD_TYPE(field, name, type, min, max, written, meaning, legacy)                                        \
+    _Static_assert(_Generic(((ExrMetadata *)0)->field, FIELD_TYPE_##type : 1, default : 0),                            \
+                   "ExrMetadata." #field " is not of type " #type);
+RENDER_FILE_ATTRIBUTES(CHECK_FIELD_TYPE)
+#undef CHECK_FIELD_TYPE
 
 static int attribute_is_own(const char *key)
 {
-    for (size_t i = 0; i < sizeof own_attributes / sizeof own_attributes[0]; ++i)
-        if (strcmp(key, own_attributes[i]) == 0)
+    for (size_t i = 0; i < OWN_ATTRIBUTE_COUNT; ++i)
+        if (strcmp(key, own_attributes[i].name) == 0)
             return 1;
     return 0;
 }
 
 static int is_film_attribute(const char *key)
 {
-    return strncmp(key, METADATA_PREFIX, strlen(METADATA_PREFIX)) == 0 && !attribute_is_own(key);
+    return strncmp(key, RENDER_FILE_PREFIX, strlen(RENDER_FILE_PREFIX)) == 0 && !attribute_is_own(key);
 }
 
 /* Decimal digits only, no sign or spaces, at most UINT64_MAX. */
@@ -277,7 +297,7 @@ static int key_is_reserved(const char *key)
                                            "version",
                                            "chunkCount",
                                            "tiles"};
-    if (strncmp(key, METADATA_PREFIX, strlen(METADATA_PREFIX)) == 0)
+    if (strncmp(key, RENDER_FILE_PREFIX, strlen(RENDER_FILE_PREFIX)) == 0)
         return 1;
     for (size_t i = 0; i < sizeof reserved / sizeof reserved[0]; ++i)
         if (strcmp(key, reserved[i]) == 0)
@@ -336,7 +356,7 @@ static ImageIoStatus check_image(IoContext *io, const ExrImage *image)
         if (strlen(key) >= NAME_CAPACITY)
             return fail(io, "extra attribute key '%s' is longer than %d bytes", key, NAME_CAPACITY - 1);
         if (key_is_reserved(key))
-            return fail(io, "extra attribute key '%s' is reserved (EXR or " METADATA_PREFIX "*)", key);
+            return fail(io, "extra attribute key '%s' is reserved (EXR or " RENDER_FILE_PREFIX "*)", key);
         for (size_t j = 0; j < i; ++j)
             if (strcmp(key, meta->extras[j].key) == 0)
                 return fail(io, "extra attribute key '%s' is given twice", key);
@@ -432,44 +452,33 @@ static ImageIoStatus write_uint64_attribute(IoContext *io, exr_context_t ctxt, i
 
 static ImageIoStatus write_metadata(IoContext *io, exr_context_t ctxt, int part, const ExrMetadata *meta)
 {
-    if (meta->software && EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "software", meta->software),
-                                     "cannot set attribute " METADATA_PREFIX "software"))
-        return IMAGE_IO_ERROR;
-    if (meta->set_count > 0 && EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "sets", meta->set_count),
-                                          "cannot set attribute " METADATA_PREFIX "sets"))
-        return IMAGE_IO_ERROR;
-    const struct {
-        const char *name;
-        uint64_t value;
-    } numbers[] = {{METADATA_PREFIX "samples", meta->sample_count},
-                   {METADATA_PREFIX "seed", meta->seed},
-                   {METADATA_PREFIX "firstSample", meta->first_sample},
-                   {METADATA_PREFIX "nonfiniteSamples", meta->nonfinite_samples},
-                   {METADATA_PREFIX "roundedSamples", meta->rounded_samples}};
-    for (size_t i = 0; i < sizeof numbers / sizeof numbers[0]; ++i)
-        if (write_uint64_attribute(io, ctxt, part, numbers[i].name, numbers[i].value) != IMAGE_IO_OK)
-            return IMAGE_IO_ERROR;
-    if (meta->scene_path &&
-        EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneFile", meta->scene_path),
-                   "cannot set attribute " METADATA_PREFIX "sceneFile"))
-        return IMAGE_IO_ERROR;
-    if (meta->scene_hash &&
-        EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sceneHash", meta->scene_hash),
-                   "cannot set attribute " METADATA_PREFIX "sceneHash"))
-        return IMAGE_IO_ERROR;
-    if (meta->integrator &&
-        (EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "integrator", meta->integrator),
-                    "cannot set attribute " METADATA_PREFIX "integrator") ||
-         EXR_FAILED(io, exr_attr_set_int(ctxt, part, METADATA_PREFIX "maxDepth", meta->max_depth),
-                    "cannot set attribute " METADATA_PREFIX "maxDepth")))
-        return IMAGE_IO_ERROR;
-    if (meta->sampler && EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "sampler", meta->sampler),
-                                    "cannot set attribute " METADATA_PREFIX "sampler"))
-        return IMAGE_IO_ERROR;
-    if (meta->light_sampler &&
-        EXR_FAILED(io, exr_attr_set_string(ctxt, part, METADATA_PREFIX "lightSampler", meta->light_sampler),
-                   "cannot set attribute " METADATA_PREFIX "lightSampler"))
-        return IMAGE_IO_ERROR;
+#define WRITTEN(field, name, type, min, max, written, meaning, legacy) (written) != 0,
+    const int written[OWN_ATTRIBUTE_COUNT] = {RENDER_FILE_ATTRIBUTES(WRITTEN)};
+#undef WRITTEN
+    for (size_t i = 0; i < OWN_ATTRIBUTE_COUNT; ++i) {
+        const OwnAttribute *own = &own_attributes[i];
+        const char *field = (const char *)meta + own->offset;
+        if (!written[i])
+            continue;
+        char action[NAME_CAPACITY + 32];
+        snprintf(action, sizeof action, "cannot set attribute %s", own->name);
+        if (own->type == ATTRIBUTE_UINT64) {
+            uint64_t value;
+            memcpy(&value, field, sizeof value);
+            if (write_uint64_attribute(io, ctxt, part, own->name, value) != IMAGE_IO_OK)
+                return IMAGE_IO_ERROR;
+        } else if (own->type == ATTRIBUTE_INT) {
+            int value;
+            memcpy(&value, field, sizeof value);
+            if (EXR_FAILED(io, exr_attr_set_int(ctxt, part, own->name, value), action))
+                return IMAGE_IO_ERROR;
+        } else {
+            const char *value;
+            memcpy(&value, field, sizeof value);
+            if (EXR_FAILED(io, exr_attr_set_string(ctxt, part, own->name, value), action))
+                return IMAGE_IO_ERROR;
+        }
+    }
     for (size_t i = 0; i < meta->attribute_count; ++i) {
         char action[NAME_CAPACITY + 32];
         snprintf(action, sizeof action, "cannot set attribute %s", meta->attributes[i].key);
@@ -724,36 +733,39 @@ static ImageIoStatus read_metadata(IoContext *io, exr_const_context_t ctxt, ExrI
 {
     ExrMetadata *meta = &image->metadata;
     const exr_attribute_t *attribute = NULL;
-    exr_result_t result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "sets", &attribute);
-    if (result != EXR_ERR_NO_ATTR_BY_NAME) {
-        if (library_failed(io, result, "cannot read attribute " METADATA_PREFIX "sets"))
-            return IMAGE_IO_ERROR;
-        if (attribute->type != EXR_ATTR_INT)
-            return fail(io, "attribute " METADATA_PREFIX "sets is of type %s, expected int", attribute->type_name);
-        if (attribute->i < 1 || attribute->i > EST_MAX_SETS)
-            return fail(io, "attribute " METADATA_PREFIX "sets = %d is out of range 1..%d", (int)attribute->i,
-                        EST_MAX_SETS);
-        meta->set_count = attribute->i;
-    }
-    if (read_string_attribute(io, ctxt, image, METADATA_PREFIX "software", &meta->software) < 0 ||
-        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "samples", &meta->sample_count) < 0 ||
-        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "seed", &meta->seed) < 0 ||
-        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "firstSample", &meta->first_sample) < 0 ||
-        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "nonfiniteSamples", &meta->nonfinite_samples) < 0 ||
-        read_uint64_attribute(io, ctxt, image, METADATA_PREFIX "roundedSamples", &meta->rounded_samples) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneFile", &meta->scene_path) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sceneHash", &meta->scene_hash) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "integrator", &meta->integrator) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "sampler", &meta->sampler) < 0 ||
-        read_string_attribute(io, ctxt, image, METADATA_PREFIX "lightSampler", &meta->light_sampler) < 0)
-        return IMAGE_IO_ERROR;
-    result = exr_get_attribute_by_name(ctxt, 0, METADATA_PREFIX "maxDepth", &attribute);
-    if (result != EXR_ERR_NO_ATTR_BY_NAME) {
-        if (library_failed(io, result, "cannot read attribute " METADATA_PREFIX "maxDepth"))
-            return IMAGE_IO_ERROR;
-        if (attribute->type != EXR_ATTR_INT)
-            return fail(io, "attribute " METADATA_PREFIX "maxDepth is of type %s, expected int", attribute->type_name);
-        meta->max_depth = attribute->i;
+    for (size_t i = 0; i < OWN_ATTRIBUTE_COUNT; ++i) {
+        const OwnAttribute *own = &own_attributes[i];
+        char *field = (char *)meta + own->offset;
+        if (own->type == ATTRIBUTE_UINT64) {
+            uint64_t value = 0;
+            int found = read_uint64_attribute(io, ctxt, image, own->name, &value);
+            if (found < 0)
+                return IMAGE_IO_ERROR;
+            if (found)
+                memcpy(field, &value, sizeof value);
+        } else if (own->type == ATTRIBUTE_STRING) {
+            const char *value = NULL;
+            int found = read_string_attribute(io, ctxt, image, own->name, &value);
+            if (found < 0)
+                return IMAGE_IO_ERROR;
+            if (found)
+                memcpy(field, &value, sizeof value);
+        } else {
+            exr_result_t result = exr_get_attribute_by_name(ctxt, 0, own->name, &attribute);
+            if (result == EXR_ERR_NO_ATTR_BY_NAME)
+                continue;
+            char action[NAME_CAPACITY + 40];
+            snprintf(action, sizeof action, "cannot read attribute %s", own->name);
+            if (library_failed(io, result, action))
+                return IMAGE_IO_ERROR;
+            if (attribute->type != EXR_ATTR_INT)
+                return fail(io, "attribute %s is of type %s, expected int", own->name, attribute->type_name);
+            if (attribute->i < own->min || attribute->i > own->max)
+                return fail(io, "attribute %s = %d is out of range %d..%d", own->name, (int)attribute->i, own->min,
+                            own->max);
+            int value = attribute->i;
+            memcpy(field, &value, sizeof value);
+        }
     }
     /* The film's attributes (gmon.*, not ours) and the free key/value
      * pairs: every other string attribute. */
@@ -1194,7 +1206,7 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
         if (image->metadata.set_count == 0)
             image->metadata.set_count = set_count;
         else if (image->metadata.set_count != set_count)
-            status = fail(io, "attribute " METADATA_PREFIX "sets = %d but the file holds %d sets",
+            status = fail(io, "attribute " RENDER_FILE_PREFIX "sets = %d but the file holds %d sets",
                           image->metadata.set_count, set_count);
     }
 
@@ -1236,7 +1248,7 @@ static ImageIoStatus read_opened(IoContext *io, exr_const_context_t ctxt, ExrIma
             image->accumulators = data;
             /* A file from before the grid channel: units of 2^-56. */
             for (size_t p = 0; p < pixels && !grid_found; ++p)
-                target.accumulators[p] = LEGACY_GRID_WORD;
+                target.accumulators[p] = RENDER_FILE_LEGACY_GRID_WORD;
             break;
         default:
             break;

@@ -1,49 +1,20 @@
 /* A render as one OpenEXR file (one scanline part, ZIP compression): RGB
  * image layers, per-pixel counters, optional exact per-set sums from which
  * the render can be re-estimated or merged with another, and metadata.
- * This module knows EXR; which layers and attributes a render has, and
- * what they mean, is the film's (host/film/film_file.h).
+ * This module knows EXR; which RGB layers and film attributes a render has,
+ * and what they mean, is the film's (host/film/film_file.h).
  *
- * Channels (EXR stores them sorted by name; readers match by name):
- *   <layer>.R <layer>.G <layer>.B  FLOAT (or HALF, read as float), or UINT
- *                                    holding int32 bits: an RGB layer
- *   nonfinite                UINT    non-finite samples (added as 0)
- *   rounded                  UINT    samples not added exactly (the pixel's
- *                                    values span more than its sums hold)
- *   sets.grid                UINT    the pixel's grid word: 0 (no nonzero
- *                                    sample) or E + 1024, the sums counting
- *                                    units of 2^E (kernels/film/accumulate.h);
- *                                    files without it: units of 2^-56
- *   sets.<j>.<R|G|B>.w<k>    UINT    set j's exact sum (signed 128-bit
- *                                    integer, below 2^126 in magnitude) as
- *                                    four 32-bit words, w0 the lowest;
- *                                    j = 0..M-1
- *
- * Metadata attributes (all in one part):
- *   gmon.software     string
- *   gmon.sets         int     M
- *   gmon.samples      string  samples per pixel n, decimal uint64
- *   gmon.seed         string  decimal uint64
- *   gmon.firstSample  string  index of the first sample, decimal uint64
- *   gmon.sceneFile    string
- *   gmon.sceneHash    string  hash of all that determines a sample (scene,
- *                             camera, resolution, max depth, integrator,
- *                             seed, M), taken from the renderer's buffers
- *   gmon.integrator   string  path | bsdf
- *   gmon.sampler      string  independent | sobol-pixel | sobol-sets; files
- *                             without it: independent
- *   gmon.lightSampler string  bvh | power | uniform; files without it: power
- *   gmon.maxDepth     int
- *   gmon.nonfiniteSamples string  non-finite samples, decimal uint64
- *   gmon.roundedSamples   string  samples not added exactly, decimal uint64
- *   gmon.<other>      string  the film's attributes (`attributes`)
- *   <key>             string  free key/value pairs (keys not in "gmon.")
- * 64-bit numbers are decimal strings: EXR has no 64-bit integer attribute
- * and a double would lose values above 2^53. */
+ * The file's layers and attributes, their types, meanings and the values
+ * read for files without them are listed in io/render_file_schema.h; this
+ * module writes and reads the layers and gmon.* attributes listed there as
+ * its own (RENDER_FILE_LAYERS, RENDER_FILE_ATTRIBUTES: ExrMetadata has a
+ * field per attribute), the film's gmon.* attributes (`attributes`) and
+ * free key/value pairs (`extras`, keys not starting with "gmon."). */
 #ifndef HOST_IO_EXR_IMAGE_H
 #define HOST_IO_EXR_IMAGE_H
 
 #include "io/image_io.h"
+#include "io/render_file_schema.h"
 
 #include <stddef.h>
 #include <stdint.h>
