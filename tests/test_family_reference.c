@@ -25,7 +25,7 @@
 
 /* Every set-based estimator, from the rows of kernels/film/passes.h (NULL for
  * the other rows), so that a new row is checked here too. */
-#define ESTIMATE_NAME_(id, name, type, kind, traits, of_sorted) (kind) == PASS_ESTIMATE ? name : NULL,
+#define ESTIMATE_NAME_(id, name, type, kind, form, fn) (kind) == PASS_ESTIMATE ? name : NULL,
 static const char *const all_names[] = {GMON_PASSES(ESTIMATE_NAME_)};
 #define NAME_COUNT (sizeof all_names / sizeof all_names[0])
 

@@ -77,6 +77,17 @@ static void choose_launch(const ClDevice *device, const EstimatorSettings *setti
         launch->prefetch = 0; /* the kernel's prefetch assumes one flat address space */
 }
 
+void estimator_build_options(const EstimatorSettings *settings, const EstimatorLaunch *launch, char *options,
+                             size_t size)
+{
+    snprintf(options, size,
+             "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DEST_PASSES=0x%x -DEST_STDERR=%d "
+             "-DEST_VECTOR_WIDTH=%d -DEST_PREFETCH=%d",
+             settings->set_count, (int)(settings->first_sample % (uint64_t)settings->set_count),
+             (int)settings->gini_mode, (unsigned)(settings->passes & ~PASSES_SAMPLE), settings->with_stderr ? 1 : 0,
+             launch->vector_width, launch->prefetch);
+}
+
 EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSettings *settings,
                                         const EstimatorLaunchChoice *choice, const char *kernel_dir)
 {
@@ -95,12 +106,7 @@ EstimatorProgram *estimator_program_new(ClDevice *device, const EstimatorSetting
     const EstimatorLaunchChoice chosen_per_device = ESTIMATOR_LAUNCH_CHOSEN_PER_DEVICE;
     choose_launch(device, settings, choice ? choice : &chosen_per_device, &p->launch);
     char options[256];
-    snprintf(options, sizeof options,
-             "-DEST_SETS=%d -DEST_FIRST_SET=%d -DEST_GINI_MODE=%d -DEST_PASSES=0x%x -DEST_STDERR=%d "
-             "-DEST_VECTOR_WIDTH=%d -DEST_PREFETCH=%d",
-             settings->set_count, (int)(settings->first_sample % (uint64_t)settings->set_count),
-             (int)settings->gini_mode, (unsigned)settings->passes, settings->with_stderr ? 1 : 0,
-             p->launch.vector_width, p->launch.prefetch);
+    estimator_build_options(settings, &p->launch, options, sizeof options);
     static const char *const kernels[KERNEL_COUNT] = {"estimate_from_sums", "estimate_from_accumulators"};
     if (cl_program_open(&p->cl, device, "estimator", options, kernel_dir, kernels, KERNEL_COUNT) != 0)
         goto fail;

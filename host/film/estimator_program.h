@@ -37,6 +37,11 @@ typedef struct {
  * after reporting a value out of range. */
 int estimator_launch_from_environment(EstimatorLaunchChoice *choice);
 
+/* The estimator kernel's build options for the settings (their per-sample
+ * passes left out) and launch. */
+void estimator_build_options(const EstimatorSettings *settings, const EstimatorLaunch *launch, char *options,
+                             size_t size);
+
 /* Builds the estimator program for the settings (M, Gini mode, passes,
  * standard errors; the parameters go with each run), launched as `choice`
  * fixes (NULL: chosen per device). Returns NULL after printing the reason.

@@ -20,8 +20,8 @@ static EstimatorStatus invalid(char *message, size_t message_size, const char *f
     return ESTIMATOR_INVALID_ARGUMENT;
 }
 
-#define PASS_NAME_(id, name, type, kind, traits, of_sorted) name,
-#define PASS_TYPE_(id, name, type, kind, traits, of_sorted) type,
+#define PASS_NAME_(id, name, type, kind, form, fn) name,
+#define PASS_TYPE_(id, name, type, kind, form, fn) type,
 static const char *const pass_names[PASS_COUNT] = {GMON_PASSES(PASS_NAME_)};
 static const int pass_types[PASS_COUNT] = {GMON_PASSES(PASS_TYPE_)};
 

@@ -368,6 +368,25 @@ EST_INLINE est_float scale_by_power(est_float x, est_int e)
     return x * power_of_two(first) * power_of_two(second) * power_of_two(rest - second);
 }
 
+/* What the family shares in a pixel (family_shared): the channels' mean
+ * G (the paper's, before any Gini mode), the scales of the RGB points, and
+ * gmedian's start and steps. */
+typedef struct {
+    est_float gbar;                /* mean of the channels' G */
+    est_float epsilon;             /* 1e-11 in the units of the values (gmon-authors) */
+    est_float down[EST_CHANNELS];  /* 2^-e_c, e_c a channel's scale exponent */
+    est_float ratio[EST_CHANNELS]; /* 2^(e_c - e), e the largest e_c */
+    est_float z[EST_CHANNELS];     /* gmedian's start (the channels' MoN on the scales down), then its result */
+    int iterations;                /* gmedian's Weiszfeld steps */
+} FamilyShared;
+
+/* One side of a fixed-weight estimator (forms FIXED_WEIGHTS and GATED):
+ * weights over the m sorted set means, or the median (MoN, exactly). */
+typedef struct {
+    est_float w[EST_CAPACITY];
+    int median;
+} FixedWeights;
+
 /* The estimators of the family, a file each (passes.h's rows say how
  * the code below treats each). */
 #include "estimators/amon.h"
@@ -383,87 +402,24 @@ EST_INLINE est_float scale_by_power(est_float x, est_int e)
 #include "estimators/gmedian.h"
 #include "estimators/huber.h"
 
-/* The weighted means whose weights depend only on the set count and the
- * parameters, not on the values: their leave-one-out estimates take O(m)
- * in all (leave_one_out_averages). The Gini-gated estimators pick one of
- * two of them, or the median. */
-enum {
-    FIXED_AMON,
-    FIXED_ADMON,
-    FIXED_TRIMMED,
-    FIXED_WINSORIZED,
-    FIXED_MEAN,          /* of the set means: gmon-binary below its threshold */
-    FIXED_AMON_ONE,      /* amon(1): gmon-partial below its threshold */
-    FIXED_AMON_PARTIAL,  /* amon(gmon-partial.alpha): at or above it */
-    FIXED_ADMON_ONE,     /* admon(1): dmon-partial below its threshold */
-    FIXED_ADMON_PARTIAL, /* admon(dmon-partial.alpha): at or above it */
-    FIXED_COUNT
-};
+/* The code below expands GMON_PASSES once per step, each row by its form:
+ * FORM_STEP_(step, form, id, fn) becomes step##_FIXED(id, fn, sides),
+ * step##_OF_SORTED(id, fn) or step##_WHOLE_PIXEL(id, fn) (each step defines
+ * the three), so a row's fn is called only with its form's signature. */
+#define FORM_STEP_(step, form, id, fn) FORM_STEP_##form(step, id, fn)
+#define FORM_STEP_CORE(step, id, fn)
+#define FORM_STEP_CORE_BY_RANK(step, id, fn)
+#define FORM_STEP_SAMPLE(step, id, fn)
+#define FORM_STEP_SAMPLE_NEIGHBOURHOOD(step, id, fn)
+#define FORM_STEP_OF_SORTED(step, id, fn) step##_OF_SORTED(id, fn)
+#define FORM_STEP_FIXED_WEIGHTS(step, id, fn) step##_FIXED(id, fn, 1)
+#define FORM_STEP_GATED(step, id, fn) step##_FIXED(id, fn, 2)
+#define FORM_STEP_WHOLE_PIXEL(step, id, fn) step##_WHOLE_PIXEL(id, fn)
 
-/* The variants (bits 1 << FIXED_*) that `passes` need. */
-EST_INLINE uint32_t fixed_variants(uint32_t passes)
-{
-    uint32_t v = 0u;
-    if (passes & PASS_BIT(PASS_AMON))
-        v |= 1u << FIXED_AMON;
-    if (passes & PASS_BIT(PASS_ADMON))
-        v |= 1u << FIXED_ADMON;
-    if (passes & PASS_BIT(PASS_TRIMMED))
-        v |= 1u << FIXED_TRIMMED;
-    if (passes & PASS_BIT(PASS_WINSORIZED))
-        v |= 1u << FIXED_WINSORIZED;
-    if (passes & PASS_BIT(PASS_GMON_BINARY))
-        v |= 1u << FIXED_MEAN;
-    if (passes & PASS_BIT(PASS_GMON_PARTIAL))
-        v |= (1u << FIXED_AMON_ONE) | (1u << FIXED_AMON_PARTIAL);
-    if (passes & PASS_BIT(PASS_DMON_PARTIAL))
-        v |= (1u << FIXED_ADMON_ONE) | (1u << FIXED_ADMON_PARTIAL);
-    return v;
-}
-
-/* The weights of a variant over m sorted sets. */
-EST_INLINE void fixed_weights(int variant, int m, const EstimatorParams *params, est_float *w)
-{
-    if (variant == FIXED_AMON)
-        amon_weights(EST_FLOATS(params->amon_alpha), m, w);
-    else if (variant == FIXED_ADMON)
-        admon_weights(EST_FLOATS(params->admon_alpha), m, w);
-    else if (variant == FIXED_TRIMMED)
-        trim_weights(EST_INTS(sets_to_trim(params->trimmed_c, m)), m, w);
-    else if (variant == FIXED_WINSORIZED)
-        winsor_weights(sets_to_trim(params->winsorized_c, m), m, w);
-    else if (variant == FIXED_MEAN)
-        trim_weights(EST_INTS(0), m, w);
-    else if (variant == FIXED_AMON_ONE)
-        amon_weights(EST_FLOATS(1.0f), m, w);
-    else if (variant == FIXED_AMON_PARTIAL)
-        amon_weights(EST_FLOATS(params->gmon_partial_alpha), m, w);
-    else if (variant == FIXED_ADMON_ONE)
-        admon_weights(EST_FLOATS(1.0f), m, w);
-    else
-        admon_weights(EST_FLOATS(params->dmon_partial_alpha), m, w);
-}
-
-/* Channel c's estimates of the passes in PASSES_FIXED_WEIGHTS from the
- * values of their variants x[FIXED_*], the median and Gbar. */
-EST_INLINE void fixed_weight_estimates(uint32_t passes, const est_float *x, est_float median, est_float gbar,
-                                       const EstimatorParams *params, est_float (*value)[EST_CHANNELS], int c)
-{
-    if (passes & PASS_BIT(PASS_AMON))
-        value[PASS_AMON][c] = x[FIXED_AMON];
-    if (passes & PASS_BIT(PASS_ADMON))
-        value[PASS_ADMON][c] = x[FIXED_ADMON];
-    if (passes & PASS_BIT(PASS_TRIMMED))
-        value[PASS_TRIMMED][c] = x[FIXED_TRIMMED];
-    if (passes & PASS_BIT(PASS_WINSORIZED))
-        value[PASS_WINSORIZED][c] = x[FIXED_WINSORIZED];
-    if (passes & PASS_BIT(PASS_GMON_BINARY))
-        value[PASS_GMON_BINARY][c] = gmon_binary_of(gbar, params, x[FIXED_MEAN], median);
-    if (passes & PASS_BIT(PASS_GMON_PARTIAL))
-        value[PASS_GMON_PARTIAL][c] = gmon_partial_of(gbar, params, x[FIXED_AMON_ONE], x[FIXED_AMON_PARTIAL]);
-    if (passes & PASS_BIT(PASS_DMON_PARTIAL))
-        value[PASS_DMON_PARTIAL][c] = dmon_partial_of(gbar, params, x[FIXED_ADMON_ONE], x[FIXED_ADMON_PARTIAL]);
-}
+/* The sides of every fixed-weight row: a gated one has two. */
+#define FIXED_SIDES_(id, name, type, kind, form, fn)                                                                   \
+    (FORM_HAS_(form, TRAIT_FIXED_WEIGHTS) ? (FORM_HAS_(form, TRAIT_WHOLE_PIXEL) ? 2 : 1) : 0) +
+#define FIXED_SIDE_COUNT (GMON_PASSES(FIXED_SIDES_) 0)
 
 /* The jackknife's leave-one-out estimates of a variant in O(m):
  * out[r] = weighted_sorted_average of the m - 1 ascending values left when
@@ -504,84 +460,61 @@ EST_INLINE void leave_one_out_averages(const est_float *v, int m, const est_floa
     }
 }
 
-/* The of_sorted of the rows without one: never called. */
-EST_INLINE est_float not_of_sorted(const est_float *v, int m, const EstimatorParams *params)
-{
-    (void)v;
-    (void)m;
-    (void)params;
-    return EST_FLOATS(0.0f);
-}
-
-/* estimate_family's call of a TRAIT_OF_SORTED row's function on channel c
- * (s its sorted values), if requested (of_sorted_passes: PASSES_OF_SORTED
- * would expand GMON_PASSES within itself). */
-#define ESTIMATE_OF_SORTED_(id, name, type, kind, traits, of_sorted)                                                   \
-    if (of_sorted_passes & PASS_BIT(PASS_##id))                                                                        \
-        value[PASS_##id][c] = of_sorted(s, m, params);
-
-/* What the family shares in a pixel: the channels' G (the paper's, before
- * any Gini mode), the authors' G and the scales of the RGB points. */
-typedef struct {
-    est_float gbar;                /* mean of the channels' G */
-    est_float authors_gbar;        /* the same with the authors' G */
-    est_float down[EST_CHANNELS];  /* 2^-e_c, e_c a channel's scale exponent */
-    est_float ratio[EST_CHANNELS]; /* 2^(e_c - e), e the largest e_c */
-} FamilyShared;
+/* estimate_family's steps. Per channel c, of its sorted values s and
+ * median: */
+#define FAMILY_CHANNEL_(id, name, type, kind, form, fn) FORM_STEP_(FAMILY_CHANNEL, form, id, fn)
+#define FAMILY_CHANNEL_OF_SORTED(id, fn)                                                                               \
+    if (passes & PASS_BIT(PASS_##id))                                                                                  \
+        value[PASS_##id][c] = fn(s, m, params);
+#define FAMILY_CHANNEL_FIXED(id, fn, sides)                                                                            \
+    if (passes & PASS_BIT(PASS_##id)) {                                                                                \
+        est_float x[2] = {EST_FLOATS(0.0f), EST_FLOATS(0.0f)};                                                         \
+        float threshold = 0.0f;                                                                                        \
+        EST_UNROLL                                                                                                     \
+        for (int side = 0; side < (sides); ++side) {                                                                   \
+            FixedWeights fixed;                                                                                        \
+            fixed.median = 0;                                                                                          \
+            threshold = fn(side, m, params, &fixed);                                                                   \
+            x[side] = fixed.median ? median : weighted_sorted_average(s, m, fixed.w);                                  \
+        }                                                                                                              \
+        value[PASS_##id][c] = (sides) == 2 ? EST_SELECT(shared->gbar < threshold, x[0], x[1]) : x[0];                  \
+    }
+#define FAMILY_CHANNEL_WHOLE_PIXEL(id, fn)
+/* Per pixel: */
+#define FAMILY_PIXEL_(id, name, type, kind, form, fn) FORM_STEP_(FAMILY_PIXEL, form, id, fn)
+#define FAMILY_PIXEL_OF_SORTED(id, fn)
+#define FAMILY_PIXEL_FIXED(id, fn, sides)
+#define FAMILY_PIXEL_WHOLE_PIXEL(id, fn)                                                                               \
+    if (passes & PASS_BIT(PASS_##id))                                                                                  \
+        fn(v, t, m, params, shared, value[PASS_##id]);
 
 /* The family's estimates of one pixel from its sorted values v[c][0..m-1]
  * and its values by set t[c][0..m-1], into value[pass][c] for the passes of
  * `passes` beyond mean, MoN, G-MoN and the diagnostics, unclamped and in
- * the units of v (before the division by the set count). gmedian starts
- * from z (its start on entry, each channel scaled by shared->down: the
- * channels' MoN)
- * and leaves its result there. */
+ * the units of v (before the division by the set count), each by its
+ * row's form (passes.h). */
 EST_INLINE void estimate_family(const est_float (*v)[EST_CAPACITY], const est_float (*t)[EST_CAPACITY], int m,
-                                uint32_t passes, const EstimatorParams *params, const FamilyShared *shared,
-                                int iterations, est_float *z, est_float (*value)[EST_CHANNELS])
+                                uint32_t passes, const EstimatorParams *params, FamilyShared *shared,
+                                est_float (*value)[EST_CHANNELS])
 {
-    const uint32_t of_sorted_passes = passes & PASSES_OF_SORTED;
-    /* ggmon's and gmon-authors' weights follow Gbar, one per pixel: the
-     * same for the three channels */
-    est_float weights_ggmon[EST_CAPACITY], weights_authors[EST_CAPACITY];
-    if (passes & PASS_BIT(PASS_GGMON))
-        ggmon_weights(shared->gbar, m, weights_ggmon);
-    if (passes & PASS_BIT(PASS_GMON_AUTHORS))
-        gmon_authors_weights(shared->authors_gbar, m, weights_authors);
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
         const est_float *s = v[c];
-        if (passes & PASS_BIT(PASS_GGMON))
-            value[PASS_GGMON][c] = weighted_sorted_average(s, m, weights_ggmon);
-        if (passes & PASSES_FIXED_WEIGHTS) {
-            est_float x[FIXED_COUNT];
-            EST_UNROLL
-            for (int f = 0; f < FIXED_COUNT; ++f)
-                if (fixed_variants(passes) & (1u << f)) {
-                    est_float w[EST_CAPACITY];
-                    fixed_weights(f, m, params, w);
-                    x[f] = weighted_sorted_average(s, m, w);
-                }
-            fixed_weight_estimates(passes, x, median_of_sorted(s, m), shared->gbar, params, value, c);
-        }
-        if (passes & PASS_BIT(PASS_GMON_AUTHORS))
-            value[PASS_GMON_AUTHORS][c] = weighted_sorted_average(s, m, weights_authors);
-        GMON_PASSES(ESTIMATE_OF_SORTED_)
+        const est_float median = median_of_sorted(s, m);
+        GMON_PASSES(FAMILY_CHANNEL_)
     }
-    if (passes & PASS_BIT(PASS_GMEDIAN))
-        gmedian_estimate(v, t, m, shared->down, shared->ratio, iterations, z, value[PASS_GMEDIAN]);
+    GMON_PASSES(FAMILY_PIXEL_)
 }
 
-/* The G and MoN the family needs besides v and t, on m sets. */
-EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m, uint32_t passes, est_float epsilon,
-                                      est_float *gini, est_float *z)
+/* What the family shares on m sorted sets, from the channels' G:
+ * gmedian's start is the channels' MoN, for `iterations` steps. */
+EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m, est_float epsilon,
+                                      const est_float *gini, int iterations)
 {
     FamilyShared shared;
     shared.gbar = (gini[0] + gini[1] + gini[2]) / 3.0f;
-    shared.authors_gbar = EST_FLOATS(0.0f);
-    if (passes & PASS_BIT(PASS_GMON_AUTHORS))
-        shared.authors_gbar =
-            (gini_authors(v[0], m, epsilon) + gini_authors(v[1], m, epsilon) + gini_authors(v[2], m, epsilon)) / 3.0f;
+    shared.epsilon = epsilon;
+    shared.iterations = iterations;
     est_int e[EST_CHANNELS], largest = EST_INTS(-126);
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) {
@@ -592,7 +525,7 @@ EST_INLINE FamilyShared family_shared(const est_float (*v)[EST_CAPACITY], int m,
     for (int c = 0; c < EST_CHANNELS; ++c) {
         shared.down[c] = power_of_two(-e[c]);
         shared.ratio[c] = scale_by_power(EST_FLOATS(1.0f), e[c] - largest); /* 0 far below the largest */
-        z[c] = scaled(median_of_sorted(v[c], m), shared.down[c]);
+        shared.z[c] = scaled(median_of_sorted(v[c], m), shared.down[c]);
     }
     return shared;
 }
@@ -650,6 +583,39 @@ EST_INLINE void set_unknown_errors(LaneEstimates *out)
     }
 }
 
+/* standard_errors' steps for the fixed-weight rows, each side in its
+ * slot: the leave-one-out estimates by rank of the sorted v (or the
+ * median's), then at rank r of channel c the row's estimate. */
+#define JACKKNIFE_WEIGHTS_(id, name, type, kind, form, fn) FORM_STEP_(JACKKNIFE_WEIGHTS, form, id, fn)
+#define JACKKNIFE_WEIGHTS_OF_SORTED(id, fn)
+#define JACKKNIFE_WEIGHTS_WHOLE_PIXEL(id, fn)
+#define JACKKNIFE_WEIGHTS_FIXED(id, fn, sides)                                                                         \
+    if (by_rank & PASS_BIT(PASS_##id)) {                                                                               \
+        EST_UNROLL                                                                                                     \
+        for (int side = 0; side < (sides); ++side) {                                                                   \
+            FixedWeights fixed;                                                                                        \
+            fixed.median = 0;                                                                                          \
+            thresholds[slot + side] = fn(side, m - 1, params, &fixed);                                                 \
+            medians[slot + side] = fixed.median;                                                                       \
+            if (!fixed.median) {                                                                                       \
+                EST_UNROLL                                                                                             \
+                for (int c = 0; c < EST_CHANNELS; ++c)                                                                 \
+                    leave_one_out_averages(v[c], m, fixed.w, averages[slot + side][c]);                                \
+            }                                                                                                          \
+        }                                                                                                              \
+    }                                                                                                                  \
+    slot += (sides);
+#define JACKKNIFE_VALUE_(id, name, type, kind, form, fn) FORM_STEP_(JACKKNIFE_VALUE, form, id, fn)
+#define JACKKNIFE_VALUE_OF_SORTED(id, fn)
+#define JACKKNIFE_VALUE_WHOLE_PIXEL(id, fn)
+#define JACKKNIFE_VALUE_FIXED(id, fn, sides)                                                                           \
+    if (by_rank & PASS_BIT(PASS_##id)) {                                                                               \
+        est_float x0 = medians[slot] ? median : averages[slot][c][r];                                                  \
+        est_float x1 = (sides) == 2 && !medians[slot + (sides)-1] ? averages[slot + (sides)-1][c][r] : median;         \
+        value[PASS_##id][c] = (sides) == 2 ? EST_SELECT(gbar_by_rank[c][r] < thresholds[slot], x0, x1) : x0;           \
+    }                                                                                                                  \
+    slot += (sides);
+
 /* Standard errors (docs/estimators.md, "Standard errors") of the
  * estimates in `passes` of a pixel of m >= 2 sets, sorted v, by set t, into
  * out->error, in the units of v (before the division by the set count).
@@ -657,12 +623,12 @@ EST_INLINE void set_unknown_errors(LaneEstimates *out)
  * over sets, each set left out in turn (its place in each channel's order
  * found by counting, so every lane follows the same steps), scaled by the
  * channel's power of two (no overflow). gmedian restarts from the full
- * estimate (gmedian_z, on the scales of `full`), with a quarter of the
+ * estimate (full->z, on the scales of `full`), with a quarter of the
  * iterations. */
 EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAPACITY],
                                 const est_float (*t)[EST_CAPACITY], int m, uint32_t passes, int gini_mode,
                                 const EstimatorParams *params, est_float epsilon, const FamilyShared *full,
-                                const est_float *gmedian_z, LaneEstimates *out)
+                                LaneEstimates *out)
 {
     est_float down[EST_CHANNELS];
     EST_UNROLL
@@ -720,7 +686,7 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
     /* gmedian's leave-one-out estimates start from the full estimate */
     WeiszfeldSums before[EST_CAPACITY + 1], after[EST_CAPACITY + 1];
     if (recomputed & PASS_BIT(PASS_GMEDIAN))
-        gmedian_step_sums(t, m, full->down, full->ratio, gmedian_z, before, after);
+        gmedian_step_sums(t, m, full->down, full->ratio, full->z, before, after);
     KERNEL_NO_UNROLL
     for (int left_out = 0; left_out < m && (recomputed || (jackknifed & gated)); ++left_out) {
         est_float rest_v[EST_CHANNELS][EST_CAPACITY], rest_t[EST_CHANNELS][EST_CAPACITY];
@@ -743,12 +709,13 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
             }
         }
         est_float value[PASS_COUNT][EST_CHANNELS];
-        est_float gini[EST_CHANNELS], z[EST_CHANNELS];
+        est_float gini[EST_CHANNELS];
         channel_ginis((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini);
         if (recomputed & PASS_BIT(PASS_GMON))
             gmon_of_sorted_sets((const est_float(*)[EST_CAPACITY])rest_v, m - 1, gini_mode, gini, value);
+        /* gmedian's first step is taken below */
         FamilyShared shared =
-            family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1, jackknifed, epsilon, gini, z);
+            family_shared((const est_float(*)[EST_CAPACITY])rest_v, m - 1, epsilon, gini, iterations - 1);
         if (jackknifed & gated) {
             EST_UNROLL
             for (int c = 0; c < EST_CHANNELS; ++c) {
@@ -763,27 +730,22 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
         for (int c = 0; c < EST_CHANNELS; ++c) {
             shared.down[c] = full->down[c];
             shared.ratio[c] = full->ratio[c];
-            z[c] = gmedian_z[c];
+            shared.z[c] = full->z[c];
         }
         if (recomputed & PASS_BIT(PASS_GMEDIAN))
-            gmedian_first_step_without(before, after, left_out, z);
+            gmedian_first_step_without(before, after, left_out, shared.z);
         estimate_family((const est_float(*)[EST_CAPACITY])rest_v, (const est_float(*)[EST_CAPACITY])rest_t, m - 1,
-                        recomputed, params, &shared, iterations - 1, z, value);
+                        recomputed, params, &shared, value);
         jackknife_add(recomputed, value, down, left_out == 0, sum, squares, origin);
     }
     if (by_rank) {
-        /* each variant's leave-one-out estimates, by rank, in O(m) */
-        const uint32_t variants = fixed_variants(by_rank);
-        est_float averages[FIXED_COUNT][EST_CHANNELS][EST_CAPACITY];
-        EST_UNROLL
-        for (int f = 0; f < FIXED_COUNT; ++f)
-            if (variants & (1u << f)) {
-                est_float w[EST_CAPACITY];
-                fixed_weights(f, m - 1, params, w);
-                EST_UNROLL
-                for (int c = 0; c < EST_CHANNELS; ++c)
-                    leave_one_out_averages(v[c], m, w, averages[f][c]);
-            }
+        /* each fixed-weight side's leave-one-out estimates, by rank, in
+         * O(m), in slots by row */
+        est_float averages[FIXED_SIDE_COUNT][EST_CHANNELS][EST_CAPACITY];
+        float thresholds[FIXED_SIDE_COUNT];
+        int medians[FIXED_SIDE_COUNT];
+        int slot = 0;
+        GMON_PASSES(JACKKNIFE_WEIGHTS_)
         EST_UNROLL
         for (int r = 0; r < m; ++r) {
             est_float value[PASS_COUNT][EST_CHANNELS];
@@ -795,11 +757,8 @@ EST_INLINE void standard_errors(const SetCounts *k, const est_float (*v)[EST_CAP
                 est_float middle[2] = {v[c][low + (low >= r)], v[c][high + (high >= r)]};
                 est_float median = average_range(middle, 0, high - low, 1);
                 value[PASS_MON][c] = median;
-                est_float x[FIXED_COUNT];
-                EST_UNROLL
-                for (int f = 0; f < FIXED_COUNT; ++f)
-                    x[f] = variants & (1u << f) ? averages[f][c][r] : EST_FLOATS(0.0f);
-                fixed_weight_estimates(by_rank, x, median, gbar_by_rank[c][r], params, value, c);
+                slot = 0;
+                GMON_PASSES(JACKKNIFE_VALUE_)
             }
             jackknife_add(by_rank, value, down, r == 0, sum, squares, origin);
         }
@@ -880,10 +839,10 @@ EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_
     /* The family and the errors work on the sorted sets, before G-MoN's
      * modes reorder them. 1e-11 in the units of the sums: */
     const est_float epsilon = scale_by_power(EST_FLOATS(1e-11f * k.divisor), -grid_exponent);
-    est_float z[EST_CHANNELS];
-    FamilyShared shared = family_shared((const est_float(*)[EST_CAPACITY])sorted, m, family, epsilon, paper_gini, z);
+    FamilyShared shared =
+        family_shared((const est_float(*)[EST_CAPACITY])sorted, m, epsilon, paper_gini, params->gmedian_iterations);
     estimate_family((const est_float(*)[EST_CAPACITY])sorted, (const est_float(*)[EST_CAPACITY])t, m, family, params,
-                    &shared, params->gmedian_iterations, z, out->value);
+                    &shared, out->value);
     if (with_stderr) {
         EST_UNROLL
         for (int c = 0; c < EST_CHANNELS; ++c) {
@@ -892,7 +851,7 @@ EST_INLINE void estimate_lanes(est_float (*sums)[EST_CAPACITY], uint64_t sample_
         }
         if (m >= 2) {
             standard_errors(&k, (const est_float(*)[EST_CAPACITY])sorted, (const est_float(*)[EST_CAPACITY])t, m,
-                            passes & PASSES_ESTIMATES, gini_mode, params, epsilon, &shared, z, out);
+                            passes & PASSES_ESTIMATES, gini_mode, params, epsilon, &shared, out);
         } else {
             set_unknown_errors(out);
         }

@@ -6,7 +6,7 @@
  * parameters' rows below) and one file under kernels/film/estimators/
  * (docs/estimators.md, "Adding an estimator").
  *
- * PASS(id, name, type, kind, traits, of_sorted)
+ * PASS(id, name, type, kind, form, fn)
  *   id        PASS_<id> in the enum below, bit PASS_BIT(PASS_<id>)
  *   name      as users select it (--estimators), and the EXR layer
  *             <name>.R/G/B
@@ -18,27 +18,41 @@
  *             accumulated, from per-sample state the path tracer keeps only
  *             when it is requested (sample_passes.h; not re-estimable from
  *             the sets, not in "all")
- *   traits    how the estimator code treats it, TRAIT_* or 0:
- *             CORE          computed with the sort of each channel
- *                           (estimate_channel), not by estimate_family
- *             WHOLE_PIXEL   needs the pixel's three channels together: the
- *                           mean Gini Gbar or the RGB set means
- *             FIXED_WEIGHTS a weighted mean of the sorted set means whose
- *                           weights depend on m and the parameters (and
- *                           Gbar) only: its leave-one-out estimates come
- *                           from prefix and suffix sums, by rank
- *             BY_RANK       its leave-one-out estimates depend on the set
- *                           left out only through its rank (FIXED_WEIGHTS
- *                           implies it)
- *             OF_SORTED     a function of one channel's sorted set means
- *                           alone, of_sorted (jackknife: recomputed)
- *             GATED         WHOLE_PIXEL and FIXED_WEIGHTS: picks between
- *                           weights by Gbar
- *             NEIGHBOURHOOD needs the pixels around it, so the whole image
- *                           (per-sample: not estimated per pixel range)
- *   of_sorted for OF_SORTED: est_float f(const est_float *v, int m, const
- *             EstimatorParams *params) of ascending v[0..m-1] (estimators/),
- *             unclamped, in the units of v; not_of_sorted for the others
+ *   form      how it is computed, which gives its traits (FORM_TRAITS_*)
+ *             and fn's signature; the estimates come unclamped, in the
+ *             units of the set means v:
+ *             CORE          with the sort of each channel
+ *                           (estimate_channel); fn: none
+ *             CORE_BY_RANK  the same, and its leave-one-out estimates
+ *                           depend on the set left out only through its
+ *                           rank (MoN)
+ *             OF_SORTED     est_float fn(const est_float *v, int m,
+ *                           const EstimatorParams *params): a function of
+ *                           one channel's ascending v[0..m-1] alone (the
+ *                           jackknife recomputes it)
+ *             FIXED_WEIGHTS float fn(int side, int m, const
+ *                           EstimatorParams *params, FixedWeights *out): a
+ *                           weighted mean of the sorted set means whose
+ *                           weights depend on m and the parameters only
+ *                           (side 0); its leave-one-out estimates come from
+ *                           prefix and suffix sums, by rank
+ *             GATED         the same fn with two sides: side 0 where the
+ *                           pixel's mean Gini Gbar is below the threshold
+ *                           fn returns, side 1 at or above it
+ *             WHOLE_PIXEL   void fn(const est_float (*v)[EST_CAPACITY],
+ *                           const est_float (*t)[EST_CAPACITY], int m,
+ *                           const EstimatorParams *params, FamilyShared
+ *                           *shared, est_float *value): the three channels
+ *                           together, from the sorted set means v[c], those
+ *                           by set t[c] and what the family shares
+ *                           (estimators.h); value[c] (recomputed by the
+ *                           jackknife)
+ *             SAMPLE        per sample (sample_passes.h); fn: none
+ *             SAMPLE_NEIGHBOURHOOD  the same, and it needs the pixels
+ *                           around it, so the whole image (not estimated
+ *                           per pixel range)
+ *   fn        the estimator's function (kernels/film/estimators/), none
+ *             for the forms without one
  * Valid C11 and OpenCL C. */
 #ifndef KERNELS_PASSES_H
 #define KERNELS_PASSES_H
@@ -51,57 +65,68 @@
 #define PASS_DIAGNOSTIC 1
 #define PASS_SAMPLE 2
 
+/* The traits the estimator code steers by: computed with each channel's
+ * sort (not by estimate_family); needs the pixel's three channels
+ * together; fixed weights; leave-one-out estimates by rank; a function of
+ * one channel's sorted values; needs the neighbouring pixels. */
 #define TRAIT_CORE 1u
 #define TRAIT_WHOLE_PIXEL 2u
 #define TRAIT_FIXED_WEIGHTS 4u
 #define TRAIT_BY_RANK 8u
 #define TRAIT_OF_SORTED 16u
 #define TRAIT_NEIGHBOURHOOD 32u
-/* Fixed weights, chosen between by Gbar */
-#define TRAIT_GATED (TRAIT_WHOLE_PIXEL | TRAIT_FIXED_WEIGHTS)
+
+#define FORM_TRAITS_CORE TRAIT_CORE
+#define FORM_TRAITS_CORE_BY_RANK (TRAIT_CORE | TRAIT_BY_RANK)
+#define FORM_TRAITS_OF_SORTED TRAIT_OF_SORTED
+#define FORM_TRAITS_FIXED_WEIGHTS (TRAIT_FIXED_WEIGHTS | TRAIT_BY_RANK)
+#define FORM_TRAITS_GATED (TRAIT_WHOLE_PIXEL | TRAIT_FIXED_WEIGHTS | TRAIT_BY_RANK)
+#define FORM_TRAITS_WHOLE_PIXEL TRAIT_WHOLE_PIXEL
+#define FORM_TRAITS_SAMPLE 0u
+#define FORM_TRAITS_SAMPLE_NEIGHBOURHOOD TRAIT_NEIGHBOURHOOD
 
 #define GMON_PASSES(PASS)                                                                                              \
-    PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE, not_of_sorted)                                           \
-    PASS(MON, "mon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE | TRAIT_BY_RANK, not_of_sorted)                             \
-    PASS(GMON, "gmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_CORE, not_of_sorted)                                           \
-    PASS(AMON, "amon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                                  \
-    PASS(ADMON, "admon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                                \
-    PASS(GGMON, "ggmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                                  \
-    PASS(GMON_BINARY, "gmon-binary", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                            \
-    PASS(GMON_PARTIAL, "gmon-partial", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                          \
-    PASS(DMON_PARTIAL, "dmon-partial", PASS_FLOAT, PASS_ESTIMATE, TRAIT_GATED, not_of_sorted)                          \
-    PASS(GMON_AUTHORS, "gmon-authors", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                    \
-    PASS(PAKMON, "pakmon", PASS_FLOAT, PASS_ESTIMATE, TRAIT_OF_SORTED, pakmon_of_sorted)                               \
-    PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                            \
-    PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE, TRAIT_FIXED_WEIGHTS, not_of_sorted)                      \
-    PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE, TRAIT_WHOLE_PIXEL, not_of_sorted)                              \
-    PASS(HUBER, "huber", PASS_FLOAT, PASS_ESTIMATE, TRAIT_OF_SORTED, huber_of_sorted)                                  \
-    PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                         \
-    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC, TRAIT_CORE, not_of_sorted)                                           \
-    PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                   \
-    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                           \
-    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                     \
-    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)                                                   \
-    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE, TRAIT_NEIGHBOURHOOD, not_of_sorted)                                    \
-    PASS(MEAN_OR_MON, "mean-or-mon", PASS_FLOAT, PASS_SAMPLE, 0u, not_of_sorted)
+    PASS(MEAN, "mean", PASS_FLOAT, PASS_ESTIMATE, CORE, none)                                                          \
+    PASS(MON, "mon", PASS_FLOAT, PASS_ESTIMATE, CORE_BY_RANK, none)                                                    \
+    PASS(GMON, "gmon", PASS_FLOAT, PASS_ESTIMATE, CORE, none)                                                          \
+    PASS(AMON, "amon", PASS_FLOAT, PASS_ESTIMATE, FIXED_WEIGHTS, amon_fixed_weights)                                   \
+    PASS(ADMON, "admon", PASS_FLOAT, PASS_ESTIMATE, FIXED_WEIGHTS, admon_fixed_weights)                                \
+    PASS(GGMON, "ggmon", PASS_FLOAT, PASS_ESTIMATE, WHOLE_PIXEL, ggmon_estimate)                                       \
+    PASS(GMON_BINARY, "gmon-binary", PASS_FLOAT, PASS_ESTIMATE, GATED, gmon_binary_weights)                            \
+    PASS(GMON_PARTIAL, "gmon-partial", PASS_FLOAT, PASS_ESTIMATE, GATED, gmon_partial_weights)                         \
+    PASS(DMON_PARTIAL, "dmon-partial", PASS_FLOAT, PASS_ESTIMATE, GATED, dmon_partial_weights)                         \
+    PASS(GMON_AUTHORS, "gmon-authors", PASS_FLOAT, PASS_ESTIMATE, WHOLE_PIXEL, gmon_authors_estimate)                  \
+    PASS(PAKMON, "pakmon", PASS_FLOAT, PASS_ESTIMATE, OF_SORTED, pakmon_of_sorted)                                     \
+    PASS(TRIMMED, "trimmed", PASS_FLOAT, PASS_ESTIMATE, FIXED_WEIGHTS, trimmed_fixed_weights)                          \
+    PASS(WINSORIZED, "winsorized", PASS_FLOAT, PASS_ESTIMATE, FIXED_WEIGHTS, winsorized_fixed_weights)                 \
+    PASS(GMEDIAN, "gmedian", PASS_FLOAT, PASS_ESTIMATE, WHOLE_PIXEL, gmedian_estimate)                                 \
+    PASS(HUBER, "huber", PASS_FLOAT, PASS_ESTIMATE, OF_SORTED, huber_of_sorted)                                        \
+    PASS(GINI, "gini", PASS_FLOAT, PASS_DIAGNOSTIC, CORE, none)                                                        \
+    PASS(TRIM, "trim", PASS_INT, PASS_DIAGNOSTIC, CORE, none)                                                          \
+    PASS(CLAMP, "clamp", PASS_FLOAT, PASS_SAMPLE, SAMPLE, none)                                                        \
+    PASS(CLAMP_SUM, "clamp-sum", PASS_FLOAT, PASS_SAMPLE, SAMPLE, none)                                                \
+    PASS(ABMM, "abmm", PASS_FLOAT, PASS_SAMPLE, SAMPLE, none)                                                          \
+    PASS(GABMM, "gabmm", PASS_FLOAT, PASS_SAMPLE, SAMPLE, none)                                                        \
+    PASS(ZIRR, "zirr", PASS_FLOAT, PASS_SAMPLE, SAMPLE_NEIGHBOURHOOD, none)                                            \
+    PASS(MEAN_OR_MON, "mean-or-mon", PASS_FLOAT, PASS_SAMPLE, SAMPLE, none)
 
-#define PASS_ENUM_(id, name, type, kind, traits, of_sorted) PASS_##id,
+#define PASS_ENUM_(id, name, type, kind, form, fn) PASS_##id,
 enum { GMON_PASSES(PASS_ENUM_) PASS_COUNT };
 #undef PASS_ENUM_
 
 #define PASS_BIT(pass) (1u << (pass))
 /* A row's bit if `test` (of its kind or traits) holds, for the masks. */
+#define FORM_HAS_(form, trait) ((FORM_TRAITS_##form & (trait)) != 0u)
 #define PASS_BIT_IF_(test, id) ((test) ? PASS_BIT(PASS_##id) : 0u) |
-#define PASS_ESTIMATE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_ESTIMATE, id)
-#define PASS_DIAGNOSTIC_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_DIAGNOSTIC, id)
-#define PASS_SAMPLE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((kind) == PASS_SAMPLE, id)
-#define PASS_CORE_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_CORE, id)
-#define PASS_WHOLE_PIXEL_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_WHOLE_PIXEL, id)
-#define PASS_FIXED_WEIGHTS_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_FIXED_WEIGHTS, id)
-#define PASS_BY_RANK_BIT_(id, name, type, kind, traits, of_sorted)                                                     \
-    PASS_BIT_IF_((traits) & (TRAIT_BY_RANK | TRAIT_FIXED_WEIGHTS), id)
-#define PASS_OF_SORTED_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_OF_SORTED, id)
-#define PASS_NEIGHBOURHOOD_BIT_(id, name, type, kind, traits, of_sorted) PASS_BIT_IF_((traits)&TRAIT_NEIGHBOURHOOD, id)
+#define PASS_ESTIMATE_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_((kind) == PASS_ESTIMATE, id)
+#define PASS_DIAGNOSTIC_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_((kind) == PASS_DIAGNOSTIC, id)
+#define PASS_SAMPLE_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_((kind) == PASS_SAMPLE, id)
+#define PASS_CORE_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_CORE), id)
+#define PASS_WHOLE_PIXEL_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_WHOLE_PIXEL), id)
+#define PASS_FIXED_WEIGHTS_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_FIXED_WEIGHTS), id)
+#define PASS_BY_RANK_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_BY_RANK), id)
+#define PASS_OF_SORTED_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_OF_SORTED), id)
+#define PASS_NEIGHBOURHOOD_BIT_(id, name, type, kind, form, fn) PASS_BIT_IF_(FORM_HAS_(form, TRAIT_NEIGHBOURHOOD), id)
 
 /* Every set-based estimator, and the diagnostics: what the estimator
  * kernel computes. */

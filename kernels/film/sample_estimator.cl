@@ -12,6 +12,10 @@
 #ifdef SAMPLE_SUMS_DOUBLE
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
 #endif
+/* The estimator core's loops run to a pixel's set count m, known here only
+ * at run time (the estimator kernel knows it at compile time): not
+ * unrolled. */
+#define EST_UNROLL_MAX_SETS 0
 #include "sample_passes.h"
 
 #if !defined(EST_SAMPLE_PASSES) || !defined(EST_SETS)

@@ -1,5 +1,5 @@
 /* admon, alpha-distance MoN (docs/estimators.md): the median and its
- * floor(k alpha) nearest neighbours (odd m), a fixed-weight estimator; its
+ * floor(k alpha) nearest neighbours (odd m; form FIXED_WEIGHTS); its
  * weights serve dmon-partial too. Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_ADMON_H
 #define KERNELS_ESTIMATORS_ADMON_H
@@ -23,6 +23,13 @@ EST_INLINE void admon_weights(est_float alpha, int m, est_float *w)
 {
     est_int u = EST_INT_FROM_FLOAT(alpha * (float)(m / 2));
     band_weights(EST_SELECT(u < 0, EST_INTS(0), u), m, w);
+}
+
+EST_INLINE float admon_fixed_weights(int side, int m, const EstimatorParams *params, FixedWeights *out)
+{
+    (void)side;
+    admon_weights(EST_FLOATS(params->admon_alpha), m, out->w);
+    return INFINITY;
 }
 
 #endif /* KERNELS_ESTIMATORS_ADMON_H */

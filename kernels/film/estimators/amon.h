@@ -1,8 +1,8 @@
 /* amon, alpha-MoN (docs/estimators.md): weight alpha^d at distance d from
- * the median, a fixed-weight estimator (TRAIT_FIXED_WEIGHTS: its estimate
- * and leave-one-out estimates are estimators.h's weighted_sorted_average
- * and leave_one_out_averages of these weights). Its centre weights serve
- * ggmon, gmon-partial and pakmon too. Part of estimators.h. */
+ * the median (form FIXED_WEIGHTS: its estimate and leave-one-out estimates
+ * are estimators.h's weighted_sorted_average and leave_one_out_averages of
+ * these weights). Its centre weights serve ggmon, gmon-partial and pakmon
+ * too. Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_AMON_H
 #define KERNELS_ESTIMATORS_AMON_H
 
@@ -38,6 +38,13 @@ EST_INLINE void centre_weights(est_float alpha, est_int reach, int m, est_float 
 EST_INLINE void amon_weights(est_float alpha, int m, est_float *w)
 {
     centre_weights(alpha, EST_INTS(m), m, w);
+}
+
+EST_INLINE float amon_fixed_weights(int side, int m, const EstimatorParams *params, FixedWeights *out)
+{
+    (void)side;
+    amon_weights(EST_FLOATS(params->amon_alpha), m, out->w);
+    return INFINITY;
 }
 
 #endif /* KERNELS_ESTIMATORS_AMON_H */

@@ -1,12 +1,12 @@
 /* dmon-partial: Gbar < threshold ? admon(1) : admon(dmon-partial.alpha)
- * (TRAIT_GATED). Part of estimators.h. */
+ * (form GATED). Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_DMON_PARTIAL_H
 #define KERNELS_ESTIMATORS_DMON_PARTIAL_H
 
-EST_INLINE est_float dmon_partial_of(est_float gbar, const EstimatorParams *params, est_float admon_one,
-                                     est_float admon_alpha)
+EST_INLINE float dmon_partial_weights(int side, int m, const EstimatorParams *params, FixedWeights *out)
 {
-    return EST_SELECT(gbar < params->dmon_partial_threshold, admon_one, admon_alpha);
+    admon_weights(EST_FLOATS(side == 0 ? 1.0f : params->dmon_partial_alpha), m, out->w);
+    return params->dmon_partial_threshold;
 }
 
 #endif /* KERNELS_ESTIMATORS_DMON_PARTIAL_H */

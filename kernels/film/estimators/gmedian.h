@@ -1,5 +1,5 @@
 /* gmedian: the geometric median of the RGB set means (Minsker 2015), by a
- * fixed number of Weiszfeld steps (TRAIT_WHOLE_PIXEL). Its leave-one-out
+ * fixed number of Weiszfeld steps (form WHOLE_PIXEL). Its leave-one-out
  * estimates restart from the full estimate, their first steps from prefix
  * and suffix sums of every set's terms (gmedian_step_sums). Part of
  * estimators.h. */
@@ -131,19 +131,19 @@ EST_INLINE void gmedian_points(const est_float (*t)[EST_CAPACITY], int m, const 
     }
 }
 
-/* gmedian of m sets (t by set, v sorted) from z, on the scales `down` and
- * distance ratios `ratio` (family_shared's), into value[c]: `iterations`
- * steps, z left at the result. */
+/* gmedian of m sets (t by set, v sorted) from shared->z, on the scales
+ * shared->down and distance ratios shared->ratio (family_shared's), into
+ * value[c]: shared->iterations steps, z left at the result. */
 EST_INLINE void gmedian_estimate(const est_float (*v)[EST_CAPACITY], const est_float (*t)[EST_CAPACITY], int m,
-                                 const est_float *down, const est_float *ratio, int iterations, est_float *z,
-                                 est_float *value)
+                                 const EstimatorParams *params, FamilyShared *shared, est_float *value)
 {
+    (void)params;
     est_float points[EST_CHANNELS][EST_CAPACITY]; /* on the channels' scales, once for every step */
-    gmedian_points(t, m, down, points);
-    weiszfeld((const est_float(*)[EST_CAPACITY])points, m, ratio, iterations, z);
+    gmedian_points(t, m, shared->down, points);
+    weiszfeld((const est_float(*)[EST_CAPACITY])points, m, shared->ratio, shared->iterations, shared->z);
     EST_UNROLL
     for (int c = 0; c < EST_CHANNELS; ++c) /* 1 / down: exact, a power of two */
-        value[c] = clamp_lanes(z[c] * (1.0f / down[c]), v[c][0], v[c][m - 1]);
+        value[c] = clamp_lanes(shared->z[c] * (1.0f / shared->down[c]), v[c][0], v[c][m - 1]);
 }
 
 /* The leave-one-out estimates all start from the full estimate z, so their

@@ -1,6 +1,6 @@
 /* gmon-authors, the authors' G-MoN ("gini-dmon"): their G' (on the means
  * plus 1e-11) averaged over the channels, odd m trimming ceil(k G'bar)
- * sets per side (TRAIT_WHOLE_PIXEL; recomputed by the jackknife). Part of
+ * sets per side (form WHOLE_PIXEL; recomputed by the jackknife). Part of
  * estimators.h. */
 #ifndef KERNELS_ESTIMATORS_GMON_AUTHORS_H
 #define KERNELS_ESTIMATORS_GMON_AUTHORS_H
@@ -26,6 +26,21 @@ EST_INLINE void gmon_authors_weights(est_float authors_gbar, int m, est_float *w
     est_int trim = c_floor + EST_SELECT(EST_FLOAT_FROM_INT(c_floor) < x, EST_INTS(1), EST_INTS(0));
     trim = EST_SELECT(trim > k, EST_INTS(k), trim);
     trim_weights(m % 2 ? trim : EST_INTS(0), m, w);
+}
+
+EST_INLINE void gmon_authors_estimate(const est_float (*v)[EST_CAPACITY], const est_float (*t)[EST_CAPACITY], int m,
+                                      const EstimatorParams *params, FamilyShared *shared, est_float *value)
+{
+    (void)t;
+    (void)params;
+    est_float authors_gbar = (gini_authors(v[0], m, shared->epsilon) + gini_authors(v[1], m, shared->epsilon) +
+                              gini_authors(v[2], m, shared->epsilon)) /
+                             3.0f;
+    est_float w[EST_CAPACITY];
+    gmon_authors_weights(authors_gbar, m, w);
+    EST_UNROLL
+    for (int c = 0; c < EST_CHANNELS; ++c)
+        value[c] = weighted_sorted_average(v[c], m, w);
 }
 
 #endif /* KERNELS_ESTIMATORS_GMON_AUTHORS_H */

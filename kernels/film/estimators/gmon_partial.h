@@ -1,12 +1,12 @@
 /* gmon-partial: Gbar < threshold ? amon(1) : amon(gmon-partial.alpha)
- * (TRAIT_GATED). Part of estimators.h. */
+ * (form GATED). Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_GMON_PARTIAL_H
 #define KERNELS_ESTIMATORS_GMON_PARTIAL_H
 
-EST_INLINE est_float gmon_partial_of(est_float gbar, const EstimatorParams *params, est_float amon_one,
-                                     est_float amon_alpha)
+EST_INLINE float gmon_partial_weights(int side, int m, const EstimatorParams *params, FixedWeights *out)
 {
-    return EST_SELECT(gbar < params->gmon_partial_threshold, amon_one, amon_alpha);
+    amon_weights(EST_FLOATS(side == 0 ? 1.0f : params->gmon_partial_alpha), m, out->w);
+    return params->gmon_partial_threshold;
 }
 
 #endif /* KERNELS_ESTIMATORS_GMON_PARTIAL_H */

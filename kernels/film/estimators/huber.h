@@ -2,7 +2,7 @@
  * means (docs/estimators.md): from the median, HUBER_STEPS reweighted
  * means, each set weighted 1 within h = huber.k * (t_{m-q} - t_{q+1}),
  * q = floor(m / 4), of the current estimate and h / distance beyond
- * (TRAIT_OF_SORTED: the jackknife recomputes it). + - * / only, on values
+ * (form OF_SORTED: the jackknife recomputes it). + - * / only, on values
  * scaled by a power of two so the largest lies in [1, 2): the same bits on
  * every device, exact scaling with the input. Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_HUBER_H

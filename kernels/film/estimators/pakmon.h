@@ -1,6 +1,6 @@
 /* pakmon, the authors' PAK-MoN: amon with alpha = the entropy H of the
  * growth of the squared deviations, out to distance rho; a function of one
- * channel's sorted set means (TRAIT_OF_SORTED; recomputed by the
+ * channel's sorted set means (form OF_SORTED; recomputed by the
  * jackknife). Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_PAKMON_H
 #define KERNELS_ESTIMATORS_PAKMON_H

@@ -1,4 +1,4 @@
-/* trimmed: the mean of t_{1+c} .. t_{m-c}, a fixed-weight estimator; its
+/* trimmed: the mean of t_{1+c} .. t_{m-c} (form FIXED_WEIGHTS); its
  * weights serve gmon-binary's mean of the set means and gmon-authors too.
  * Part of estimators.h. */
 #ifndef KERNELS_ESTIMATORS_TRIMMED_H
@@ -18,6 +18,13 @@ EST_INLINE int sets_to_trim(int32_t c, int m)
 {
     int wanted = c < 0 ? m / 4 : c;
     return wanted > (m - 1) / 2 ? (m - 1) / 2 : wanted;
+}
+
+EST_INLINE float trimmed_fixed_weights(int side, int m, const EstimatorParams *params, FixedWeights *out)
+{
+    (void)side;
+    trim_weights(EST_INTS(sets_to_trim(params->trimmed_c, m)), m, out->w);
+    return INFINITY;
 }
 
 #endif /* KERNELS_ESTIMATORS_TRIMMED_H */
