@@ -443,7 +443,7 @@ static void test_sensor_names(void **state)
  * on the same tables: the factor pbrt-v4 applies to an rgb L is exactly 1,
  * so "rgb L" [1 1 1] "float scale" [20] records (20, 20, 20); spectral
  * emitters agree to rounding. (../shared/scenes/README.md measures 21.23,
- * 21.25, 20.91 in pbrt-v4: not from this chain; host/scene/README.md.) */
+ * 21.25, 20.91 in pbrt-v4: not from this chain; docs/scenes.md, "Spectra".) */
 static void test_pbrt_emitter_chain(void **state)
 {
     (void)state;

@@ -1,4 +1,4 @@
-/* The scene as read from a pbrt-v4 file (the subset in host/scene/README.md):
+/* The scene as read from a pbrt-v4 file (the subset in docs/scenes.md):
  * camera, film, sampling settings, materials and shapes, flattened into world
  * space. Plain data owned by the Scene; the renderer converts it to the
  * device layout (kernels/tracing/scene_types.h). */
@@ -19,7 +19,7 @@
 
 typedef struct {
     /* Downgrade unsupported features to warnings, each with the substitute
-     * the README lists (unknown material: grey diffuse; unknown shape or
+     * docs/scenes.md lists (unknown material: grey diffuse; unknown shape or
      * light: skipped; ...). */
     int allow_unsupported;
     /* `gmonrt check`: go on past every unsupported feature (using its
@@ -331,7 +331,7 @@ typedef struct {
     float crop_window[4];
     char *film_filename;
     /* The film's sensor reduced to what an RGB renderer applies to each
-     * sample (host/scene/README.md, "Film"): the image's linear sRGB is
+     * sample (docs/scenes.md, "The film's response"): the image's linear sRGB is
      * film_from_radiance[row][column] times the sample's radiance (the
      * sensor's response, white balance and pbrt-v4's imaging ratio
      * shutter time * iso / 100 combined; identity for the default film).

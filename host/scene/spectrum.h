@@ -1,5 +1,5 @@
 /* Spectra as pbrt-v4 reads them, reduced to the renderer's linear sRGB at
- * load (host/scene/README.md, "Spectra"). Every spectrum is resampled to
+ * load (docs/scenes.md, "Spectra"). Every spectrum is resampled to
  * 1 nm steps over 360-830 nm, the grid pbrt-v4 integrates on. */
 #ifndef HOST_SCENE_SPECTRUM_H
 #define HOST_SCENE_SPECTRUM_H
@@ -77,11 +77,11 @@ int spectrum_parse_spd(const char *text, Spectrum *out, char *why, size_t why_si
 /* CIE XYZ of a spectrum (sums over the grid / SPECTRUM_CIE_Y_INTEGRAL). */
 void spectrum_to_xyz(const Spectrum *s, double xyz[3]);
 
-/* Linear sRGB for a spectrum of the given kind (host/scene/README.md).
+/* Linear sRGB for a spectrum of the given kind (docs/scenes.md, "Spectra").
  * ILLUMINANT: 0 luminance gives black. */
 void spectrum_to_rgb(const Spectrum *s, SpectrumKind kind, double rgb[3]);
 
-/* A conductor's RGB eta and k from its spectra (README, "Spectra"): per
+/* A conductor's RGB eta and k from its spectra (docs/scenes.md, "Spectra"): per
  * channel, eta is the channel-weighted average (as SPECTRUM_UNBOUNDED) and
  * k is chosen so that the Fresnel reflectance at normal incidence equals
  * the sRGB (SPECTRUM_ALBEDO) of the spectral one, held within [0, 0.999]
@@ -89,7 +89,7 @@ void spectrum_to_rgb(const Spectrum *s, SpectrumKind kind, double rgb[3]);
 void spectrum_conductor_rgb(const Spectrum *eta, const Spectrum *k, double eta_rgb[3], double k_rgb[3]);
 
 /* A dielectric's single eta: the spectrum averaged with the y matching
- * function (pbrt-v4 disperses instead; README). */
+ * function (pbrt-v4 disperses instead; docs/scenes.md). */
 double spectrum_eta(const Spectrum *s);
 
 /* Linear sRGB from XYZ and back, for pbrt-v4's sRGB colour space (its
@@ -117,7 +117,7 @@ int spectrum_sensor_xyz_from_sensor_rgb(const char *sensor, double white_balance
 
 /* A camera sensor's RGB for linear sRGB radiance: the sensor's response to
  * the spectrum that radiance stands for, D65 (luminance 1) times the sRGB
- * reflectance basis (README, "Film"). Returns 0, or -1 as above. */
+ * reflectance basis (docs/scenes.md, "The film's response"). Returns 0, or -1 as above. */
 int spectrum_sensor_from_srgb(const char *sensor, double m[3][3]);
 
 /* The film matrix of scene.h: imaging_ratio times sRGB-from-XYZ times

@@ -1,4 +1,4 @@
-/* Spectra for pbrt-v4's named camera sensors (host/scene/README.md, "Film"),
+/* Spectra for pbrt-v4's named camera sensors (docs/scenes.md, "The film's response"),
  * transcribed as data:
  * - the sensors' r, g, b responses, 380-720 nm in 10 nm steps: pbrt-v4's
  *   named spectra <sensor>_r/_g/_b (src/pbrt/util/spectrum.cpp; PhysLight

@@ -1,7 +1,7 @@
 /* The pbrt-v4 shapes the renderer has no primitive for ("disk", "cylinder",
  * "bilinearmesh", "loopsubdiv"), built as object-space triangle meshes for
  * the parser's mesh path (world transform, orientation, degenerate
- * triangles, area lights). Tessellation and accuracy: README.md here. */
+ * triangles, area lights). Tessellation and accuracy: docs/scenes.md. */
 #ifndef HOST_SCENE_TESSELLATE_H
 #define HOST_SCENE_TESSELLATE_H
 

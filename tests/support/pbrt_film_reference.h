@@ -1,5 +1,5 @@
 /* pbrt-v4's pixel for an emitter seen directly, written from pbrt-v4's rules
- * and independent of host/scene/spectrum.c (host/scene/README.md "Spectra", scripts/
+ * and independent of host/scene/spectrum.c (docs/scenes.md "Spectra", scripts/
  * pbrt_emitter_brightness.py): DiffuseAreaLight divides "scale" by
  * SpectrumToPhotometric (the sum of ybar times the spectrum over 360..830 nm,
  * for an rgb L its illuminant alone), the default cie1931 PixelSensor records

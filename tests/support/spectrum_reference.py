@@ -70,7 +70,7 @@ r = np.interp(lam, [499, 501], [0.2, 0.8])
 print("step albedo", M @ xyz(r * d65) / xyz(d65)[1])
 
 
-# host/scene/README.md's metal comparison ("Spectra"): pbrt-v4 renders a metal under white (D65)
+# docs/scenes.md's metal comparison ("Spectra"): pbrt-v4 renders a metal under white (D65)
 # light at normal incidence as the RGB of its spectral Fresnel reflectance
 # R(lambda); gmonrt applies the Fresnel equations to the RGB eta and k.
 def fresnel(n, k):
@@ -124,7 +124,7 @@ for metal in ("Au", "Ag", "Cu", "Al", "CuZn"):
     print("metal-%s eta %s k %s; %s" % (metal, n.round(6), kk.round(6), "; ".join(row)))
 
 
-# Named camera sensors (host/scene/README.md, "Film"): pbrt-v4's PixelSensor
+# Named camera sensors (docs/scenes.md, "The film's response"): pbrt-v4's PixelSensor
 # fit, with plain sums over the 1 nm grid as pbrt-v4's ProjectReflectance,
 # colour-science's D65, CIE D series and BabelColor swatches, and the sensor
 # responses read from host/scene/spectrum_sensor_data.c.
