@@ -124,7 +124,9 @@ static int render(const Options *o)
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)
         scene.constants.integrator.max_depth = (uint32_t)o->max_depth;
-    scene.constants.integrator.flags = o->bsdf_only ? 0u : RENDER_NEE;
+    /* The scene's integrator (lightpath, bdpt) stays; --bsdf-only is the path tracer's. */
+    scene.constants.integrator.flags =
+        (scene.constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT)) | (o->bsdf_only ? 0u : RENDER_NEE);
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
         goto done;

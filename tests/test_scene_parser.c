@@ -320,12 +320,12 @@ static void test_film_sampler_integrator_filter(void **state)
 }
 
 /* pbrt-v4's integrators that render the path tracer's expected image are
- * accepted with a note; those whose image differs are unsupported. */
+ * accepted with a note; those whose image differs are unsupported;
+ * lightpath is gmonrt's light tracer. */
 static void test_integrators(void **state)
 {
     (void)state;
-    static const char *const same[] = {"volpath", "simplevolpath", "bdpt",      "mlt",
-                                       "sppm",    "simplepath",    "lightpath", "randomwalk"};
+    static const char *const same[] = {"volpath", "simplevolpath", "bdpt", "mlt", "sppm", "simplepath", "randomwalk"};
     for (size_t i = 0; i < sizeof same / sizeof same[0]; ++i) {
         Scene s;
         char text[256], note[128];
@@ -339,8 +339,14 @@ static void test_integrators(void **state)
         scene_destroy(&s);
     }
     Scene s;
+    load_ok("Integrator \"lightpath\" \"integer maxdepth\" 4\n" WORLD, &s); /* the light tracer: no note */
+    assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.light_subpaths, SCENE_LIGHTPATH);
+    assert_int_equal(s.max_depth, 4);
+    scene_destroy(&s);
     load_ok("Integrator \"path\"\n" WORLD, &s);
     assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.light_subpaths, 0);
     assert_string_equal(s.light_sampler, "bvh"); /* pbrt-v4's default */
     scene_destroy(&s);
     /* Parameters that only tune convergence are accepted. */

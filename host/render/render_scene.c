@@ -970,7 +970,7 @@ uint64_t render_scene_features(const RenderScene *scene)
             (m->type == MAT_COATED_CONDUCTOR && (m->base_alpha_x >= SMOOTH_ALPHA || m->base_alpha_y >= SMOOTH_ALPHA)))
             features |= FEATURE_ROUGH;
     }
-#define LIGHT_FEATURE_(id, feature, sample) [LIGHT_##id] = feature,
+#define LIGHT_FEATURE_(id, feature, sample, emit) [LIGHT_##id] = feature,
     static const uint64_t by_light[LIGHT_TYPE_COUNT] = {GMON_LIGHT_TYPES(LIGHT_FEATURE_)};
 #undef LIGHT_FEATURE_
     for (int i = 0; i < scene->light_count; ++i)

@@ -86,7 +86,7 @@ struct RenderOutput {
     uint64_t sample_count; /* samples per pixel actually rendered */
     char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
     uint32_t max_depth;
-    const char *integrator;        /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
+    const char *integrator;        /* render_integrator_name */
     uint32_t sampler;              /* SAMPLER_* (kernels/tracing/sampler.h) */
     uint32_t light_sampler;        /* LIGHT_SAMPLER_* (kernels/tracing/scene_types.h) */
     uint64_t *accumulators;        /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
@@ -142,5 +142,9 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
                           RenderOutput *output, char *error, size_t error_size);
 
 void render_output_free(RenderOutput *output);
+
+/* The integrator IntegratorData.flags asks for: "path" (NEE and MIS),
+ * "bsdf" (BSDF sampling only), "lightpath" or "bdpt". */
+const char *render_integrator_name(uint32_t flags);
 
 #endif

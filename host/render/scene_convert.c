@@ -626,6 +626,43 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     return result;
 }
 
+/* The light types whose rays leaving them the kernels sample (the emit
+ * column of GMON_LIGHT_TYPES). */
+static int light_emits(uint32_t type)
+{
+#define LIGHT_EMITS_(id, feature, sample, emit)                                                                        \
+    if (type == LIGHT_##id)                                                                                            \
+        return strcmp(#emit, "light_emission_none") != 0;
+    GMON_LIGHT_TYPES(LIGHT_EMITS_)
+#undef LIGHT_EMITS_
+    return 0;
+}
+
+/* The integrator's flags for a scene that asks for light subpaths
+ * (lightpath, bdpt): the path tracer instead, with a warning, where they
+ * are not done yet (an orthographic camera, a light without an emission
+ * sampler: distant and infinite lights). */
+static void choose_light_subpaths(const Scene *scene, RenderScene *out, const char *path, int quiet)
+{
+    if (!scene->light_subpaths)
+        return;
+    const char *name = scene->light_subpaths == SCENE_BDPT ? "bdpt" : "lightpath", *why = NULL;
+    if (out->constants.camera.projection != CAMERA_PERSPECTIVE)
+        why = "an orthographic camera";
+    for (int i = 0; i < out->light_count && !why; ++i)
+        if (!light_emits(out->lights[i].type))
+            why = "distant and infinite lights";
+    if (why) {
+        if (!quiet)
+            fprintf(stderr,
+                    "warning: %s: Integrator \"%s\" is rendered by the path tracer: gmonrt's %s does not "
+                    "take %s yet\n",
+                    path, name, name, why);
+        return;
+    }
+    out->constants.integrator.flags |= scene->light_subpaths == SCENE_BDPT ? RENDER_BDPT : RENDER_LIGHTPATH;
+}
+
 int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,
                   SceneSummary *summary, char *error, size_t error_size)
 {
@@ -718,5 +755,6 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
                 out->texture_float_count * sizeof(float));
     if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
+    choose_light_subpaths(&scene, out, path, quiet);
     return 0;
 }

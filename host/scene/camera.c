@@ -303,6 +303,10 @@ static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token 
                                      shown);
         if (token_is(type, "path"))
             return 0;
+        if (token_is(type, "lightpath")) {
+            p->scene->light_subpaths = SCENE_LIGHTPATH;
+            return 0;
+        }
         const char *media = strstr(same_image_integrators[i].name, "vol")
                                 ? " without participating media (which gmonrt does not support)"
                                 : "";

@@ -242,17 +242,6 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
     return radiance;
 }
 
-/* The film's response to a sample's radiance (FilmData). */
-KERNEL_FN Vec3 film_response(__global const FilmData *film, Vec3 L)
-{
-    if (GMON_HAS_FILM_MATRIX) {
-        __global const float(*m)[4] = film->from_radiance;
-        L = vec3(m[0][0] * L.x + m[0][1] * L.y + m[0][2] * L.z, m[1][0] * L.x + m[1][1] * L.y + m[1][2] * L.z,
-                 m[2][0] * L.x + m[2][1] * L.y + m[2][2] * L.z);
-    }
-    return L;
-}
-
 /* Renders samples [first_sample, first_sample + sample_count) of pixels
  * [first_pixel, first_pixel + pixel_count) of the image. Accumulators and
  * counters cover pixels [buffer_first_pixel, buffer_first_pixel +

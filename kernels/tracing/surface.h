@@ -1,0 +1,77 @@
+/* The surface a ray hit, as the integrators of light subpaths see it
+ * (bdpt.cl): its point, geometric and shading normals with the shading
+ * frame, and its material resolved at the hit (a mix's choice, textures),
+ * as the path tracer resolves them. */
+#ifndef KERNELS_SURFACE_H
+#define KERNELS_SURFACE_H
+
+#include "bsdf.h"
+#include "scene.h"
+#if GMON_HAS_TEXTURES
+#include "surface_textures.h"
+#endif
+
+typedef struct {
+    Vec3 p, n;     /* the point, the geometric normal */
+    Vec3 ns, s, t; /* the shading frame */
+    Material material;
+} Surface;
+
+/* The surface of `hit` on the ray from origin along unit direction;
+ * footprint_width: the ray cone's width there (texture filtering). */
+KERNEL_FN void surface_at_hit(const Scene *scene, const Hit *hit, Vec3 origin, Vec3 direction, float cone_width,
+                              Surface *surface)
+{
+    GLOBAL const Primitive *prim = scene->primitives + hit->primitive;
+    Vec3 p = v_add(origin, v_scale(direction, hit->t));
+    Vec3 n = hit_normal(scene, hit, prim, p);
+    Vec3 wo_world = v_scale(direction, -1.0f);
+    Vec3 ns = shading_normal(scene, hit, prim, n);
+    GLOBAL const Material *stored = scene->materials + prim->material;
+#if GMON_HAS_TEXTURES
+    float footprint = cone_width / fmax(fabs(v_dot(n, direction)), 0.01f);
+    int textured = (scene->constants->integrator.flags & RENDER_TEXTURES) != 0;
+    if (GMON_HAS_MIX && textured)
+        stored = mix_resolve_at_hit(scene, stored, hit, prim, p, wo_world, ns, footprint);
+#else
+    const int textured = 0;
+    (void)cone_width;
+#endif
+    if (GMON_HAS_MIX ? !textured : 0)
+        stored = mix_resolve(scene->materials, stored, p, wo_world);
+    surface->material = *stored;
+#if GMON_HAS_TEXTURES
+    if (textured)
+        material_apply_textures(scene, (int)(stored - scene->materials), hit, prim, p, footprint, &surface->material,
+                                &ns);
+#endif
+    surface->p = p;
+    surface->n = n;
+    surface->ns = ns;
+    v_basis(ns, &surface->s, &surface->t);
+}
+
+KERNEL_FN Vec3 surface_to_local(const Surface *surface, Vec3 w)
+{
+    return vec3(v_dot(w, surface->s), v_dot(w, surface->t), v_dot(w, surface->ns));
+}
+
+KERNEL_FN Vec3 surface_to_world(const Surface *surface, Vec3 w)
+{
+    return v_normalize(v_add(v_add(v_scale(surface->s, w.x), v_scale(surface->t, w.y)), v_scale(surface->ns, w.z)));
+}
+
+/* pbrt-v4's correction of shading normals for importance transport: the
+ * adjoint BSDF with shading normals is f |wo.ns| |wi.n| / (|wo.n| |wi.ns|)
+ * (Veach's thesis, 5.3); 1 for radiance, and without shading normals. */
+KERNEL_FN float shading_correction(const Surface *surface, Vec3 wo, Vec3 wi, int radiance)
+{
+    if (!GMON_HAS_SHADING_NORMALS)
+        return 1.0f;
+    if (radiance)
+        return 1.0f;
+    float denominator = fabs(v_dot(wo, surface->n)) * fabs(v_dot(wi, surface->ns));
+    return denominator > 0.0f ? fabs(v_dot(wo, surface->ns)) * fabs(v_dot(wi, surface->n)) / denominator : 0.0f;
+}
+
+#endif
