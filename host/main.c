@@ -120,13 +120,14 @@ static int render(const Options *o)
                 summary.sampler, sampler_name(scene.constants.integrator.sampler));
     if (o->light_sampler >= 0)
         render_scene_set_light_sampler(&scene, (uint32_t)o->light_sampler);
-    if (!o->quiet && summary.regularize)
+    if (!o->quiet && summary.regularize && !(scene.constants.integrator.flags & RENDER_BDPT))
         fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)
         scene.constants.integrator.max_depth = (uint32_t)o->max_depth;
     /* The scene's integrator (lightpath, bdpt) stays; --bsdf-only is the path tracer's. */
     scene.constants.integrator.flags =
-        (scene.constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT)) | (o->bsdf_only ? 0u : RENDER_NEE);
+        (scene.constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT | RENDER_REGULARIZE)) |
+        (o->bsdf_only ? 0u : RENDER_NEE);
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
         goto done;

@@ -56,6 +56,7 @@ static void test_path_tracer_variants(void **state)
         /* bdpt.cl (lightpath, bdpt) with every feature and each alone. */
         if (variant == 0 || variant > 64) {
             ++builds;
+            strncat(options, " -DBDPT_MAX_DEPTH=5", sizeof options - strlen(options) - 1);
             if (!builds_without_warnings("bdpt", options)) {
                 printf("  bdpt with features 0x%llx: warnings\n", (unsigned long long)features);
                 ++failures;

@@ -91,6 +91,29 @@ static void test_lightpath_matches_path_tracer(void **state)
     render_output_free(&light);
 }
 
+/* Bidirectional path tracing (every strategy s, t by its MIS weight) and
+ * the path tracer estimate the same image: every 4x4 region of the
+ * diffuse Cornell box within 2%. */
+static void test_bdpt_matches_path_tracer(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderSettings s;
+    render_settings_default(&s);
+    s.estimator.passes = PASS_BIT(PASS_MEAN);
+    s.sample_count = 256;
+    s.seed = 5;
+    RenderOutput path, bdpt;
+    render_scene_file("cornell-diffuse.pbrt", 32, 32, RENDER_NEE, &s, &path);
+    s.seed = 6;
+    render_scene_file("cornell-diffuse.pbrt", 32, 32, RENDER_NEE | RENDER_BDPT, &s, &bdpt);
+    assert_string_equal(bdpt.integrator, "bdpt");
+    assert_int_equal(bdpt.rejected_total, 0);
+    assert_tiles_agree(&bdpt, &path, 4, 0.02, "bdpt vs path");
+    render_output_free(&path);
+    render_output_free(&bdpt);
+}
+
 static void assert_same_sums(const RenderOutput *a, const RenderOutput *b)
 {
     const size_t pixels = (size_t)a->width * a->height;
@@ -103,37 +126,44 @@ static void assert_same_sums(const RenderOutput *a, const RenderOutput *b)
 
 /* Splats land in their sample's set of the pixel they reach, whatever
  * launched them: one pass of all samples, many short passes, and the
- * pixels cut into slices give the same set sums bit for bit. */
+ * pixels cut into slices give the same set sums bit for bit, with the
+ * light tracer and with bdpt. */
 static void test_splat_sums_do_not_depend_on_passes_or_slices(void **state)
 {
     (void)state;
     REQUIRE_TEST_DEVICE();
-    RenderSettings s;
-    render_settings_default(&s);
-    s.estimator.set_count = 5;
-    s.estimator.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_GMON);
-    s.sample_count = 12;
-    s.seed = 9;
-    s.seconds_per_pass = 100.0; /* after the first pass of 1 sample, the other 11 in one */
-    RenderOutput few, many, sliced;
-    render_scene_file("cornell-diffuse.pbrt", 24, 20, RENDER_NEE | RENDER_LIGHTPATH, &s, &few);
-    s.seconds_per_pass = 1e-6; /* one sample a pass */
-    render_scene_file("cornell-diffuse.pbrt", 24, 20, RENDER_NEE | RENDER_LIGHTPATH, &s, &many);
-    s.slice_bytes = 16 * 1024; /* 24x20 pixels' sums at M = 5 are 119 KiB */
-    render_scene_file("cornell-diffuse.pbrt", 24, 20, RENDER_NEE | RENDER_LIGHTPATH, &s, &sliced);
-    assert_true(sliced.devices[0].slices > 1);
-    assert_same_sums(&few, &many);
-    assert_same_sums(&few, &sliced);
-    printf("  1 + 11 samples, 12 passes of 1, %d slices: the same sums\n", sliced.devices[0].slices);
-    render_output_free(&few);
-    render_output_free(&many);
-    render_output_free(&sliced);
+    const uint32_t integrators[] = {RENDER_LIGHTPATH, RENDER_BDPT};
+    for (int i = 0; i < 2; ++i) {
+        uint32_t flags = RENDER_NEE | integrators[i];
+        RenderSettings s;
+        render_settings_default(&s);
+        s.estimator.set_count = 5;
+        s.estimator.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_GMON);
+        s.sample_count = 12;
+        s.seed = 9;
+        s.seconds_per_pass = 100.0; /* after the first pass of 1 sample, the other 11 in one */
+        RenderOutput few, many, sliced;
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &few);
+        s.seconds_per_pass = 1e-6; /* one sample a pass */
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &many);
+        s.slice_bytes = 16 * 1024; /* 24x20 pixels' sums at M = 5 are 119 KiB */
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &sliced);
+        assert_true(sliced.devices[0].slices > 1);
+        assert_same_sums(&few, &many);
+        assert_same_sums(&few, &sliced);
+        printf("  %s: 1 + 11 samples, 12 passes of 1, %d slices: the same sums\n", few.integrator,
+               sliced.devices[0].slices);
+        render_output_free(&few);
+        render_output_free(&many);
+        render_output_free(&sliced);
+    }
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lightpath_matches_path_tracer),
+        cmocka_unit_test(test_bdpt_matches_path_tracer),
         cmocka_unit_test(test_splat_sums_do_not_depend_on_passes_or_slices),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);

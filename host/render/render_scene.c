@@ -977,6 +977,8 @@ uint64_t render_scene_features(const RenderScene *scene)
         features |= by_light[scene->lights[i].type];
     if (scene->constants.integrator.flags & RENDER_NEE)
         features |= FEATURE_NEE;
+    if (scene->constants.integrator.flags & RENDER_REGULARIZE)
+        features |= FEATURE_ROUGH; /* regularized specular lobes are rough */
     if (scene->shading_normals)
         features |= FEATURE_SHADING_NORMALS;
     const FilmData *film = &scene->constants.film;

@@ -1165,6 +1165,9 @@ static int start_devices(Render *r, ClDevice *devices, RenderOutput *out, double
     char options[1024];
     path_tracer_build_options(&r->estimator, out->features, out->sampler, s->estimator.set_count,
                               r->scene->bvh.stack_need, options, sizeof options);
+    if (r->splats) /* bdpt.cl's subpaths are private arrays of maxdepth + 2 vertices */
+        snprintf(options + strlen(options), sizeof options - strlen(options), " -DBDPT_MAX_DEPTH=%u",
+                 r->scene->constants.integrator.max_depth);
     if (s->dump_kernel && dump_kernel(s, r->splats ? "bdpt" : "path_tracer", options, error, error_size))
         return -1;
     for (int i = 0; i < r->worker_count; ++i) {

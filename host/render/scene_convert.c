@@ -661,6 +661,8 @@ static void choose_light_subpaths(const Scene *scene, RenderScene *out, const ch
         return;
     }
     out->constants.integrator.flags |= scene->light_subpaths == SCENE_BDPT ? RENDER_BDPT : RENDER_LIGHTPATH;
+    if (scene->light_subpaths == SCENE_BDPT && scene->regularize)
+        out->constants.integrator.flags |= RENDER_REGULARIZE;
 }
 
 int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,

@@ -349,7 +349,7 @@ typedef struct {
     char *sampler;             /* the Sampler's name as written; the renderer samples independently */
     unsigned spp;              /* Sampler pixelsamples */
     int max_depth;             /* Integrator maxdepth */
-    int regularize;            /* Integrator "regularize": recorded, not applied */
+    int regularize;            /* Integrator "regularize": applied by bdpt only */
     int light_subpaths;        /* SCENE_LIGHTPATH or SCENE_BDPT for those integrators, else 0: the path tracer */
     float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (NULL: pbrt-v4's default, bvh) */

@@ -12,15 +12,12 @@
  * that land on the sample's own pixel (bdpt's camera subpaths).
  *
  * Build options: as the path tracer's (-DEST_SETS=M, -DGMON_FEATURES,
- * -DGMON_SAMPLER, -DGMON_SAMPLER_SETS, -DBVH_STACK_SIZE); no per-sample
- * estimators. */
+ * -DGMON_SAMPLER, -DGMON_SAMPLER_SETS, -DBVH_STACK_SIZE) and
+ * -DBDPT_MAX_DEPTH (maxdepth: the subpaths' private arrays); no
+ * per-sample estimators. */
 #include "../film/accumulate.h"
 #include "../film/splats.h"
-#include "bsdf.h"
-#include "camera.h"
-#include "lights.h"
-#include "scene.h"
-#include "surface.h"
+#include "bdpt.h"
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -31,15 +28,6 @@
 #ifndef GMON_SAMPLER_SETS
 #define GMON_SAMPLER_SETS EST_SETS
 #endif
-
-/* Random dimensions of a light subpath, apart from the camera path's
- * (which start at 0): the light's pick, the ray's origin (2D) and direction
- * (2D), the lens point of the light's own connection to the camera (2D),
- * then LIGHT_DIMS_PER_VERTEX a vertex: the lens point of its
- * connection to the camera (2D), the BSDF's lobe and direction (2D). */
-#define LIGHT_DIMENSION 0x40000000u
-#define LIGHT_DIMS_START 7u
-#define LIGHT_DIMS_PER_VERTEX 5u
 
 /* Where splat records go: a buffer of `capacity` records and the count of
  * records made (past the capacity too: the host then runs the launch again
@@ -100,94 +88,176 @@ KERNEL_FN void splat(const Scene *scene, const SplatTarget *target, float px, fl
         }
 }
 
-/* Whether the segment from p (normal n; 0 for a point light's position)
- * to the lens point of c is unoccluded. */
-KERNEL_FN int sees_camera(const Scene *scene, Vec3 p, Vec3 n, const CameraConnection *c, uint *rays)
+#ifndef BDPT_MAX_DEPTH
+#error "build with -DBDPT_MAX_DEPTH=maxdepth"
+#endif
+#define LIGHT_VERTICES (BDPT_MAX_DEPTH + 1)
+#define CAMERA_VERTICES (BDPT_MAX_DEPTH + 2)
+
+KERNEL_FN int is_light_tracer(const Scene *scene)
 {
-    ++*rays;
-    Vec3 origin = v_dot(n, n) > 0.0f ? offset_origin(p, n, c->wi) : p;
-    Vec3 to_lens = v_sub(c->lens_point, origin);
-    float distance = v_length(to_lens);
-    if (!(distance > 0.0f))
-        return 0;
-    return !occluded(scene, origin, v_scale(to_lens, 1.0f / distance), distance * (1.0f - 1e-4f));
+    return (scene->constants->integrator.flags & RENDER_BDPT) == 0;
 }
 
-/* The light tracer's subpath (pbrt-v4's LightPathIntegrator): a ray
- * leaving a light picked by its fixed chance, each non-specular vertex
- * connected to the camera, up to max_depth bounces, no Russian roulette;
- * an area light's own point connected too (a point light is never seen). */
-KERNEL_FN void trace_light_path(const Scene *scene, const SampleStream *stream, const SplatTarget *target, uint *rays)
+/* The strategies of one light subpath that end on the camera (t = 1),
+ * splatted: for the light tracer every one unweighted (as pbrt-v4's
+ * LightPathIntegrator: an area light's own point too, a point light
+ * never), for bdpt each by its MIS weight. */
+KERNEL_FN void splat_light_subpath(const Scene *scene, const SampleStream *stream, const SplatTarget *target,
+                                   uint *rays)
+{
+    PathVertex light[LIGHT_VERTICES];
+    int n = light_subpath(scene, stream, light, (int)scene->constants->integrator.max_depth + 1, rays);
+    /* bdpt leaves out s = t = 1 as pbrt-v4 does: a light seen directly is
+     * strategy s = 0, t = 2 alone (mis_weight gives paths of two vertices
+     * weight 1). */
+    for (int s = is_light_tracer(scene) ? 1 : 2; s <= n; ++s) {
+        float u1, u2, px, py;
+        sample_2d(stream, s == 1 ? LIGHT_DIMENSION + 5u : vertex_dimension(0, s - 1), &u1, &u2);
+        PathVertex camera;
+        Vec3 L = connect_to_camera(scene, light + s - 1, u1, u2, &camera, &px, &py, rays);
+        if (!(v_max_component(L) > 0.0f))
+            continue;
+        float weight = is_light_tracer(scene) ? 1.0f : mis_weight(scene, light, &camera, &camera, s, 1);
+        splat(scene, target, px, py, v_scale(L, weight));
+    }
+}
+
+/* Strategy s = 1, t >= 2: a light sampled from camera vertex pt, as the
+ * path tracer's next-event estimation samples it (the light's fixed
+ * chance, then its type's sampler). Returns the unweighted contribution
+ * and the light's vertex in *sampled. */
+KERNEL_FN Vec3 connect_to_light(const Scene *scene, const SampleStream *stream, const PathVertex *pt, int t,
+                                PathVertex *sampled, uint *rays)
+{
+    Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
+    __global const IntegratorData *integrator = &scene->constants->integrator;
+    if (integrator->light_count == 0 || !vertex_connectible(pt))
+        return zero;
+    uint dim = vertex_dimension(1, t - 1) + 3u;
+    float u1, u2;
+    sample_2d(stream, dim + 1u, &u1, &u2);
+    int index = pick_light(scene->lights, integrator->light_count, sample_1d(stream, dim));
+    __global const Light *light = scene->lights + index;
+    LightSample ls;
+    ls.is_delta = 0;
+    ls.distance = INFINITY;
+    float pick = light->pick_probability;
+    if (!(pick > 0.0f) || !light_sample(scene, light, pt->surface.p, u1, u2, &ls) || !(ls.pdf > 0.0f) ||
+        !(ls.distance < INFINITY))
+        return zero;
+    sampled->type = VERTEX_LIGHT;
+    sampled->surface.p = v_add(pt->surface.p, v_scale(ls.wi, ls.distance));
+    sampled->surface.n =
+        light->type == LIGHT_AREA ? surface_normal(scene->primitives + light->primitive, sampled->surface.p) : zero;
+    sampled->surface.ns = sampled->surface.n;
+    sampled->beta = v_scale(ls.radiance, 1.0f / (ls.pdf * pick));
+    sampled->light = index;
+    sampled->delta = 0;
+    sampled->radiance = 0;
+    sampled->pdf_rev = 0.0f;
+    sampled->pdf_fwd = vertex_pdf_light_origin(scene, sampled);
+    Vec3 L = v_scale(v_mul(v_mul(pt->beta, vertex_f(pt, sampled)), sampled->beta), fabs(v_dot(ls.wi, pt->surface.ns)));
+    if (!(v_max_component(L) > 0.0f))
+        return zero;
+    ++*rays;
+    return vertices_see(scene, pt, sampled) ? L : zero;
+}
+
+/* Strategy s >= 2, t >= 2: light vertex qs joined to camera vertex pt. */
+KERNEL_FN Vec3 connect_vertices(const Scene *scene, const PathVertex *qs, const PathVertex *pt, uint *rays)
+{
+    Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
+    if (!vertex_connectible(qs) || !vertex_connectible(pt))
+        return zero;
+    Vec3 d = v_sub(qs->surface.p, pt->surface.p);
+    float distance2 = v_dot(d, d);
+    if (!(distance2 > 0.0f))
+        return zero;
+    d = v_scale(d, 1.0f / sqrt_float(distance2));
+    float g = fabs(v_dot(qs->surface.ns, d)) * fabs(v_dot(pt->surface.ns, d)) / distance2;
+    Vec3 L = v_scale(v_mul(v_mul(qs->beta, vertex_f(qs, pt)), v_mul(vertex_f(pt, qs), pt->beta)), g);
+    if (!(v_max_component(L) > 0.0f))
+        return zero;
+    ++*rays;
+    return vertices_see(scene, qs, pt) ? L : zero;
+}
+
+/* The strategies of one sample that land on its own pixel (t >= 2), each
+ * by its MIS weight; the camera ray from `ray`. */
+KERNEL_FN Vec3 bdpt_camera_strategies(const Scene *scene, const SampleStream *stream, const CameraRay *ray, uint *rays)
 {
     __global const IntegratorData *integrator = &scene->constants->integrator;
-    __global const CameraData *camera = &scene->constants->camera;
-    __global const FilterData *filter = &scene->constants->filter;
-    if (integrator->light_count == 0)
-        return;
-    int index = pick_light(scene->lights, integrator->light_count, sample_1d(stream, LIGHT_DIMENSION));
-    __global const Light *light = scene->lights + index;
-    float pick = light->pick_probability, u1, u2, u3, u4;
-    sample_2d(stream, LIGHT_DIMENSION + 1u, &u1, &u2);
-    sample_2d(stream, LIGHT_DIMENSION + 3u, &u3, &u4);
-    LightEmission e;
-    if (!(pick > 0.0f) || !light_sample_emission(scene, light, u1, u2, u3, u4, &e))
-        return;
-    CameraConnection c;
-    sample_2d(stream, LIGHT_DIMENSION + 5u, &u1, &u2);
-    if (!e.delta_position && camera_connect(camera, filter, e.origin, u1, u2, &c)) {
-        float cos_light = v_dot(e.normal, c.wi);
-        if ((light->two_sided || cos_light > 0.0f) && sees_camera(scene, e.origin, e.normal, &c, rays))
-            splat(scene, target, c.px, c.py,
-                  v_scale(e.radiance, fabs(cos_light) * c.importance / (pick * e.pdf_position * c.pdf)));
-    }
-    float cos_out = e.delta_position ? 1.0f : fabs(v_dot(e.normal, e.direction));
-    Vec3 beta = v_scale(e.radiance, cos_out / (pick * e.pdf_position * e.pdf_direction));
-    Vec3 origin = e.delta_position ? e.origin : offset_origin(e.origin, e.normal, e.direction);
-    Vec3 direction = e.direction;
-    for (uint depth = 0; depth < integrator->max_depth; ++depth) {
-        Ray ray = make_ray(origin, direction);
-        Hit hit;
-        ++*rays;
-        if (!scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit))
-            break;
-        Surface surface;
-        surface_at_hit(scene, &hit, origin, direction, 0.0f, &surface);
-        Vec3 wo_world = v_scale(direction, -1.0f), wo = surface_to_local(&surface, wo_world);
-        uint dim = LIGHT_DIMENSION + LIGHT_DIMS_START + depth * LIGHT_DIMS_PER_VERTEX;
-        if (!bsdf_is_delta(&surface.material)) {
-            sample_2d(stream, dim, &u1, &u2);
-            if (camera_connect(camera, filter, surface.p, u1, u2, &c)) {
-                float pdf;
-                Vec3 f = bsdf_eval_transport(&surface.material, wo, surface_to_local(&surface, c.wi), &pdf, 0);
-                float factor = fabs(v_dot(c.wi, surface.ns)) * shading_correction(&surface, wo_world, c.wi, 0) *
-                               c.importance / c.pdf;
-                if (v_max_component(f) > 0.0f && factor > 0.0f && sees_camera(scene, surface.p, surface.n, &c, rays))
-                    splat(scene, target, c.px, c.py, v_scale(v_mul(beta, f), factor));
+    int max_depth = (int)integrator->max_depth;
+    PathVertex camera[CAMERA_VERTICES], light[LIGHT_VERTICES];
+    PathVertex *c0 = camera;
+    c0->type = VERTEX_CAMERA;
+    c0->surface.p = ray->origin;
+    c0->surface.n = c0->surface.ns = vec3(0.0f, 0.0f, 0.0f);
+    c0->beta = vec3(1.0f, 1.0f, 1.0f);
+    c0->pdf_fwd = c0->pdf_rev = 0.0f;
+    c0->delta = 0;
+    c0->light = -1;
+    c0->radiance = 1;
+    int camera_count = random_walk(scene, stream, camera, 1, max_depth + 2, ray->origin, ray->direction, c0->beta,
+                                   camera_pdf_direction(&scene->constants->camera, ray->direction), 1, rays);
+    int light_count = light_subpath(scene, stream, light, max_depth + 1, rays);
+    Vec3 L = vec3(0.0f, 0.0f, 0.0f);
+    for (int t = 2; t <= camera_count; ++t)
+        for (int s = 0; s <= light_count && s + t - 2 <= max_depth; ++s) {
+            PathVertex *pt = camera + t - 1, sampled;
+            Vec3 c;
+            if (s == 0) {
+                if (pt->light < 0)
+                    continue;
+                c = v_mul(vertex_le(scene, pt, pt->wo), pt->beta);
+            } else if (s == 1) {
+                c = connect_to_light(scene, stream, pt, t, &sampled, rays);
+            } else {
+                c = connect_vertices(scene, light + s - 1, pt, rays);
             }
+            if (v_max_component(c) > 0.0f)
+                L = v_add(L, v_scale(c, mis_weight(scene, light, camera, &sampled, s, t)));
         }
-        BsdfSample bs;
-        sample_2d(stream, dim + 3u, &u1, &u2);
-        if (!bsdf_sample_transport(&surface.material, wo, sample_1d(stream, dim + 2u), u1, u2, &bs, 0))
-            break;
-        Vec3 wi_world = surface_to_world(&surface, bs.wi);
-        beta = v_mul(beta, v_scale(bs.f, fabs(bs.wi.z) * shading_correction(&surface, wo_world, wi_world, 0) / bs.pdf));
-        direction = wi_world;
-        origin = offset_origin(surface.p, surface.n, direction);
-    }
+    return L;
 }
 
-/* The strategies that land on the sample's own pixel: none for the light
- * tracer. */
+/* Renders samples [first_sample, first_sample + sample_count) of pixels
+ * [first_pixel, first_pixel + pixel_count): bdpt's strategies that land
+ * on the sample's pixel (none for the light tracer), added to its set as
+ * the path tracer adds samples (its arguments). */
 __kernel void render_samples(__global const SceneConstants *constants,
                              GMON_SCENE_ARRAYS(SCENE_ARRAY_PARAMETER) __global ulong *accumulators,
                              __global uint *rejected, __global ulong *ray_counts, ulong first_sample, uint sample_count,
                              ulong first_pixel, ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count)
 {
-    (void)constants, (void)accumulators, (void)rejected, (void)ray_counts, (void)first_sample, (void)sample_count;
-    (void)first_pixel, (void)pixel_count, (void)buffer_first_pixel, (void)buffer_pixel_count;
-#define SCENE_ARRAY_UNUSED(name, type) (void)name;
-    GMON_SCENE_ARRAYS(SCENE_ARRAY_UNUSED)
-#undef SCENE_ARRAY_UNUSED
+    if (get_global_id(0) >= pixel_count)
+        return;
+    Scene scene;
+    scene.constants = constants;
+    GMON_SCENE_ARRAYS(SCENE_ARRAY_ASSIGN)
+    if (is_light_tracer(&scene))
+        return;
+    ulong pixel = first_pixel + get_global_id(0), local_pixel = pixel - buffer_first_pixel;
+    uint width = constants->camera.width;
+    uint x = (uint)(pixel % width), y = (uint)(pixel / width);
+    uint nonfinite = 0, rounded = 0, rays = 0;
+    for (uint i = 0; i < sample_count; ++i) {
+        ulong sample_index = first_sample + i;
+        SampleStream stream =
+            sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
+        CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, &stream);
+        Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &camera, &rays));
+        if (GMON_HAS_PIXEL_FILTER)
+            L = v_scale(L, camera.weight);
+        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
+                                      set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+        nonfinite += added == EST_ADD_NONFINITE;
+        rounded += added == EST_ADD_ROUNDED;
+    }
+    rejected[local_pixel] += nonfinite;
+    rejected[buffer_pixel_count + local_pixel] += rounded;
+    ray_counts[local_pixel] += rays;
 }
 
 /* Traces the light subpaths of samples [first_sample, first_sample +
@@ -214,7 +284,7 @@ __kernel void splat_samples(__global const SceneConstants *constants,
         SampleStream stream =
             sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
         target.set = set_of_sample(sample_index, EST_SETS);
-        trace_light_path(&scene, &stream, &target, &rays);
+        splat_light_subpath(&scene, &stream, &target, &rays);
     }
     light_rays[pixel - buffer_first_pixel] = rays;
 }

@@ -399,6 +399,7 @@ typedef struct {
  * bidirectional path tracer. Neither: the path tracer. */
 #define RENDER_LIGHTPATH 4u
 #define RENDER_BDPT 8u
+#define RENDER_REGULARIZE 16u /* bdpt's "regularize": near-specular lobes widened after a rough bounce */
 
 /* rr_threshold is pbrt-v4's "rrthreshold": Russian roulette applies where
  * the path's throughput (times the squared eta ratio) has its largest

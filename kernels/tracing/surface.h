@@ -7,8 +7,13 @@
 
 #include "bsdf.h"
 #include "scene.h"
-#if GMON_HAS_TEXTURES
+/* Textures are the kernels' alone (surface_textures.h): host tests see
+ * untextured materials. */
+#if GMON_HAS_TEXTURES && defined(__OPENCL_C_VERSION__)
+#define SURFACE_TEXTURES 1
 #include "surface_textures.h"
+#else
+#define SURFACE_TEXTURES 0
 #endif
 
 typedef struct {
@@ -28,7 +33,7 @@ KERNEL_FN void surface_at_hit(const Scene *scene, const Hit *hit, Vec3 origin, V
     Vec3 wo_world = v_scale(direction, -1.0f);
     Vec3 ns = shading_normal(scene, hit, prim, n);
     GLOBAL const Material *stored = scene->materials + prim->material;
-#if GMON_HAS_TEXTURES
+#if SURFACE_TEXTURES
     float footprint = cone_width / fmax(fabs(v_dot(n, direction)), 0.01f);
     int textured = (scene->constants->integrator.flags & RENDER_TEXTURES) != 0;
     if (GMON_HAS_MIX && textured)
@@ -40,7 +45,7 @@ KERNEL_FN void surface_at_hit(const Scene *scene, const Hit *hit, Vec3 origin, V
     if (GMON_HAS_MIX ? !textured : 0)
         stored = mix_resolve(scene->materials, stored, p, wo_world);
     surface->material = *stored;
-#if GMON_HAS_TEXTURES
+#if SURFACE_TEXTURES
     if (textured)
         material_apply_textures(scene, (int)(stored - scene->materials), hit, prim, p, footprint, &surface->material,
                                 &ns);
