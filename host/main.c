@@ -18,6 +18,7 @@
 #include "io/exr_image.h"
 #include "render/memory_check.h"
 #include "render/render_exr.h"
+#include "render/caustic_check.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -132,6 +133,8 @@ static int render(const Options *o)
         fprintf(stderr, "gmonrt: %s\n", error);
         goto done;
     }
+    if (!o->quiet)
+        caustic_check_print(&scene, stderr, "gmonrt: ");
     /* The output path is known now (a scene may name it); check it before
      * the render rather than fail after it. */
     const char *exr_path = o->outfile ? o->outfile : (summary.film_filename[0] ? summary.film_filename : "render.exr");

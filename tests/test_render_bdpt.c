@@ -3,6 +3,7 @@
  * image by independent means (camera paths), and the splats' exactness:
  * the same sums bit for bit whatever the passes and slices. */
 #include "cl/cl_device.h"
+#include "render/caustic_check.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
@@ -170,6 +171,46 @@ static double conductor_fresnel_reference(double c, double eta, double k)
     return 0.5 * (rs + rp);
 }
 
+/* A point light of `intensity` at height 1 over a diffuse floor (albedo
+ * rho) at height 0, with a smooth conductor (eta + i k) mirror facing down
+ * at height 2 if with_mirror, seen from (0, 1.8, 0) looking down at
+ * size x size pixels. */
+static void mirror_scene(RenderScene *scene, double intensity, double rho, double eta, double k, unsigned size,
+                         int with_mirror)
+{
+    render_scene_init(scene);
+    Material floor, mirror;
+    memset(&floor, 0, sizeof floor);
+    floor.type = MAT_DIFFUSE;
+    floor.reflectance[0] = floor.reflectance[1] = floor.reflectance[2] = (float)rho;
+    memset(&mirror, 0, sizeof mirror);
+    mirror.type = MAT_CONDUCTOR;
+    for (int c = 0; c < 3; ++c) {
+        mirror.conductor_eta[c] = (float)eta;
+        mirror.conductor_k[c] = (float)k;
+    }
+    int floor_material = render_scene_add_material(scene, &floor);
+    int mirror_material = render_scene_add_material(scene, &mirror);
+    const float a[3] = {-20, 0, -20}, b[3] = {20, 0, -20}, c[3] = {20, 0, 20}, d[3] = {-20, 0, 20};
+    const float ma[3] = {-20, 2, -20}, mb[3] = {20, 2, -20}, mc[3] = {20, 2, 20}, md[3] = {-20, 2, 20};
+    /* The floor faces up, the mirror down (each by its winding). */
+    assert_int_equal(render_scene_add_triangle(scene, a, c, b, floor_material, NULL, 0, 0), 0);
+    assert_int_equal(render_scene_add_triangle(scene, a, d, c, floor_material, NULL, 0, 0), 0);
+    if (with_mirror) {
+        assert_int_equal(render_scene_add_triangle(scene, ma, mb, mc, mirror_material, NULL, 0, 0), 0);
+        assert_int_equal(render_scene_add_triangle(scene, ma, mc, md, mirror_material, NULL, 0, 0), 0);
+    }
+    Light light;
+    memset(&light, 0, sizeof light);
+    light.type = LIGHT_POINT;
+    light.position[1] = 1.0f;
+    light.radiance[0] = light.radiance[1] = light.radiance[2] = (float)intensity;
+    assert_true(render_scene_add_light(scene, &light) >= 0);
+    const float position[3] = {0, 1.8f, 0}, forward[3] = {0, -1, 0}, right[3] = {1, 0, 0}, up[3] = {0, 0, 1};
+    RenderCamera camera = render_camera_pinhole(position, forward, right, up, 0.5f, 0.5f, size, size);
+    render_scene_set_camera(scene, &camera);
+}
+
 /* A point light at height 1 over a diffuse floor (albedo rho), under a
  * smooth conductor mirror facing down at height 2, seen from above by a
  * camera under the mirror: at floor point x the irradiance is the light's
@@ -188,35 +229,7 @@ static void test_bdpt_caustic_through_mirror(void **state)
     RenderOutput out[2];
     for (int pass = 0; pass < 2; ++pass) {
         RenderScene scene;
-        render_scene_init(&scene);
-        Material floor, mirror;
-        memset(&floor, 0, sizeof floor);
-        floor.type = MAT_DIFFUSE;
-        floor.reflectance[0] = floor.reflectance[1] = floor.reflectance[2] = (float)rho;
-        memset(&mirror, 0, sizeof mirror);
-        mirror.type = MAT_CONDUCTOR;
-        for (int c = 0; c < 3; ++c) {
-            mirror.conductor_eta[c] = (float)eta;
-            mirror.conductor_k[c] = (float)k;
-        }
-        int floor_material = render_scene_add_material(&scene, &floor);
-        int mirror_material = render_scene_add_material(&scene, &mirror);
-        const float a[3] = {-20, 0, -20}, b[3] = {20, 0, -20}, c[3] = {20, 0, 20}, d[3] = {-20, 0, 20};
-        const float ma[3] = {-20, 2, -20}, mb[3] = {20, 2, -20}, mc[3] = {20, 2, 20}, md[3] = {-20, 2, 20};
-        /* The floor faces up, the mirror down (each by its winding). */
-        assert_int_equal(render_scene_add_triangle(&scene, a, c, b, floor_material, NULL, 0, 0), 0);
-        assert_int_equal(render_scene_add_triangle(&scene, a, d, c, floor_material, NULL, 0, 0), 0);
-        assert_int_equal(render_scene_add_triangle(&scene, ma, mb, mc, mirror_material, NULL, 0, 0), 0);
-        assert_int_equal(render_scene_add_triangle(&scene, ma, mc, md, mirror_material, NULL, 0, 0), 0);
-        Light light;
-        memset(&light, 0, sizeof light);
-        light.type = LIGHT_POINT;
-        light.position[1] = 1.0f;
-        light.radiance[0] = light.radiance[1] = light.radiance[2] = (float)intensity;
-        assert_true(render_scene_add_light(&scene, &light) >= 0);
-        const float position[3] = {0, 1.8f, 0}, forward[3] = {0, -1, 0}, right[3] = {1, 0, 0}, up[3] = {0, 0, 1};
-        RenderCamera camera = render_camera_pinhole(position, forward, right, up, 0.5f, 0.5f, size, size);
-        render_scene_set_camera(&scene, &camera);
+        mirror_scene(&scene, intensity, rho, eta, k, size, 1);
         scene.constants.integrator.max_depth = 2;
         scene.constants.integrator.flags = RENDER_NEE | (pass ? RENDER_BDPT : 0u);
         char error[256];
@@ -280,12 +293,38 @@ static void test_bdpt_caustic_through_mirror(void **state)
     render_output_free(&out[1]);
 }
 
+/* The warning for what the path tracer cannot sample: the point light
+ * under the mirror sends 47.7% of its power to it (4 asin(400 / 401) of
+ * 4 pi sr) and is named; without the
+ * mirror, or rendered by bdpt, nothing is. */
+static void test_caustic_check_names_lights_behind_specular_surfaces(void **state)
+{
+    (void)state;
+    char message[1024], error[256];
+    for (int with_mirror = 0; with_mirror < 2; ++with_mirror)
+        for (int bdpt = 0; bdpt < 2; ++bdpt) {
+            RenderScene scene;
+            mirror_scene(&scene, 10.0, 0.5, 0.2, 3.0, 8, with_mirror);
+            scene.constants.integrator.flags = RENDER_NEE | (bdpt ? RENDER_BDPT : 0u);
+            assert_int_equal(render_scene_finalize(&scene, error, sizeof error), 0);
+            int found = caustic_check(&scene, message, sizeof message);
+            printf("  %s, %s: %d light(s)%s%s\n", with_mirror ? "mirror" : "no mirror", bdpt ? "bdpt" : "path", found,
+                   found ? ": " : "", message);
+            assert_int_equal(found, with_mirror && !bdpt);
+            if (found)
+                assert_non_null(
+                    strstr(message, "the point light at (0, 1, 0) sends 4")); /* 47.7%: the mirror's solid angle */
+            render_scene_destroy(&scene);
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lightpath_matches_path_tracer),
         cmocka_unit_test(test_bdpt_matches_path_tracer),
         cmocka_unit_test(test_bdpt_caustic_through_mirror),
+        cmocka_unit_test(test_caustic_check_names_lights_behind_specular_surfaces),
         cmocka_unit_test(test_splat_sums_do_not_depend_on_passes_or_slices),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
