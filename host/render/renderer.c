@@ -17,6 +17,9 @@
 #include <string.h>
 #include <time.h>
 
+/* The deepest subpaths bdpt.cl's private arrays hold (maxdepth). */
+#define BDPT_MOST_DEPTH 100
+
 static double now_seconds(void)
 {
     struct timespec ts;
@@ -527,6 +530,10 @@ static cl_int ensure_buffer(Worker *w, cl_mem *buffer, size_t *capacity, size_t 
         *buffer = NULL;
     return err;
 }
+
+/* About the most splat records a pass gathers on the host (20 B each, held
+ * twice: gathered and sorted), unless one sample a pixel makes more. */
+#define SPLATS_PER_PASS 16777216.0
 
 /* The most splat records one launch may leave on a device: a launch that
  * makes more is run again in halves (records are never dropped). */
@@ -1118,6 +1125,13 @@ static int plan_render(Render *r, int device_count, const RenderScene *scene, co
     }
     r->sample_planes = film_sample_planes(&r->estimator);
     r->splats = (scene->constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT)) != 0;
+    if (r->splats && scene->constants.integrator.max_depth > BDPT_MOST_DEPTH) {
+        snprintf(error, error_size,
+                 "bdpt and lightpath keep a sample's subpaths in private memory: maxdepth %u is over the %d they "
+                 "take (lower Integrator \"maxdepth\" or --maxdepth)",
+                 scene->constants.integrator.max_depth, BDPT_MOST_DEPTH);
+        return -1;
+    }
     if (r->splats && r->sample_planes) {
         snprintf(error, error_size,
                  "the per-sample estimators (clamp, clamp-sum, abmm, gabmm, zirr, mean-or-mon) do not take bdpt's "
@@ -1298,6 +1312,13 @@ static int render_passes(Render *r, double *weights, RenderOutput *out, char *er
         double budget_left = s->time_budget > 0.0 ? s->time_budget - elapsed : target;
         double fit = (budget_left < target ? budget_left : target) / (per_sample > 0.0 ? per_sample : 1e-9);
         per_pass = fit < 1.0 ? 1u : (fit > 4096.0 ? 4096u : (uint32_t)fit);
+        /* Splat records are held on the host for a pass: at most about
+         * SPLATS_PER_PASS, judged from this pass's records a sample. */
+        if (r->splats && r->splat_count > 0) {
+            double records = (double)r->splat_count / ((double)count * (double)r->pixels);
+            double most = SPLATS_PER_PASS / (records * (double)r->pixels);
+            per_pass = most < 1.0 ? 1u : (most < per_pass ? (uint32_t)most : per_pass);
+        }
     }
 
     return 0;
