@@ -1,7 +1,6 @@
-/* The surface a ray hit, as the integrators of light subpaths see it
- * (bdpt.cl): its point, geometric and shading normals with the shading
- * frame, and its material resolved at the hit (a mix's choice, textures),
- * as the path tracer resolves them. */
+/* The surface a ray hit, as the integrators see it (path_tracer.cl,
+ * bdpt.cl): its point, geometric and shading normals with the shading
+ * frame, and its material resolved at the hit (a mix's choice, textures). */
 #ifndef KERNELS_SURFACE_H
 #define KERNELS_SURFACE_H
 
@@ -22,38 +21,56 @@ typedef struct {
     Material material;
 } Surface;
 
-/* The surface of `hit` on the ray from origin along unit direction;
- * footprint_width: the ray cone's width there (texture filtering). */
-KERNEL_FN void surface_at_hit(const Scene *scene, const Hit *hit, Vec3 origin, Vec3 direction, float cone_width,
-                              Surface *surface)
+/* The point and geometric normal of `hit` on the ray from origin along
+ * unit direction (enough to add an emitter's light). */
+KERNEL_FN void surface_point(const Scene *scene, const Hit *hit, Vec3 origin, Vec3 direction, Surface *surface)
 {
     GLOBAL const Primitive *prim = scene->primitives + hit->primitive;
-    Vec3 p = v_add(origin, v_scale(direction, hit->t));
-    Vec3 n = hit_normal(scene, hit, prim, p);
+    surface->p = v_add(origin, v_scale(direction, hit->t));
+    surface->n = hit_normal(scene, hit, prim, surface->p);
+}
+
+/* The rest of the surface after surface_point: its shading normal and
+ * frame, its material resolved at the hit (a mix's choice, textures);
+ * cone_width: the ray cone's width there (texture filtering). */
+KERNEL_FN void surface_shade(const Scene *scene, const Hit *hit, Vec3 direction, float cone_width, Surface *surface)
+{
+    GLOBAL const Primitive *prim = scene->primitives + hit->primitive;
+    Vec3 p = surface->p, n = surface->n;
     Vec3 wo_world = v_scale(direction, -1.0f);
+    /* The BSDF's frame is the shading normal's; rays leave by the
+     * geometric one. */
     Vec3 ns = shading_normal(scene, hit, prim, n);
     GLOBAL const Material *stored = scene->materials + prim->material;
 #if SURFACE_TEXTURES
     float footprint = cone_width / fmax(fabs(v_dot(n, direction)), 0.01f);
     int textured = (scene->constants->integrator.flags & RENDER_TEXTURES) != 0;
+    /* A mix's textured amount is the texture's at this hit. */
     if (GMON_HAS_MIX && textured)
         stored = mix_resolve_at_hit(scene, stored, hit, prim, p, wo_world, ns, footprint);
 #else
     const int textured = 0;
     (void)cone_width;
 #endif
-    if (GMON_HAS_MIX ? !textured : 0)
+    if (GMON_HAS_MIX ? !textured : 0) /* not &&: textured may be the constant 0 */
         stored = mix_resolve(scene->materials, stored, p, wo_world);
+    /* A private copy: textures give some of its parameters. */
     surface->material = *stored;
 #if SURFACE_TEXTURES
     if (textured)
         material_apply_textures(scene, (int)(stored - scene->materials), hit, prim, p, footprint, &surface->material,
                                 &ns);
 #endif
-    surface->p = p;
-    surface->n = n;
     surface->ns = ns;
     v_basis(ns, &surface->s, &surface->t);
+}
+
+/* surface_point and surface_shade. */
+KERNEL_FN void surface_at_hit(const Scene *scene, const Hit *hit, Vec3 origin, Vec3 direction, float cone_width,
+                              Surface *surface)
+{
+    surface_point(scene, hit, origin, direction, surface);
+    surface_shade(scene, hit, direction, cone_width, surface);
 }
 
 KERNEL_FN Vec3 surface_to_local(const Surface *surface, Vec3 w)
