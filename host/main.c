@@ -121,11 +121,13 @@ static int render(const Options *o)
                 summary.sampler, sampler_name(scene.constants.integrator.sampler));
     if (o->light_sampler >= 0)
         render_scene_set_light_sampler(&scene, (uint32_t)o->light_sampler);
-    if (!o->quiet && summary.regularize && !(scene.constants.integrator.flags & RENDER_BDPT))
-        fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)
         scene.constants.integrator.max_depth = (uint32_t)o->max_depth;
-    /* The scene's integrator (lightpath, bdpt) stays; --bsdf-only is the path tracer's. */
+    if (o->light_subpaths >= 0 && o->light_subpaths != summary.light_subpaths)
+        scene_convert_light_subpaths(&scene, o->light_subpaths, summary.regularize, scene_path, o->quiet);
+    if (!o->quiet && summary.regularize && !(scene.constants.integrator.flags & RENDER_BDPT))
+        fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored by the path tracer\n");
+    /* The integrator chosen (lightpath, bdpt) stays; --integrator bsdf is the path tracer's. */
     scene.constants.integrator.flags =
         (scene.constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT | RENDER_REGULARIZE)) |
         (o->bsdf_only ? 0u : RENDER_NEE);

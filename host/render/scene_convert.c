@@ -638,15 +638,12 @@ static int light_emits(uint32_t type)
     return 0;
 }
 
-/* The integrator's flags for a scene that asks for light subpaths
- * (lightpath, bdpt): the path tracer instead, with a warning, where they
- * are not done yet (an orthographic camera, a light without an emission
- * sampler: distant and infinite lights). */
-static void choose_light_subpaths(const Scene *scene, RenderScene *out, const char *path, int quiet)
+void scene_convert_light_subpaths(RenderScene *out, int light_subpaths, int regularize, const char *path, int quiet)
 {
-    if (!scene->light_subpaths)
+    out->constants.integrator.flags &= ~(RENDER_BDPT | RENDER_LIGHTPATH | RENDER_REGULARIZE);
+    if (!light_subpaths)
         return;
-    const char *name = scene->light_subpaths == SCENE_BDPT ? "bdpt" : "lightpath", *why = NULL;
+    const char *name = light_subpaths == SCENE_BDPT ? "bdpt" : "lightpath", *why = NULL;
     if (out->constants.camera.projection != CAMERA_PERSPECTIVE)
         why = "an orthographic camera";
     for (int i = 0; i < out->light_count && !why; ++i)
@@ -660,8 +657,8 @@ static void choose_light_subpaths(const Scene *scene, RenderScene *out, const ch
                     path, name, name, why);
         return;
     }
-    out->constants.integrator.flags |= scene->light_subpaths == SCENE_BDPT ? RENDER_BDPT : RENDER_LIGHTPATH;
-    if (scene->light_subpaths == SCENE_BDPT && scene->regularize)
+    out->constants.integrator.flags |= light_subpaths == SCENE_BDPT ? RENDER_BDPT : RENDER_LIGHTPATH;
+    if (light_subpaths == SCENE_BDPT && regularize)
         out->constants.integrator.flags |= RENDER_REGULARIZE;
 }
 
@@ -757,6 +754,7 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
                 out->texture_float_count * sizeof(float));
     if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
-    choose_light_subpaths(&scene, out, path, quiet);
+    summary->light_subpaths = scene.light_subpaths;
+    scene_convert_light_subpaths(out, scene.light_subpaths, scene.regularize, path, quiet);
     return 0;
 }
