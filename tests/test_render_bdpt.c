@@ -126,9 +126,10 @@ static void assert_same_sums(const RenderOutput *a, const RenderOutput *b)
 }
 
 /* Splats land in their sample's set of the pixel they reach, whatever
- * launched them: one pass of all samples, many short passes, and the
- * pixels cut into slices give the same set sums bit for bit, with the
- * light tracer and with bdpt. */
+ * launched them: one pass of all samples, many short passes, the pixels
+ * cut into slices, and launches whose records overflow run again in
+ * halves give the same set sums bit for bit (no record lost or doubled),
+ * with the light tracer and with bdpt. */
 static void test_splat_sums_do_not_depend_on_passes_or_slices(void **state)
 {
     (void)state;
@@ -150,13 +151,22 @@ static void test_splat_sums_do_not_depend_on_passes_or_slices(void **state)
         s.slice_bytes = 16 * 1024; /* 24x20 pixels' sums at M = 5 are 119 KiB */
         render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &sliced);
         assert_true(sliced.devices[0].slices > 1);
+        /* Launches whose records pass 200 run again in halves, down to one
+         * pixel's samples in halves. */
+        s.slice_bytes = 0;
+        s.seconds_per_pass = 100.0;
+        s.splat_records = 200;
+        RenderOutput split;
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &split);
         assert_same_sums(&few, &many);
         assert_same_sums(&few, &sliced);
-        printf("  %s: 1 + 11 samples, 12 passes of 1, %d slices: the same sums\n", few.integrator,
-               sliced.devices[0].slices);
+        assert_same_sums(&few, &split);
+        printf("  %s: 1 + 11 samples, 12 passes of 1, %d slices, launches cut to 200 records: the same sums\n",
+               few.integrator, sliced.devices[0].slices);
         render_output_free(&few);
         render_output_free(&many);
         render_output_free(&sliced);
+        render_output_free(&split);
     }
 }
 

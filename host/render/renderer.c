@@ -537,10 +537,10 @@ static cl_int ensure_buffer(Worker *w, cl_mem *buffer, size_t *capacity, size_t 
 
 /* The most splat records one launch may leave on a device: a launch that
  * makes more is run again in halves (records are never dropped). */
-static size_t most_records(const Worker *w)
+static size_t most_records(const Render *r, const Worker *w)
 {
     size_t by_allocation = (size_t)(w->device->info.max_allocation / sizeof(SplatRecord));
-    size_t limit = (size_t)1 << 22; /* 80 MiB */
+    size_t limit = r->settings->splat_records ? (size_t)r->settings->splat_records : (size_t)1 << 22; /* 80 MiB */
     return by_allocation < limit ? by_allocation : limit;
 }
 
@@ -566,7 +566,8 @@ static cl_int trace_splats(Render *r, Worker *w, const Slice *slice, size_t firs
                            uint32_t count)
 {
     for (;;) {
-        const cl_uint zero = 0, capacity = (cl_uint)w->record_capacity;
+        const size_t most = most_records(r, w);
+        const cl_uint zero = 0, capacity = (cl_uint)(w->record_capacity < most ? w->record_capacity : most);
         const cl_ulong first_sample_arg = first_sample, first_pixel = first, pixel_count = pixels,
                        buffer_first = slice->first;
         cl_mem records = w->records;
@@ -606,7 +607,7 @@ static cl_int trace_splats(Render *r, Worker *w, const Slice *slice, size_t firs
             return CL_SUCCESS;
         }
         /* The counter stops at 2^32 - 1 at worst: split before trusting it. */
-        if (made < UINT32_MAX && made <= most_records(w)) {
+        if (made < UINT32_MAX && made <= most) {
             cl_int err = ensure_buffer(w, &w->records, &w->record_capacity, made, sizeof(SplatRecord));
             if (err != CL_SUCCESS)
                 return err;

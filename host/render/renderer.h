@@ -56,6 +56,10 @@ typedef struct {
      * device's pixels whose state or images would pass it are held and
      * launched in several slices (tests set it to make slices). */
     uint64_t slice_bytes;
+    /* The most splat records one launch of bdpt's or the light tracer's
+     * light subpaths may leave on a device before it runs again in halves
+     * (0: the default, 2^22; tests make it small). */
+    uint64_t splat_records;
     /* Developer settings, which gmonrt reads once from the environment:
      * the host memory to assume (0: what the machine says; memory_check.h),
      * the estimator kernels' launch fixed by hand (estimator_program.h), and
