@@ -18,6 +18,7 @@
 #include "io/exr_image.h"
 #include "render/memory_check.h"
 #include "render/render_exr.h"
+#include "render/caustic_check.h"
 #include "render/renderer.h"
 #include "render/scene_convert.h"
 
@@ -120,15 +121,22 @@ static int render(const Options *o)
                 summary.sampler, sampler_name(scene.constants.integrator.sampler));
     if (o->light_sampler >= 0)
         render_scene_set_light_sampler(&scene, (uint32_t)o->light_sampler);
-    if (!o->quiet && summary.regularize)
-        fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored\n");
     if (o->max_depth >= 0)
         scene.constants.integrator.max_depth = (uint32_t)o->max_depth;
-    scene.constants.integrator.flags = o->bsdf_only ? 0u : RENDER_NEE;
+    if (o->light_subpaths >= 0 && o->light_subpaths != summary.light_subpaths)
+        scene_convert_light_subpaths(&scene, o->light_subpaths, summary.regularize, scene_path, o->quiet);
+    if (!o->quiet && summary.regularize && !(scene.constants.integrator.flags & RENDER_BDPT))
+        fprintf(stderr, "gmonrt: note: Integrator \"regularize\" is ignored by the path tracer\n");
+    /* The integrator chosen (lightpath, bdpt) stays; --integrator bsdf is the path tracer's. */
+    scene.constants.integrator.flags =
+        (scene.constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT | RENDER_REGULARIZE)) |
+        (o->bsdf_only ? 0u : RENDER_NEE);
     if (render_scene_finalize(&scene, error, sizeof error)) {
         fprintf(stderr, "gmonrt: %s\n", error);
         goto done;
     }
+    if (!o->quiet)
+        caustic_check_print(&scene, stderr, "gmonrt: ");
     /* The output path is known now (a scene may name it); check it before
      * the render rather than fail after it. */
     const char *exr_path = o->outfile ? o->outfile : (summary.film_filename[0] ? summary.film_filename : "render.exr");

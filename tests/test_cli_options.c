@@ -1,6 +1,7 @@
 /* gmonrt's command line: defaults, every flag, and one-line errors with exit
  * code 2 for bad flags and values, and for flags a subcommand does not take. */
 #include "cli/options.h"
+#include "scene/scene.h"
 #include "film/film.h"
 #include "passes.h"
 #include "sampler.h"
@@ -37,6 +38,25 @@ static void test_defaults(void **state)
     assert_int_equal(o.spp, 0);
 }
 
+/* --integrator: the path tracer (nee, bsdf), bdpt or the light tracer;
+ * without it the scene's Integrator decides. */
+static void test_integrators(void **state)
+{
+    (void)state;
+    Options o;
+    char error[256] = "";
+    assert_int_equal(PARSE(&o, error, "scene.pbrt"), 0);
+    assert_int_equal(o.light_subpaths, -1);
+    assert_int_equal(PARSE(&o, error, "--integrator", "bdpt", "scene.pbrt"), 0);
+    assert_int_equal(o.light_subpaths, SCENE_BDPT);
+    assert_int_equal(o.bsdf_only, 0);
+    assert_int_equal(PARSE(&o, error, "--integrator", "lightpath", "scene.pbrt"), 0);
+    assert_int_equal(o.light_subpaths, SCENE_LIGHTPATH);
+    assert_int_equal(PARSE(&o, error, "--integrator", "nee", "scene.pbrt"), 0);
+    assert_int_equal(o.light_subpaths, 0);
+    assert_int_equal(o.bsdf_only, 0);
+}
+
 static void test_every_flag(void **state)
 {
     (void)state;
@@ -61,6 +81,7 @@ static void test_every_flag(void **state)
     assert_int_equal(o.height, 200);
     assert_int_equal(o.max_depth, 7);
     assert_int_equal(o.bsdf_only, 1);
+    assert_int_equal(o.light_subpaths, 0); /* the path tracer, whatever the scene asks */
     assert_int_equal(o.sampler, SAMPLER_SOBOL_PIXEL);
     assert_int_equal(o.light_sampler, LIGHT_SAMPLER_POWER);
     assert_int_equal(o.devices.kind, DEVICES_CPU);
@@ -239,7 +260,7 @@ static void test_bad_flags_and_values(void **state)
     expect_error("--resolution", "0x480", "WIDTHxHEIGHT");
     expect_error("--time", "-1", "--time");
     expect_error("--time", "nan", "--time");
-    expect_error("--integrator", "bdpt", "--integrator");
+    expect_error("--integrator", "mlt", "--integrator");
     expect_error("--preview", "median", "--preview");
     expect_error("--maxdepth", "many", "--maxdepth");
     expect_error("--sampler", "halton", "--sampler");
@@ -274,6 +295,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_defaults),
         cmocka_unit_test(test_every_flag),
+        cmocka_unit_test(test_integrators),
         cmocka_unit_test(test_subcommands),
         cmocka_unit_test(test_subcommand_flags_and_help),
         cmocka_unit_test(test_help_lists_the_tables),

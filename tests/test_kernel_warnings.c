@@ -1,5 +1,5 @@
 /* The kernels build without a warning (clBuildProgram with -Werror), so
- * none reaches a user's terminal: the path tracer with every feature, with
+ * none reaches a user's terminal: the path tracer (and bdpt.cl) with every feature, with
  * each feature left out and with each alone (feature_mask.h: a feature
  * left out folds its tests to constants, where the compiler's warnings
  * about constant operands arise), and with each per-sample estimator; the
@@ -58,8 +58,17 @@ static void test_path_tracer_variants(void **state)
             printf("  path tracer with features 0x%llx: warnings\n", (unsigned long long)features);
             ++failures;
         }
+        /* bdpt.cl (lightpath, bdpt) with every feature and each alone. */
+        if (variant == 0 || variant > 64) {
+            ++builds;
+            strncat(options, " -DBDPT_MAX_DEPTH=5", sizeof options - strlen(options) - 1);
+            if (!builds_without_warnings("bdpt", options)) {
+                printf("  bdpt with features 0x%llx: warnings\n", (unsigned long long)features);
+                ++failures;
+            }
+        }
     }
-    printf("  %d path tracer builds, %d with warnings\n", builds, failures);
+    printf("  %d path tracer and bdpt builds, %d with warnings\n", builds, failures);
     assert_int_equal(failures, 0);
 }
 

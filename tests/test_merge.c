@@ -199,6 +199,39 @@ static void test_parts_merge_into_the_whole_bit_for_bit(void **state)
     exr_image_free(&merged);
 }
 
+/* bdpt's splats land in their sample's set wherever they are rendered:
+ * parts of a bdpt render merge into the whole render bit for bit too. */
+static void test_bdpt_parts_merge_into_the_whole_bit_for_bit(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    RenderScene bdpt;
+    char path[1024], error[1024];
+    SceneSummary bdpt_summary;
+    snprintf(path, sizeof path, "%s/scenes/cornell-glass.pbrt", GMON_SOURCE_DIR);
+    assert_int_equal(scene_convert_load(path, 0, 20, 16, 1, &bdpt, &bdpt_summary, error, sizeof error), 0);
+    bdpt.constants.integrator.flags = RENDER_NEE | RENDER_BDPT;
+    assert_int_equal(render_scene_finalize(&bdpt, error, sizeof error), 0);
+    render_part_of(&bdpt, "bdpt-whole.exr", 0, 12, 5, 3);
+    render_part_of(&bdpt, "bdpt-a.exr", 0, 7, 5, 3);
+    render_part_of(&bdpt, "bdpt-b.exr", 7, 5, 5, 3);
+    const char *parts[] = {"bdpt-b.exr", "bdpt-a.exr"};
+    assert_int_equal(merge(parts, 2), 0);
+    ExrImage whole, merged;
+    read_image("bdpt-whole.exr", &whole);
+    read_image("merged.exr", &merged);
+    size_t pixels = (size_t)whole.width * whole.height;
+    assert_int_equal(merged.metadata.sample_count, 12);
+    assert_string_equal(merged.metadata.integrator, "bdpt");
+    assert_memory_equal(merged.accumulators, whole.accumulators, accumulator_planes(5) * pixels * sizeof(uint64_t));
+    assert_memory_equal(film_file_pass(&merged, PASS_GMON, 0), film_file_pass(&whole, PASS_GMON, 0),
+                        pixels * 3 * sizeof(float));
+    printf("  bdpt: [0,7) + [7,12), M = 5: merged == whole render, bit for bit\n");
+    exr_image_free(&whole);
+    exr_image_free(&merged);
+    render_scene_destroy(&bdpt);
+}
+
 /* Parts that hold other estimators than the default ones (no gmon, the
  * default preview): the merge computes theirs and previews the first. */
 static void test_parts_keep_their_estimators(void **state)
@@ -335,6 +368,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_film_merge_adds_ranges_exactly),
         cmocka_unit_test(test_parts_merge_into_the_whole_bit_for_bit),
+        cmocka_unit_test(test_bdpt_parts_merge_into_the_whole_bit_for_bit),
         cmocka_unit_test(test_parts_keep_their_estimators),
         cmocka_unit_test(test_mismatches_are_refused),
     };

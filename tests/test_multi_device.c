@@ -352,6 +352,37 @@ static void test_sample_range_not_starting_at_set_zero(void **state)
     render_output_free(&out);
 }
 
+/* The splats of the light tracer and bdpt land on pixels of every
+ * device: each device records those of its pixels' light subpaths and the
+ * host hands each record to its pixel's device, so every split gives the
+ * same sums. */
+static void test_lightpath_splats_equal_one_device(void **state)
+{
+    (void)state;
+    REQUIRE_DEVICES(1);
+    const uint32_t integrators[] = {RENDER_LIGHTPATH, RENDER_BDPT};
+    for (int i = 0; i < 2; ++i) {
+        RenderScene light;
+        char path[1024], error[1024];
+        snprintf(path, sizeof path, "%s/scenes/cornell-diffuse.pbrt", GMON_SOURCE_DIR);
+        SceneSummary summary;
+        assert_int_equal(scene_convert_load(path, 0, 24, 20, 1, &light, &summary, error, sizeof error), 0);
+        light.constants.integrator.flags = RENDER_NEE | integrators[i];
+        assert_int_equal(render_scene_finalize(&light, error, sizeof error), 0);
+        RenderSettings s = small_settings();
+        s.estimator.passes = PASSES_ALL; /* the per-sample estimators do not take splats */
+        RenderOutput one, all;
+        assert_int_equal(renderer_run(devices, 1, &light, &s, &one, error, sizeof error), RENDER_OK);
+        assert_int_equal(renderer_run(devices, device_count, &light, &s, &all, error, sizeof error), RENDER_OK);
+        assert_same_render(&one, &all);
+        printf("  %s on %d device(s), %d rebalances: identical to device 0 alone\n", one.integrator, device_count,
+               all.rebalances);
+        render_output_free(&one);
+        render_output_free(&all);
+        render_scene_destroy(&light);
+    }
+}
+
 static void test_feature_mask_follows_scene_and_outputs(void **state)
 {
     (void)state;
@@ -415,6 +446,7 @@ int main(void)
         cmocka_unit_test(test_checkpoints_at_powers_of_two_equal_shorter_renders),
         cmocka_unit_test(test_mean_only_keeps_one_sum_per_pixel),
         cmocka_unit_test(test_sample_range_not_starting_at_set_zero),
+        cmocka_unit_test(test_lightpath_splats_equal_one_device),
         cmocka_unit_test(test_feature_mask_follows_scene_and_outputs),
         cmocka_unit_test(test_specialized_kernels_match_all_features),
     };

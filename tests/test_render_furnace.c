@@ -34,11 +34,12 @@ static void look_along_z(RenderScene *scene, float z, float tan_half_fov)
 }
 
 /* Renders and checks every channel's image mean against `expected`. */
-static void render_and_check(RenderScene *scene, int nee, unsigned max_depth, double expected, const char *name)
+/* flags: IntegratorData's (RENDER_NEE, RENDER_BDPT, ...). */
+static void render_and_check(RenderScene *scene, uint32_t flags, unsigned max_depth, double expected, const char *name)
 {
     char error[256];
     scene->constants.integrator.max_depth = max_depth;
-    scene->constants.integrator.flags = nee ? RENDER_NEE : 0u;
+    scene->constants.integrator.flags = flags;
     assert_int_equal(render_scene_finalize(scene, error, sizeof error), 0);
     RenderSettings settings;
     render_settings_default(&settings);
@@ -83,8 +84,34 @@ static void closed_sphere(int nee, unsigned max_depth)
     double expected = le * (1.0 - pow(rho, max_depth + 1)) / (1.0 - rho);
     char name[96];
     snprintf(name, sizeof name, "closed sphere, %s, maxdepth %u", nee ? "NEE+MIS" : "BSDF only", max_depth);
-    render_and_check(&scene, nee, max_depth, expected, name);
+    render_and_check(&scene, nee ? RENDER_NEE : 0u, max_depth, expected, name);
     render_scene_destroy(&scene);
+}
+
+/* The same closed sphere with light subpaths: bdpt (every strategy, MIS)
+ * and the light tracer (the camera reached from the emitting walls). */
+static void test_closed_emitting_sphere_bidirectional(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const double rho = 0.5, le = 1.0;
+    const uint32_t integrators[] = {RENDER_BDPT, RENDER_LIGHTPATH};
+    const unsigned depths[] = {0, 1, 5};
+    for (int i = 0; i < 2; ++i)
+        for (int d = 0; d < 3; ++d) {
+            RenderScene scene;
+            render_scene_init(&scene);
+            Material m = diffuse((float)rho);
+            int material = render_scene_add_material(&scene, &m);
+            const float centre[3] = {0, 0, 0}, emission[3] = {(float)le, (float)le, (float)le};
+            assert_int_equal(render_scene_add_sphere(&scene, centre, 1.0f, material, emission, 1, 0), 0);
+            look_along_z(&scene, 0.0f, 1.0f);
+            double expected = le * (1.0 - pow(rho, depths[d] + 1)) / (1.0 - rho);
+            char name[96];
+            snprintf(name, sizeof name, "closed sphere, %s, maxdepth %u", i ? "lightpath" : "bdpt", depths[d]);
+            render_and_check(&scene, RENDER_NEE | integrators[i], depths[d], expected, name);
+            render_scene_destroy(&scene);
+        }
 }
 
 static void test_closed_emitting_sphere(void **state)
@@ -159,7 +186,8 @@ static void test_diffuse_sphere_in_environment(void **state)
         const float sky[3] = {2.0f, 2.0f, 2.0f};
         assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
         look_along_z(&scene, -3.0f, 0.15f); /* the sphere fills the view */
-        render_and_check(&scene, nee, 8, 1.6, nee ? "diffuse sphere in environment, NEE" : "diffuse sphere, BSDF");
+        render_and_check(&scene, nee ? RENDER_NEE : 0u, 8, 1.6,
+                         nee ? "diffuse sphere in environment, NEE" : "diffuse sphere, BSDF");
         render_scene_destroy(&scene);
     }
 }
@@ -182,16 +210,15 @@ static void test_glass_sphere_in_environment(void **state)
     const float sky[3] = {1.0f, 1.0f, 1.0f};
     assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
     look_along_z(&scene, -3.0f, 0.3f);
-    render_and_check(&scene, 1, 200, 1.0, "glass sphere in environment");
+    render_and_check(&scene, RENDER_NEE, 200, 1.0, "glass sphere in environment");
     render_scene_destroy(&scene);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_closed_emitting_sphere),
-        cmocka_unit_test(test_roulette_threshold),
-        cmocka_unit_test(test_diffuse_sphere_in_environment),
+        cmocka_unit_test(test_closed_emitting_sphere),      cmocka_unit_test(test_closed_emitting_sphere_bidirectional),
+        cmocka_unit_test(test_roulette_threshold),          cmocka_unit_test(test_diffuse_sphere_in_environment),
         cmocka_unit_test(test_glass_sphere_in_environment),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);

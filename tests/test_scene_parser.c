@@ -320,12 +320,13 @@ static void test_film_sampler_integrator_filter(void **state)
 }
 
 /* pbrt-v4's integrators that render the path tracer's expected image are
- * accepted with a note; those whose image differs are unsupported. */
+ * accepted with a note; those whose image differs are unsupported;
+ * lightpath and bdpt are gmonrt's light tracer and bdpt, mlt and sppm
+ * render with bdpt (with a note). */
 static void test_integrators(void **state)
 {
     (void)state;
-    static const char *const same[] = {"volpath", "simplevolpath", "bdpt",      "mlt",
-                                       "sppm",    "simplepath",    "lightpath", "randomwalk"};
+    static const char *const same[] = {"volpath", "simplevolpath", "simplepath", "randomwalk"};
     for (size_t i = 0; i < sizeof same / sizeof same[0]; ++i) {
         Scene s;
         char text[256], note[128];
@@ -339,8 +340,31 @@ static void test_integrators(void **state)
         scene_destroy(&s);
     }
     Scene s;
+    load_ok("Integrator \"lightpath\" \"integer maxdepth\" 4\n" WORLD, &s); /* the light tracer: no note */
+    assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.light_subpaths, SCENE_LIGHTPATH);
+    assert_int_equal(s.max_depth, 4);
+    scene_destroy(&s);
     load_ok("Integrator \"path\"\n" WORLD, &s);
     assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.light_subpaths, 0);
+    scene_destroy(&s);
+    load_ok("Integrator \"bdpt\" \"bool regularize\" true\n" WORLD, &s); /* bidirectional: no note */
+    assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.light_subpaths, SCENE_BDPT);
+    assert_int_equal(s.regularize, 1);
+    scene_destroy(&s);
+    static const char *const bidirectional[] = {"mlt", "sppm"}; /* rendered by bdpt, with a note */
+    for (size_t i = 0; i < 2; ++i) {
+        char text[256];
+        snprintf(text, sizeof text, "Integrator \"%s\"\n" WORLD, bidirectional[i]);
+        load_ok(text, &s);
+        assert_int_equal(s.light_subpaths, SCENE_BDPT);
+        assert_int_equal(s.note_count, 1);
+        assert_non_null(strstr(s.notes[0], "bidirectional path tracing"));
+        scene_destroy(&s);
+    }
+    load_ok("Integrator \"path\"\n" WORLD, &s);
     assert_string_equal(s.light_sampler, "bvh"); /* pbrt-v4's default */
     scene_destroy(&s);
     /* Parameters that only tune convergence are accepted. */

@@ -1,6 +1,7 @@
 #include "cli/check.h"
 
 #include "render/render_scene.h"
+#include "render/caustic_check.h"
 #include "render/scene_convert.h"
 #include "scene/scene.h"
 
@@ -71,6 +72,8 @@ int check_command(const Options *o)
     SceneSummary summary;
     int failed = scene_convert(&scene, o->input, 0, 0, 0, &converted, &summary, error, sizeof error) ||
                  render_scene_finalize(&converted, error, sizeof error);
+    if (!failed)
+        caustic_check_print(&converted, stdout, "");
     if (!failed && scene.instance_count > 0)
         printf("instancing: %zu object%s, %d instance%s drawn (a two-level BVH)\n", scene.object_count,
                scene.object_count == 1 ? "" : "s", converted.instance_count, converted.instance_count == 1 ? "" : "s");

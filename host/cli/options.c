@@ -3,6 +3,7 @@
 
 #include "passes.h" /* kernels/: the estimators and their parameters */
 #include "render/render_scene.h"
+#include "scene/scene.h" /* SCENE_BDPT, SCENE_LIGHTPATH */
 
 #include <ctype.h>
 #include <errno.h>
@@ -46,7 +47,10 @@ static const Flag flags[] = {
     {"--first-sample", "N", FOR_RENDER, "first sample index of the range rendered (default 0)"},
     {"--time", "SECONDS", FOR_RENDER, "stop after the pass that reaches this render time"},
     {"--integrator", "MODE", FOR_RENDER,
-     "nee: next-event estimation with MIS (default);\nbsdf: BSDF sampling only (the firefly-prone case)"},
+     "nee: the path tracer, next-event estimation with MIS\n(default, unless the scene asks for bdpt or "
+     "lightpath);\nbsdf: "
+     "the path tracer, BSDF sampling only (the\nfirefly-prone case); bdpt: bidirectional path tracing;\nlightpath: the "
+     "light tracer (docs/design.md)"},
     {"--maxdepth", "N", FOR_RENDER, "override the scene's Integrator \"maxdepth\""},
     {"--resolution", "WxH", FOR_RENDER, "override the scene's Film resolution (each 1..65536)"},
     {NULL, NULL, FOR_ALL, "Estimators"},
@@ -441,12 +445,15 @@ static int set_flag(Options *o, const char *flag, const char *value, char *error
             return fail(error, size, "--maxdepth: '%s' is not an integer in 0..10000", value);
         o->max_depth = (int)number;
     } else if (strcmp(flag, "--integrator") == 0) {
-        if (strcmp(value, "nee") == 0)
-            o->bsdf_only = 0;
-        else if (strcmp(value, "bsdf") == 0)
-            o->bsdf_only = 1;
+        o->bsdf_only = strcmp(value, "bsdf") == 0;
+        if (strcmp(value, "nee") == 0 || strcmp(value, "bsdf") == 0)
+            o->light_subpaths = 0;
+        else if (strcmp(value, "bdpt") == 0)
+            o->light_subpaths = SCENE_BDPT;
+        else if (strcmp(value, "lightpath") == 0)
+            o->light_subpaths = SCENE_LIGHTPATH;
         else
-            return fail(error, size, "--integrator: '%s' is not nee or bsdf", value);
+            return fail(error, size, "--integrator: '%s' is not nee, bsdf, bdpt or lightpath", value);
     } else if (strcmp(flag, "--device") == 0) {
         return parse_devices(value, &o->devices, error, size);
     } else if (strcmp(flag, "--outfile") == 0) {
@@ -481,6 +488,7 @@ int options_parse(int argc, char **argv, Options *o, char *error, size_t size)
     o->preview = -1;
     o->exposure = 1.0f;
     o->max_depth = -1;
+    o->light_subpaths = -1;
     o->sampler = -1;
     o->light_sampler = -1;
 

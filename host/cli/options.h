@@ -50,6 +50,7 @@ typedef struct {
     int sampler;                 /* --sampler: SAMPLER_*, -1: the scene's */
     int light_sampler;           /* --light-sampler: LIGHT_SAMPLER_*, -1: the scene's */
     int bsdf_only;               /* --integrator bsdf */
+    int light_subpaths;          /* --integrator: SCENE_BDPT, SCENE_LIGHTPATH, 0 (nee, bsdf), -1: the scene's */
     DeviceSelection devices;     /* --device */
     uint64_t first_sample;       /* --first-sample: start of the sample range */
     int allow_unsupported;

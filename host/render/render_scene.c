@@ -970,13 +970,15 @@ uint64_t render_scene_features(const RenderScene *scene)
             (m->type == MAT_COATED_CONDUCTOR && (m->base_alpha_x >= SMOOTH_ALPHA || m->base_alpha_y >= SMOOTH_ALPHA)))
             features |= FEATURE_ROUGH;
     }
-#define LIGHT_FEATURE_(id, feature, sample) [LIGHT_##id] = feature,
+#define LIGHT_FEATURE_(id, feature, sample, emit) [LIGHT_##id] = feature,
     static const uint64_t by_light[LIGHT_TYPE_COUNT] = {GMON_LIGHT_TYPES(LIGHT_FEATURE_)};
 #undef LIGHT_FEATURE_
     for (int i = 0; i < scene->light_count; ++i)
         features |= by_light[scene->lights[i].type];
     if (scene->constants.integrator.flags & RENDER_NEE)
         features |= FEATURE_NEE;
+    if (scene->constants.integrator.flags & RENDER_REGULARIZE)
+        features |= FEATURE_ROUGH; /* regularized specular lobes are rough */
     if (scene->shading_normals)
         features |= FEATURE_SHADING_NORMALS;
     const FilmData *film = &scene->constants.film;

@@ -5,6 +5,7 @@
 #include "render/memory_check.h"
 
 #include "cl/kernel_sources.h"
+#include "../kernels/film/splats.h"
 #include "film/estimator_program.h"
 #include "film/sample_estimator_program.h"
 #include "estimators.h"
@@ -16,11 +17,23 @@
 #include <string.h>
 #include <time.h>
 
+/* The deepest subpaths bdpt.cl's private arrays hold (maxdepth). */
+#define BDPT_MOST_DEPTH 100
+
 static double now_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+const char *render_integrator_name(uint32_t flags)
+{
+    if (flags & RENDER_BDPT)
+        return "bdpt";
+    if (flags & RENDER_LIGHTPATH)
+        return "lightpath";
+    return (flags & RENDER_NEE) ? "path" : "bsdf";
 }
 
 void render_settings_default(RenderSettings *s)
@@ -70,6 +83,7 @@ typedef struct {
  * slices, each launched on its own. */
 typedef struct {
     cl_mem accumulators, rejected, rays, samples;
+    cl_mem light_rays;   /* with splats: the rays of its pixels' light subpaths in a pass */
     size_t first, count; /* its pixels */
     cl_event pass;
 } Slice;
@@ -84,6 +98,12 @@ typedef struct {
     int fault_pass; /* injected failure in this pass (1-based); 0: none */
     cl_program program;
     cl_kernel kernel;
+    /* With splats (bdpt, lightpath): the kernels that trace light subpaths
+     * and add their records, the records' buffer (room for record_capacity)
+     * with its counter, and the offsets of a slice's pixels in it. */
+    cl_kernel splat_kernel, add_kernel;
+    cl_mem records, record_count, offsets;
+    size_t record_capacity, offset_capacity;
     EstimatorProgram *estimator;              /* NULL when no set-based pass is requested */
     SampleEstimatorProgram *sample_estimator; /* NULL when no per-sample pass is */
     cl_mem scene[SCENE_BUFFERS];
@@ -100,7 +120,13 @@ typedef struct {
     const RenderSettings *settings;
     EstimatorSettings estimator; /* as the workers estimate: M as rendered, the first sample */
     SceneUpload upload;
-    int sets;             /* M as rendered */
+    int sets;   /* M as rendered */
+    int splats; /* the integrator has light subpaths (bdpt.cl): records splatted each pass */
+    /* A pass's splat records from every device, then put in pixel order
+     * (splat_offsets: pixel p's are sorted[offsets[p], offsets[p + 1])). */
+    SplatRecord *splat_records, *splat_sorted;
+    size_t splat_count, splat_capacity;
+    uint32_t *splat_offsets;
     size_t pixels;        /* of the image */
     size_t planes;        /* accumulator planes: accumulator_planes(sets) */
     size_t sample_planes; /* per-sample state planes (film_sample.h), 0 for none */
@@ -134,8 +160,8 @@ static void release_state(Worker *w)
 {
     for (int k = 0; k < w->slice_count; ++k) {
         Slice *slice = &w->slices[k];
-        cl_mem *state[] = {&slice->accumulators, &slice->rejected, &slice->rays, &slice->samples};
-        for (int i = 0; i < 4; ++i)
+        cl_mem *state[] = {&slice->accumulators, &slice->rejected, &slice->rays, &slice->samples, &slice->light_rays};
+        for (int i = 0; i < 5; ++i)
             if (*state[i])
                 clReleaseMemObject(*state[i]);
         if (slice->pass)
@@ -154,8 +180,17 @@ static void release_worker(Worker *w)
     estimator_program_destroy(w->estimator);
     sample_estimator_program_destroy(w->sample_estimator);
     w->sample_estimator = NULL;
-    if (w->kernel)
-        clReleaseKernel(w->kernel);
+    cl_kernel kernels[] = {w->kernel, w->splat_kernel, w->add_kernel};
+    for (int i = 0; i < 3; ++i)
+        if (kernels[i])
+            clReleaseKernel(kernels[i]);
+    cl_mem buffers[] = {w->records, w->record_count, w->offsets};
+    for (int i = 0; i < 3; ++i)
+        if (buffers[i])
+            clReleaseMemObject(buffers[i]);
+    w->splat_kernel = w->add_kernel = NULL;
+    w->records = w->record_count = w->offsets = NULL;
+    w->record_capacity = w->offset_capacity = 0;
     if (w->program)
         clReleaseProgram(w->program);
     memset(w->scene, 0, sizeof w->scene);
@@ -241,7 +276,7 @@ static int start_worker(Render *r, Worker *w, const char *options)
         drop_worker(r, w, "the device cannot keep the per-sample passes' moments");
         return -1;
     }
-    w->program = cl_program_build(w->device, "path_tracer", options, s->kernel_dir);
+    w->program = cl_program_build(w->device, r->splats ? "bdpt" : "path_tracer", options, s->kernel_dir);
     if (!w->program) {
         drop_worker(r, w, "the path tracer failed to build (build log above)");
         return -1;
@@ -251,6 +286,17 @@ static int start_worker(Render *r, Worker *w, const char *options)
     if (err != CL_SUCCESS) {
         drop_worker(r, w, "clCreateKernel(render_samples) failed");
         return -1;
+    }
+    if (r->splats) {
+        w->splat_kernel = clCreateKernel(w->program, "splat_samples", &err);
+        if (err == CL_SUCCESS)
+            w->add_kernel = clCreateKernel(w->program, "add_splats", &err);
+        if (err == CL_SUCCESS)
+            w->record_count = clCreateBuffer(w->device->context, CL_MEM_READ_WRITE, sizeof(cl_uint), NULL, &err);
+        if (err != CL_SUCCESS) {
+            drop_on_cl_error(r, w, "creating the splat kernels");
+            return -1;
+        }
     }
     if (r->estimator.passes & PASSES_ALL) {
         w->estimator = estimator_program_new(w->device, &r->estimator, &s->estimator_launch, s->kernel_dir);
@@ -268,7 +314,8 @@ static int start_worker(Render *r, Worker *w, const char *options)
     }
     w->report->build_seconds = now_seconds() - start;
 
-    if (scene_upload_create(&r->upload, w->device->context, w->kernel, w->scene) != CL_SUCCESS) {
+    if (scene_upload_create(&r->upload, w->device->context, w->kernel, w->scene) != CL_SUCCESS ||
+        (w->splat_kernel && scene_upload_bind(w->splat_kernel, w->scene) != CL_SUCCESS)) {
         drop_worker(r, w, "cannot allocate the scene's buffers");
         return -1;
     }
@@ -350,6 +397,8 @@ static cl_int allocate_slice(const Render *r, const Worker *w, Slice *slice)
     if (err == CL_SUCCESS && r->sample_planes)
         slice->samples =
             clCreateBuffer(context, CL_MEM_READ_WRITE, count * r->sample_planes * sizeof(uint64_t), NULL, &err);
+    if (err == CL_SUCCESS && r->splats)
+        slice->light_rays = clCreateBuffer(context, CL_MEM_READ_WRITE, count * sizeof(uint64_t), NULL, &err);
     if (err != CL_SUCCESS)
         cl_report_error("clCreateBuffer", err, __FILE__, __LINE__);
     return err;
@@ -465,6 +514,240 @@ static int save_state(Render *r, uint64_t samples)
     return 0;
 }
 
+/* A device buffer of at least `bytes`, grown (contents lost) when smaller
+ * than that; *capacity counts its elements of `element` bytes. */
+static cl_int ensure_buffer(Worker *w, cl_mem *buffer, size_t *capacity, size_t needed, size_t element)
+{
+    if (*buffer && *capacity >= needed)
+        return CL_SUCCESS;
+    if (*buffer)
+        clReleaseMemObject(*buffer);
+    cl_int err = CL_SUCCESS;
+    size_t grown = needed + needed / 4 + 1024;
+    *buffer = clCreateBuffer(w->device->context, CL_MEM_READ_WRITE, grown * element, NULL, &err);
+    *capacity = err == CL_SUCCESS ? grown : 0;
+    if (err != CL_SUCCESS)
+        *buffer = NULL;
+    return err;
+}
+
+/* About the most splat records a pass gathers on the host (20 B each, held
+ * twice: gathered and sorted), unless one sample a pixel makes more. */
+#define SPLATS_PER_PASS 16777216.0
+
+/* The most splat records one launch may leave on a device: a launch that
+ * makes more is run again in halves (records are never dropped). */
+static size_t most_records(const Render *r, const Worker *w)
+{
+    size_t by_allocation = (size_t)(w->device->info.max_allocation / sizeof(SplatRecord));
+    size_t limit = r->settings->splat_records ? (size_t)r->settings->splat_records : (size_t)1 << 22; /* 80 MiB */
+    return by_allocation < limit ? by_allocation : limit;
+}
+
+/* Appends records to the pass's host list. Returns 0, -1 out of memory. */
+static int keep_records(Render *r, size_t n)
+{
+    if (r->splat_count + n <= r->splat_capacity)
+        return 0;
+    size_t capacity = (r->splat_count + n) * 2;
+    SplatRecord *grown = realloc(r->splat_records, capacity * sizeof *grown);
+    if (!grown)
+        return -1;
+    r->splat_records = grown;
+    r->splat_capacity = capacity;
+    return 0;
+}
+
+/* Traces the light subpaths of samples [first_sample, + count) of pixels
+ * [first, first + pixels) of a slice and appends their splat records to
+ * the host list; a launch whose records pass the buffer runs again with a
+ * larger one, or in halves (pixels, then samples). Returns a CL error. */
+static cl_int trace_splats(Render *r, Worker *w, const Slice *slice, size_t first, size_t pixels, uint64_t first_sample,
+                           uint32_t count)
+{
+    for (;;) {
+        const size_t most = most_records(r, w);
+        const cl_uint zero = 0, capacity = (cl_uint)(w->record_capacity < most ? w->record_capacity : most);
+        const cl_ulong first_sample_arg = first_sample, first_pixel = first, pixel_count = pixels,
+                       buffer_first = slice->first;
+        cl_mem records = w->records;
+        if (!records) {
+            cl_int err = ensure_buffer(w, &w->records, &w->record_capacity, 1 << 16, sizeof(SplatRecord));
+            if (err != CL_SUCCESS)
+                return err;
+            continue;
+        }
+        cl_kernel k = w->splat_kernel;
+        cl_uint a = SCENE_BUFFERS;
+        size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
+        size_t global = (pixels + local - 1) / local * local;
+        cl_uint made = 0;
+        CL_CHECK(clEnqueueWriteBuffer(w->device->queue, w->record_count, CL_TRUE, 0, sizeof zero, &zero, 0, NULL, NULL),
+                 failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof records, &records), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof w->record_count, &w->record_count), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof capacity, &capacity), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof slice->light_rays, &slice->light_rays), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof first_sample_arg, &first_sample_arg), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof count, &count), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof first_pixel, &first_pixel), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof pixel_count, &pixel_count), failed);
+        CL_CHECK(clSetKernelArg(k, a++, sizeof buffer_first, &buffer_first), failed);
+        CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), failed);
+        CL_CHECK(clEnqueueReadBuffer(w->device->queue, w->record_count, CL_TRUE, 0, sizeof made, &made, 0, NULL, NULL),
+                 failed);
+        if (made <= capacity) {
+            if (keep_records(r, made))
+                return CL_OUT_OF_HOST_MEMORY;
+            if (made)
+                CL_CHECK(clEnqueueReadBuffer(w->device->queue, records, CL_TRUE, 0, made * sizeof(SplatRecord),
+                                             r->splat_records + r->splat_count, 0, NULL, NULL),
+                         failed);
+            r->splat_count += made;
+            return CL_SUCCESS;
+        }
+        /* The counter stops at 2^32 - 1 at worst: split before trusting it. */
+        if (made < UINT32_MAX && made <= most) {
+            cl_int err = ensure_buffer(w, &w->records, &w->record_capacity, made, sizeof(SplatRecord));
+            if (err != CL_SUCCESS)
+                return err;
+            continue;
+        }
+        if (pixels > 1) {
+            cl_int err = trace_splats(r, w, slice, first, pixels / 2, first_sample, count);
+            return err == CL_SUCCESS
+                       ? trace_splats(r, w, slice, first + pixels / 2, pixels - pixels / 2, first_sample, count)
+                       : err;
+        }
+        if (count > 1) {
+            cl_int err = trace_splats(r, w, slice, first, pixels, first_sample, count / 2);
+            return err == CL_SUCCESS
+                       ? trace_splats(r, w, slice, first, pixels, first_sample + count / 2, count - count / 2)
+                       : err;
+        }
+        return CL_OUT_OF_RESOURCES; /* one light subpath past the limit: cannot happen at sane depths */
+    failed:
+        return CL_INVALID_OPERATION; /* reported by CL_CHECK */
+    }
+}
+
+/* Adds the sorted records of a slice's pixels (and its light subpaths'
+ * rays) into its sums. Returns a CL error. */
+static cl_int add_slice_splats(Render *r, Worker *w, const Slice *slice)
+{
+    const uint32_t *offsets = r->splat_offsets + slice->first;
+    size_t n = offsets[slice->count] - offsets[0];
+    cl_int err = ensure_buffer(w, &w->records, &w->record_capacity, n, sizeof(SplatRecord));
+    if (err == CL_SUCCESS)
+        err = ensure_buffer(w, &w->offsets, &w->offset_capacity, slice->count + 1, sizeof(cl_uint));
+    if (err != CL_SUCCESS)
+        return err;
+    /* Offsets relative to the slice's first record. */
+    cl_uint *relative = malloc((slice->count + 1) * sizeof *relative);
+    if (!relative)
+        return CL_OUT_OF_HOST_MEMORY;
+    for (size_t i = 0; i <= slice->count; ++i)
+        relative[i] = offsets[i] - offsets[0];
+    const cl_ulong first = slice->first, count = slice->count;
+    cl_kernel k = w->add_kernel;
+    cl_uint a = 0;
+    size_t local = (w->device->info.type & CL_DEVICE_TYPE_CPU) ? 8 : 64;
+    size_t global = (slice->count + local - 1) / local * local;
+    if (n)
+        CL_CHECK(clEnqueueWriteBuffer(w->device->queue, w->records, CL_TRUE, 0, n * sizeof(SplatRecord),
+                                      r->splat_sorted + offsets[0], 0, NULL, NULL),
+                 failed);
+    CL_CHECK(clEnqueueWriteBuffer(w->device->queue, w->offsets, CL_TRUE, 0, (slice->count + 1) * sizeof *relative,
+                                  relative, 0, NULL, NULL),
+             failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof slice->accumulators, &slice->accumulators), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof slice->rejected, &slice->rejected), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof slice->rays, &slice->rays), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof slice->light_rays, &slice->light_rays), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof w->records, &w->records), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof w->offsets, &w->offsets), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof first, &first), failed);
+    CL_CHECK(clSetKernelArg(k, a++, sizeof count, &count), failed);
+    CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), failed);
+    CL_CHECK(clFinish(w->device->queue), failed);
+    free(relative);
+    return CL_SUCCESS;
+failed:
+    free(relative);
+    return CL_INVALID_OPERATION; /* reported by CL_CHECK */
+}
+
+/* Puts the pass's records in pixel order (a counting sort; the sums do not
+ * depend on the order within a pixel). Returns 0, -1 out of memory or
+ * past the 2^32 records the offsets count. */
+static int sort_splats(Render *r)
+{
+    free(r->splat_sorted);
+    r->splat_sorted = malloc((r->splat_count ? r->splat_count : 1) * sizeof *r->splat_sorted);
+    if (!r->splat_offsets)
+        r->splat_offsets = malloc((r->pixels + 1) * sizeof *r->splat_offsets);
+    if (!r->splat_sorted || !r->splat_offsets || r->splat_count >= UINT32_MAX)
+        return -1;
+    uint32_t *o = r->splat_offsets;
+    memset(o, 0, (r->pixels + 1) * sizeof *o);
+    for (size_t i = 0; i < r->splat_count; ++i)
+        ++o[r->splat_records[i].pixel + 1];
+    for (size_t p = 0; p < r->pixels; ++p)
+        o[p + 1] += o[p];
+    for (size_t i = 0; i < r->splat_count; ++i) {
+        const SplatRecord *record = &r->splat_records[i];
+        r->splat_sorted[o[record->pixel]++] = *record;
+    }
+    /* The scatter moved each offset to its pixel's end: shift back. */
+    memmove(o + 1, o, r->pixels * sizeof *o);
+    o[0] = 0;
+    return 0;
+}
+
+/* The pass's splats: every live worker traces its pixels' light subpaths
+ * (samples [first_sample, + count)), the host gathers and sorts the
+ * records by pixel, and every worker adds those of its own pixels. A
+ * failure drops the worker: the caller rolls every worker back to the
+ * saved sums, as for a failed pass. Returns the number of failures. */
+static int splat_pass(Render *r, uint64_t first_sample, uint32_t count)
+{
+    r->splat_count = 0;
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        double start = now_seconds();
+        cl_int err = CL_SUCCESS;
+        for (int k = 0; k < w->slice_count && w->live && err == CL_SUCCESS; ++k)
+            err = trace_splats(r, w, &w->slices[k], w->slices[k].first, w->slices[k].count, first_sample, count);
+        if (err != CL_SUCCESS) {
+            drop_on_cl_error(r, w, "tracing light subpaths");
+            return 1;
+        }
+        w->pass_seconds += now_seconds() - start;
+        w->report->busy_seconds += now_seconds() - start;
+    }
+    if (sort_splats(r)) {
+        for (int i = 0; i < r->worker_count; ++i)
+            if (r->workers[i].live) {
+                drop_worker(r, &r->workers[i], "out of host memory for the splat records");
+                return 1;
+            }
+    }
+    for (int i = 0; i < r->worker_count; ++i) {
+        Worker *w = &r->workers[i];
+        double start = now_seconds();
+        cl_int err = CL_SUCCESS;
+        for (int k = 0; k < w->slice_count && w->live && err == CL_SUCCESS; ++k)
+            err = add_slice_splats(r, w, &w->slices[k]);
+        if (err != CL_SUCCESS) {
+            drop_on_cl_error(r, w, "adding splats");
+            return 1;
+        }
+        w->pass_seconds += now_seconds() - start;
+        w->report->busy_seconds += now_seconds() - start;
+    }
+    return 0;
+}
+
 /* Renders samples [first_sample, first_sample + count) on every live
  * worker's pixels, all devices at once. Returns the number of workers that
  * failed (dropped). */
@@ -533,6 +816,8 @@ static int run_pass(Render *r, uint64_t first_sample, uint32_t count, int pass_n
             w->slices[k].pass = NULL;
         }
     }
+    if (failures == 0 && r->splats && count > 0)
+        failures += splat_pass(r, first_sample, count);
     return failures;
 }
 
@@ -700,11 +985,12 @@ void path_tracer_build_options(const EstimatorSettings *estimator, uint64_t feat
              estimator->set_count, features, (unsigned)sampler, sampler_sets, stack_size, sample_options);
 }
 
-static int dump_kernel(const RenderSettings *s, const char *options, char *error, size_t error_size)
+static int dump_kernel(const RenderSettings *s, const char *program, const char *options, char *error,
+                       size_t error_size)
 {
     char include_dir[4096], message[512];
     char *source =
-        kernel_source_load("path_tracer", s->kernel_dir, include_dir, sizeof include_dir, message, (int)sizeof message);
+        kernel_source_load(program, s->kernel_dir, include_dir, sizeof include_dir, message, (int)sizeof message);
     if (!source) {
         snprintf(error, error_size, "%s", message);
         return -1;
@@ -712,7 +998,7 @@ static int dump_kernel(const RenderSettings *s, const char *options, char *error
     FILE *f = fopen(s->dump_kernel, "w");
     int ok = f != NULL;
     if (f) {
-        fprintf(f, "/* gmonrt: the path tracer as built for this render.\n * Build options: %s */\n", options);
+        fprintf(f, "/* gmonrt: the %s kernels as built for this render.\n * Build options: %s */\n", program, options);
         /* The -DNAME=VALUE options as defines. */
         char defines[1024];
         snprintf(defines, sizeof defines, "%s", options);
@@ -839,13 +1125,27 @@ static int plan_render(Render *r, int device_count, const RenderScene *scene, co
         return -1;
     }
     r->sample_planes = film_sample_planes(&r->estimator);
+    r->splats = (scene->constants.integrator.flags & (RENDER_LIGHTPATH | RENDER_BDPT)) != 0;
+    if (r->splats && scene->constants.integrator.max_depth > BDPT_MOST_DEPTH) {
+        snprintf(error, error_size,
+                 "bdpt and lightpath keep a sample's subpaths in private memory: maxdepth %u is over the %d they "
+                 "take (lower Integrator \"maxdepth\" or --maxdepth)",
+                 scene->constants.integrator.max_depth, BDPT_MOST_DEPTH);
+        return -1;
+    }
+    if (r->splats && r->sample_planes) {
+        snprintf(error, error_size,
+                 "the per-sample estimators (clamp, clamp-sum, abmm, gabmm, zirr, mean-or-mon) do not take bdpt's "
+                 "and lightpath's splats yet: ask for the set-based ones");
+        return -1;
+    }
     r->estimator.first_sample = s->first_sample;
     r->pixels = (size_t)scene->constants.camera.width * scene->constants.camera.height;
     r->planes = accumulator_planes((uint32_t)r->sets);
     r->worker_count = device_count;
     scene_upload_hash(&r->upload, m, out->scene_hash, sizeof out->scene_hash);
     out->max_depth = scene->constants.integrator.max_depth;
-    out->integrator = (scene->constants.integrator.flags & RENDER_NEE) ? "path" : "bsdf";
+    out->integrator = render_integrator_name(scene->constants.integrator.flags);
     out->sampler = scene->constants.integrator.sampler;
     out->light_sampler = scene->constants.integrator.light_sampler;
     out->width = scene->constants.camera.width;
@@ -880,7 +1180,10 @@ static int start_devices(Render *r, ClDevice *devices, RenderOutput *out, double
     char options[1024];
     path_tracer_build_options(&r->estimator, out->features, out->sampler, s->estimator.set_count,
                               r->scene->bvh.stack_need, options, sizeof options);
-    if (s->dump_kernel && dump_kernel(s, options, error, error_size))
+    if (r->splats) /* bdpt.cl's subpaths are private arrays of maxdepth + 2 vertices */
+        snprintf(options + strlen(options), sizeof options - strlen(options), " -DBDPT_MAX_DEPTH=%u",
+                 r->scene->constants.integrator.max_depth);
+    if (s->dump_kernel && dump_kernel(s, r->splats ? "bdpt" : "path_tracer", options, error, error_size))
         return -1;
     for (int i = 0; i < r->worker_count; ++i) {
         Worker *w = &r->workers[i];
@@ -1010,6 +1313,13 @@ static int render_passes(Render *r, double *weights, RenderOutput *out, char *er
         double budget_left = s->time_budget > 0.0 ? s->time_budget - elapsed : target;
         double fit = (budget_left < target ? budget_left : target) / (per_sample > 0.0 ? per_sample : 1e-9);
         per_pass = fit < 1.0 ? 1u : (fit > 4096.0 ? 4096u : (uint32_t)fit);
+        /* Splat records are held on the host for a pass: at most about
+         * SPLATS_PER_PASS, judged from this pass's records a sample. */
+        if (r->splats && r->splat_count > 0) {
+            double records = (double)r->splat_count / ((double)count * (double)r->pixels);
+            double most = SPLATS_PER_PASS / (records * (double)r->pixels);
+            per_pass = most < 1.0 ? 1u : (most < per_pass ? (uint32_t)most : per_pass);
+        }
     }
 
     return 0;
@@ -1088,6 +1398,9 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
         release_worker(&r.workers[i]);
     free_state(&r.saved);
     free_state(&r.scratch);
+    free(r.splat_records);
+    free(r.splat_sorted);
+    free(r.splat_offsets);
     if (status == RENDER_FAILED)
         render_output_free(out);
     return (RenderStatus)status;

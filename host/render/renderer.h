@@ -56,6 +56,10 @@ typedef struct {
      * device's pixels whose state or images would pass it are held and
      * launched in several slices (tests set it to make slices). */
     uint64_t slice_bytes;
+    /* The most splat records one launch of bdpt's or the light tracer's
+     * light subpaths may leave on a device before it runs again in halves
+     * (0: the default, 2^22; tests make it small). */
+    uint64_t splat_records;
     /* Developer settings, which gmonrt reads once from the environment:
      * the host memory to assume (0: what the machine says; memory_check.h),
      * the estimator kernels' launch fixed by hand (estimator_program.h), and
@@ -86,7 +90,7 @@ struct RenderOutput {
     uint64_t sample_count; /* samples per pixel actually rendered */
     char scene_hash[17];   /* of everything that determines a sample (renderer.c) */
     uint32_t max_depth;
-    const char *integrator;        /* "path" (NEE and MIS) or "bsdf" (BSDF sampling only) */
+    const char *integrator;        /* render_integrator_name */
     uint32_t sampler;              /* SAMPLER_* (kernels/tracing/sampler.h) */
     uint32_t light_sampler;        /* LIGHT_SAMPLER_* (kernels/tracing/scene_types.h) */
     uint64_t *accumulators;        /* exact set sums, accumulator_planes(set_count) planes (accumulate.h) */
@@ -142,5 +146,9 @@ RenderStatus renderer_run(ClDevice *devices, int device_count, const RenderScene
                           RenderOutput *output, char *error, size_t error_size);
 
 void render_output_free(RenderOutput *output);
+
+/* The integrator IntegratorData.flags asks for: "path" (NEE and MIS),
+ * "bsdf" (BSDF sampling only), "lightpath" or "bdpt". */
+const char *render_integrator_name(uint32_t flags);
 
 #endif

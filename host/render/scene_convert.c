@@ -626,6 +626,42 @@ int scene_convert_load(const char *path, int allow_unsupported, unsigned width, 
     return result;
 }
 
+/* The light types whose rays leaving them the kernels sample (the emit
+ * column of GMON_LIGHT_TYPES). */
+static int light_emits(uint32_t type)
+{
+#define LIGHT_EMITS_(id, feature, sample, emit)                                                                        \
+    if (type == LIGHT_##id)                                                                                            \
+        return strcmp(#emit, "light_emission_none") != 0;
+    GMON_LIGHT_TYPES(LIGHT_EMITS_)
+#undef LIGHT_EMITS_
+    return 0;
+}
+
+void scene_convert_light_subpaths(RenderScene *out, int light_subpaths, int regularize, const char *path, int quiet)
+{
+    out->constants.integrator.flags &= ~(RENDER_BDPT | RENDER_LIGHTPATH | RENDER_REGULARIZE);
+    if (!light_subpaths)
+        return;
+    const char *name = light_subpaths == SCENE_BDPT ? "bdpt" : "lightpath", *why = NULL;
+    if (out->constants.camera.projection != CAMERA_PERSPECTIVE)
+        why = "an orthographic camera";
+    for (int i = 0; i < out->light_count && !why; ++i)
+        if (!light_emits(out->lights[i].type))
+            why = "distant and infinite lights";
+    if (why) {
+        if (!quiet)
+            fprintf(stderr,
+                    "warning: %s: Integrator \"%s\" is rendered by the path tracer: gmonrt's %s does not "
+                    "take %s yet\n",
+                    path, name, name, why);
+        return;
+    }
+    out->constants.integrator.flags |= light_subpaths == SCENE_BDPT ? RENDER_BDPT : RENDER_LIGHTPATH;
+    if (light_subpaths == SCENE_BDPT && regularize)
+        out->constants.integrator.flags |= RENDER_REGULARIZE;
+}
+
 int scene_convert(const Scene *in, const char *path, unsigned width, unsigned height, int quiet, RenderScene *out,
                   SceneSummary *summary, char *error, size_t error_size)
 {
@@ -718,5 +754,7 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
                 out->texture_float_count * sizeof(float));
     if (out->light_count == 0 && !quiet)
         fprintf(stderr, "warning: %s: the scene has no light: the image will be black\n", path);
+    summary->light_subpaths = scene.light_subpaths;
+    scene_convert_light_subpaths(out, scene.light_subpaths, scene.regularize, path, quiet);
     return 0;
 }

@@ -109,6 +109,14 @@ cl_int scene_upload_create(const SceneUpload *u, cl_context context, cl_kernel k
     return err;
 }
 
+cl_int scene_upload_bind(cl_kernel kernel, const cl_mem buffers[SCENE_BUFFERS])
+{
+    cl_int err = CL_SUCCESS;
+    for (int i = 0; i < SCENE_BUFFERS && err == CL_SUCCESS; ++i)
+        err = clSetKernelArg(kernel, (cl_uint)i, sizeof(cl_mem), &buffers[i]);
+    return err;
+}
+
 cl_int scene_upload_bind_pass(cl_kernel kernel, const RenderPassArguments *a)
 {
     struct {

@@ -44,6 +44,10 @@ void scene_upload_hash(const SceneUpload *u, int sets, char *hex, size_t size);
  * first arguments. On failure the buffers made are released and zeroed. */
 cl_int scene_upload_create(const SceneUpload *u, cl_context context, cl_kernel kernel, cl_mem buffers[SCENE_BUFFERS]);
 
+/* Binds buffers made by scene_upload_create as another kernel's first
+ * arguments (bdpt.cl's splat_samples takes the scene as render_samples). */
+cl_int scene_upload_bind(cl_kernel kernel, const cl_mem buffers[SCENE_BUFFERS]);
+
 /* The path tracer's per-pass arguments, after the scene's. */
 typedef struct {
     cl_mem accumulators, rejected, rays;

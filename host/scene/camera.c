@@ -303,6 +303,23 @@ static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token 
                                      shown);
         if (token_is(type, "path"))
             return 0;
+        if (token_is(type, "lightpath")) {
+            p->scene->light_subpaths = SCENE_LIGHTPATH;
+            return 0;
+        }
+        if (token_is(type, "bdpt")) {
+            p->scene->light_subpaths = SCENE_BDPT;
+            return 0;
+        }
+        /* Only bidirectional sampling reaches what a delta light lights
+         * through specular surfaces, as these integrators do. */
+        if (token_is(type, "mlt") || token_is(type, "sppm")) {
+            p->scene->light_subpaths = SCENE_BDPT;
+            return scene_note(&p->diag, lex->path, d->line,
+                              "Integrator %s is rendered by bidirectional path tracing (\"bdpt\"): the expected "
+                              "image is the same, the noise differs",
+                              shown);
+        }
         const char *media = strstr(same_image_integrators[i].name, "vol")
                                 ? " without participating media (which gmonrt does not support)"
                                 : "";

@@ -17,6 +17,11 @@
 #define SCENE_MAX_COORDINATE 1e18
 #define SCENE_MAX_EDGE_PRODUCT 1e19
 
+/* Scene.light_subpaths: the integrators gmonrt renders with light
+ * subpaths (kernels/tracing/bdpt.cl). */
+#define SCENE_LIGHTPATH 1
+#define SCENE_BDPT 2
+
 typedef struct {
     /* Downgrade unsupported features to warnings, each with the substitute
      * docs/scenes.md lists (unknown material: grey diffuse; unknown shape or
@@ -344,7 +349,8 @@ typedef struct {
     char *sampler;             /* the Sampler's name as written; the renderer samples independently */
     unsigned spp;              /* Sampler pixelsamples */
     int max_depth;             /* Integrator maxdepth */
-    int regularize;            /* Integrator "regularize": recorded, not applied */
+    int regularize;            /* Integrator "regularize": applied by bdpt only */
+    int light_subpaths;        /* SCENE_LIGHTPATH or SCENE_BDPT for those integrators, else 0: the path tracer */
     float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (NULL: pbrt-v4's default, bvh) */
 

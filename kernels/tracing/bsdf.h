@@ -811,13 +811,15 @@ KERNEL_FN int layered_sample(const Material *m, Vec3 wo, float u_lobe, float u1,
 /* ---- the material dispatch: evaluation f(wo, wi) and the pdf of sampling
  * wi (delta lobes give 0), and sampling ---- */
 
-KERNEL_FN Vec3 bsdf_eval(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
+/* radiance: 1 for radiance transport (paths from the camera), 0 for
+ * importance (light subpaths): only refraction differs, by etap^2. */
+KERNEL_FN Vec3 bsdf_eval_transport(const Material *m, Vec3 wo, Vec3 wi, float *pdf, int radiance)
 {
     *pdf = 0.0f;
     Vec3 zero = vec3(0.0f, 0.0f, 0.0f);
 #if GMON_HAS_DIELECTRIC
     if (m->type == MAT_DIELECTRIC) {
-        float value = dielectric_f(m->eta, m->alpha_x, m->alpha_y, wo, wi, 1, LOBE_ALL, pdf);
+        float value = dielectric_f(m->eta, m->alpha_x, m->alpha_y, wo, wi, radiance, LOBE_ALL, pdf);
         return vec3(value, value, value);
     }
 #endif
@@ -856,14 +858,21 @@ KERNEL_FN Vec3 bsdf_eval(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
 #endif
 }
 
-KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+KERNEL_FN Vec3 bsdf_eval(const Material *m, Vec3 wo, Vec3 wi, float *pdf)
+{
+    return bsdf_eval_transport(m, wo, wi, pdf, 1);
+}
+
+/* radiance: as bsdf_eval_transport's. */
+KERNEL_FN int bsdf_sample_transport(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s,
+                                    int radiance)
 {
     bsdf_sample_clear(s);
     if (wo.z == 0.0f)
         return 0;
 #if GMON_HAS_DIELECTRIC
     if (m->type == MAT_DIELECTRIC)
-        return dielectric_sample(m->eta, m->alpha_x, m->alpha_y, wo, u_lobe, u1, u2, 1, LOBE_ALL, s);
+        return dielectric_sample(m->eta, m->alpha_x, m->alpha_y, wo, u_lobe, u1, u2, radiance, LOBE_ALL, s);
 #endif
 #if GMON_HAS_THIN_DIELECTRIC
     if (m->type == MAT_THIN_DIELECTRIC)
@@ -899,6 +908,11 @@ KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, fl
 #else
     return 0;
 #endif
+}
+
+KERNEL_FN int bsdf_sample(const Material *m, Vec3 wo, float u_lobe, float u1, float u2, BsdfSample *s)
+{
+    return bsdf_sample_transport(m, wo, u_lobe, u1, u2, s, 1);
 }
 
 /* ---- mix: one of two materials, materials[1] with chance `amount`, picked

@@ -4,6 +4,7 @@
 #ifndef KERNELS_LIGHT_AREA_H
 #define KERNELS_LIGHT_AREA_H
 
+#include "bsdf.h"
 #include "light_common.h"
 
 /* Sphere lights are sampled by the cone of directions they subtend from p
@@ -240,6 +241,41 @@ KERNEL_FN float area_light_pdf(const Scene *scene, GLOBAL const Light *light, Ve
             return 1.0f / solid_angle;
     }
     return t * t / (cos_light * light->area);
+}
+
+/* The density area_light_emission gives direction w leaving at normal n:
+ * cosine-weighted over the side it leaves by (half for each side of a
+ * two-sided light). */
+KERNEL_FN float area_light_pdf_direction(GLOBAL const Light *light, Vec3 n, Vec3 w)
+{
+    float cos_theta = v_dot(n, w);
+    if (!light->two_sided)
+        return cos_theta > 0.0f ? cos_theta / PI_F : 0.0f;
+    return 0.5f * fabs(cos_theta) / PI_F;
+}
+
+/* A ray leaving an area light: a point uniform over its area, a
+ * cosine-weighted direction (as pbrt-v4's DiffuseAreaLight::SampleLe;
+ * a two-sided light picks its side with u3). */
+KERNEL_FN int area_light_emission(const Scene *scene, GLOBAL const Light *light, float u1, float u2, float u3, float u4,
+                                  LightEmission *e)
+{
+    GLOBAL const Primitive *prim = scene->primitives + light->primitive;
+    e->origin = sample_primitive(prim, u1, u2);
+    e->normal = surface_normal(prim, e->origin);
+    float side = 1.0f;
+    if (light->two_sided) {
+        side = u3 < 0.5f ? 1.0f : -1.0f;
+        u3 = u3 < 0.5f ? 2.0f * u3 : 2.0f * u3 - 1.0f;
+    }
+    Vec3 w = cosine_hemisphere(fmin(u3, 0x1.fffffep-1f), u4), s, t, n = v_scale(e->normal, side);
+    v_basis(n, &s, &t);
+    e->direction = v_normalize(v_add(v_add(v_scale(s, w.x), v_scale(t, w.y)), v_scale(n, w.z)));
+    e->radiance = vec3_from_global(light->radiance);
+    e->pdf_position = 1.0f / light->area;
+    e->pdf_direction = area_light_pdf_direction(light, e->normal, e->direction);
+    e->delta_position = 0;
+    return e->pdf_direction > 0.0f;
 }
 
 #endif

@@ -77,11 +77,24 @@ KERNEL_FN int light_sample(const Scene *scene, GLOBAL const Light *light, Vec3 p
 {
     s->is_delta = 0;
     s->distance = INFINITY;
-#define LIGHT_SAMPLE_(id, feature, sample)                                                                             \
+#define LIGHT_SAMPLE_(id, feature, sample, emit)                                                                       \
     if (GMON_HAS(feature) && light->type == LIGHT_##id)                                                                \
         return sample(scene, light, p, u1, u2, s);
     GMON_LIGHT_TYPES(LIGHT_SAMPLE_)
 #undef LIGHT_SAMPLE_
+    return 0;
+}
+
+/* Samples a ray leaving light `light`: its type's function (scene_types.h's
+ * GMON_LIGHT_TYPES). Returns 0 when none was sampled. */
+KERNEL_FN int light_sample_emission(const Scene *scene, GLOBAL const Light *light, float u1, float u2, float u3,
+                                    float u4, LightEmission *e)
+{
+#define LIGHT_EMIT_(id, feature, sample, emit)                                                                         \
+    if (GMON_HAS(feature) && light->type == LIGHT_##id)                                                                \
+        return emit(scene, light, u1, u2, u3, u4, e);
+    GMON_LIGHT_TYPES(LIGHT_EMIT_)
+#undef LIGHT_EMIT_
     return 0;
 }
 

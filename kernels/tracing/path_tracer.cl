@@ -21,9 +21,7 @@
 #include "camera.h"
 #include "lights.h"
 #include "scene.h"
-#if GMON_HAS_TEXTURES
-#include "surface_textures.h"
-#endif
+#include "surface.h"
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -151,8 +149,9 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             break;
         }
         __global const Primitive *prim = scene->primitives + hit.primitive;
-        Vec3 p = v_add(origin, v_scale(direction, hit.t));
-        Vec3 n = hit_normal(scene, &hit, prim, p);
+        Surface surface;
+        surface_point(scene, &hit, origin, direction, &surface);
+        Vec3 p = surface.p, n = surface.n;
         Vec3 wo_world = v_scale(direction, -1.0f);
 
         if (GMON_HAS_AREA_LIGHTS && prim->light >= 0) {
@@ -171,31 +170,12 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         if (depth >= integrator->max_depth)
             break;
 
-        /* The BSDF's frame is the shading normal's; rays leave by the
-         * geometric one. */
-        Vec3 ns = shading_normal(scene, &hit, prim, n), s, t;
-        __global const Material *material_stored = scene->materials + prim->material;
 #if GMON_HAS_TEXTURES
         cone_width += cone_spread * hit.t;
-        float footprint = cone_width / fmax(fabs(v_dot(n, direction)), 0.01f);
-        int textured = (integrator->flags & RENDER_TEXTURES) != 0;
-        /* A mix's textured amount is the texture's at this hit. */
-        if (GMON_HAS_MIX && textured)
-            material_stored = mix_resolve_at_hit(scene, material_stored, &hit, prim, p, wo_world, ns, footprint);
-#else
-        const int textured = 0;
 #endif
-        if (GMON_HAS_MIX ? !textured : 0) /* not &&: textured may be the constant 0 */
-            material_stored = mix_resolve(scene->materials, material_stored, p, wo_world);
-        /* A private copy: textures give some of its parameters. */
-        Material material_at_hit = *material_stored;
-        const Material *material = &material_at_hit;
-#if GMON_HAS_TEXTURES
-        if (textured)
-            material_apply_textures(scene, (int)(material_stored - scene->materials), &hit, prim, p, footprint,
-                                    &material_at_hit, &ns);
-#endif
-        v_basis(ns, &s, &t);
+        surface_shade(scene, &hit, direction, cone_width, &surface);
+        const Material *material = &surface.material;
+        Vec3 ns = surface.ns, s = surface.s, t = surface.t;
         Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));
         uint dim = 2 + depth * DIMS_PER_BOUNCE;
 
@@ -240,17 +220,6 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         }
     }
     return radiance;
-}
-
-/* The film's response to a sample's radiance (FilmData). */
-KERNEL_FN Vec3 film_response(__global const FilmData *film, Vec3 L)
-{
-    if (GMON_HAS_FILM_MATRIX) {
-        __global const float(*m)[4] = film->from_radiance;
-        L = vec3(m[0][0] * L.x + m[0][1] * L.y + m[0][2] * L.z, m[1][0] * L.x + m[1][1] * L.y + m[1][2] * L.z,
-                 m[2][0] * L.x + m[2][1] * L.y + m[2][2] * L.z);
-    }
-    return L;
 }
 
 /* Renders samples [first_sample, first_sample + sample_count) of pixels

@@ -237,16 +237,16 @@ typedef struct {
  * Area lights are emitting primitives; the infinite lights come first in
  * the light array (BackgroundData). */
 #define GMON_LIGHT_TYPES(LIGHT)                                                                                        \
-    LIGHT(AREA, FEATURE_AREA_LIGHTS, area_light_sample)                                                                \
-    LIGHT(POINT, FEATURE_POINT_LIGHTS, point_light_sample)                                                             \
-    LIGHT(SPOT, FEATURE_SPOT_LIGHTS, point_light_sample)                                                               \
-    LIGHT(DISTANT, FEATURE_DISTANT_LIGHTS, distant_light_sample)                                                       \
-    LIGHT(UNIFORM_INFINITE, FEATURE_ENVIRONMENT, uniform_infinite_light_sample)                                        \
-    LIGHT(IMAGE_INFINITE, FEATURE_ENVIRONMENT_MAP, image_infinite_light_sample)                                        \
-    LIGHT(GONIOMETRIC, FEATURE_GONIOMETRIC_LIGHTS, point_light_sample)                                                 \
-    LIGHT(PROJECTION, FEATURE_PROJECTION_LIGHTS, point_light_sample)
+    LIGHT(AREA, FEATURE_AREA_LIGHTS, area_light_sample, area_light_emission)                                           \
+    LIGHT(POINT, FEATURE_POINT_LIGHTS, point_light_sample, point_light_emission)                                       \
+    LIGHT(SPOT, FEATURE_SPOT_LIGHTS, point_light_sample, point_light_emission)                                         \
+    LIGHT(DISTANT, FEATURE_DISTANT_LIGHTS, distant_light_sample, light_emission_none)                                  \
+    LIGHT(UNIFORM_INFINITE, FEATURE_ENVIRONMENT, uniform_infinite_light_sample, light_emission_none)                   \
+    LIGHT(IMAGE_INFINITE, FEATURE_ENVIRONMENT_MAP, image_infinite_light_sample, light_emission_none)                   \
+    LIGHT(GONIOMETRIC, FEATURE_GONIOMETRIC_LIGHTS, point_light_sample, point_light_emission)                           \
+    LIGHT(PROJECTION, FEATURE_PROJECTION_LIGHTS, point_light_sample, point_light_emission)
 
-#define LIGHT_ENUM_(id, feature, sample) LIGHT_##id,
+#define LIGHT_ENUM_(id, feature, sample, emit) LIGHT_##id,
 enum { GMON_LIGHT_TYPES(LIGHT_ENUM_) LIGHT_TYPE_COUNT };
 #undef LIGHT_ENUM_
 
@@ -394,6 +394,12 @@ typedef struct {
 
 #define RENDER_NEE 1u      /* next-event estimation with MIS; else BSDF sampling only */
 #define RENDER_TEXTURES 2u /* the scene has texture programs (a kernel with every feature must know) */
+/* The integrators with light subpaths (kernels/tracing/bdpt.cl): pbrt-v4's
+ * light tracer (light subpaths connected to the camera only), and its
+ * bidirectional path tracer. Neither: the path tracer. */
+#define RENDER_LIGHTPATH 4u
+#define RENDER_BDPT 8u
+#define RENDER_REGULARIZE 16u /* bdpt's "regularize": near-specular lobes widened after a rough bounce */
 
 /* rr_threshold is pbrt-v4's "rrthreshold": Russian roulette applies where
  * the path's throughput (times the squared eta ratio) has its largest
