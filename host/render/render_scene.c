@@ -20,6 +20,7 @@ void render_scene_init(RenderScene *scene)
     for (int i = 0; i < 3; ++i)
         scene->constants.film.from_radiance[i][i] = 1.0f;
     scene->constants.film.max_component_value = INFINITY;
+    scene->constants.media.camera_medium = -1;
 }
 
 void render_scene_destroy(RenderScene *scene)
@@ -43,6 +44,9 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->instances);
     free(scene->light_nodes);
     free(scene->light_trails);
+    free(scene->media);
+    free(scene->medium_interfaces);
+    free(scene->primitive_media);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -83,6 +87,10 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.instances_count = (size_t)scene->instance_count;
     a.alphas = scene->alphas;
     a.alphas_count = (size_t)scene->alpha_count;
+    a.media = scene->media;
+    a.media_count = scene->constants.media.count;
+    a.primitive_media = scene->primitive_media;
+    a.primitive_media_count = scene->primitive_media ? (size_t)scene->bvh.primitive_count : 0;
     return a;
 }
 
@@ -185,6 +193,40 @@ int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const
     memcpy(v + 3, nb, 3 * sizeof *v);
     memcpy(v + 6, nc, 3 * sizeof *v);
     scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
+}
+
+int render_scene_add_medium(RenderScene *scene, const Medium *medium)
+{
+    int count = (int)scene->constants.media.count;
+    if (count >= (int)MEDIUM_MAX_COUNT ||
+        reserve_one((void **)&scene->media, count, &scene->medium_capacity, sizeof *scene->media))
+        return -1;
+    scene->media[count] = *medium;
+    scene->constants.media.count++;
+    return count;
+}
+
+/* A medium index as primitive_media packs it. */
+static uint32_t packed_medium(int medium)
+{
+    return medium < 0 ? MEDIUM_VACUUM : (uint32_t)medium;
+}
+
+int render_scene_set_media(RenderScene *scene, int inside, int outside)
+{
+    if ((size_t)scene->primitive_capacity > scene->medium_interface_capacity) {
+        size_t capacity = (size_t)scene->primitive_capacity;
+        uint32_t *grown = realloc(scene->medium_interfaces, capacity * sizeof *grown);
+        if (!grown)
+            return -1;
+        /* Primitives added before any interface keep the ray's medium. */
+        for (size_t i = scene->medium_interface_capacity; i < capacity; ++i)
+            grown[i] = MEDIUM_VACUUM | MEDIUM_VACUUM << 16;
+        scene->medium_interfaces = grown;
+        scene->medium_interface_capacity = capacity;
+    }
+    scene->medium_interfaces[scene->primitive_count - 1] = packed_medium(inside) | packed_medium(outside) << 16;
     return 0;
 }
 
@@ -841,6 +883,25 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
                        9 * sizeof *scene->shading_normals);
     }
 
+    /* So do the media's interfaces. */
+    free(scene->primitive_media);
+    scene->primitive_media = NULL;
+    if (scene->constants.media.count > 0 && scene->bvh.primitive_count > 0) {
+        size_t count = (size_t)scene->bvh.primitive_count;
+        scene->primitive_media = malloc(count * sizeof *scene->primitive_media);
+        if (!scene->primitive_media) {
+            snprintf(error, error_size, "out of memory for the media's interfaces");
+            return -1;
+        }
+        for (size_t i = 0; i < count; ++i) {
+            int input = scene->bvh.order[i];
+            scene->primitive_media[i] =
+                scene->medium_interfaces && input >= 0 && (size_t)input < scene->medium_interface_capacity
+                    ? scene->medium_interfaces[input]
+                    : MEDIUM_VACUUM | MEDIUM_VACUUM << 16;
+        }
+    }
+
     if (render_scene_finalize_textures(scene, error, error_size))
         return -1;
 
@@ -949,6 +1010,8 @@ uint64_t render_scene_features(const RenderScene *scene)
             features |= FEATURE_ALPHA_TEXTURE;
     if (scene->instance_count > 0)
         features |= FEATURE_INSTANCING;
+    if (scene->constants.media.count > 0)
+        features |= FEATURE_MEDIA;
     static const uint64_t by_type[] = {
         [MAT_DIFFUSE] = FEATURE_DIFFUSE,
         [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,
@@ -958,7 +1021,7 @@ uint64_t render_scene_features(const RenderScene *scene)
         [MAT_MIX] = FEATURE_MIX,
         [MAT_COATED_CONDUCTOR] = FEATURE_COATED_CONDUCTOR | FEATURE_LAYERED,
         [MAT_THIN_DIELECTRIC] = FEATURE_THIN_DIELECTRIC,
-        [MAT_INTERFACE] = 0, /* its shapes are not in the scene */
+        [MAT_INTERFACE] = 0, /* FEATURE_MEDIA's boundaries, else its shapes are not in the scene */
     };
     for (int i = 0; i < scene->material_count; ++i) {
         const Material *m = &scene->materials[i];

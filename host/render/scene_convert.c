@@ -65,7 +65,7 @@ static Material convert_material(const SceneMaterial *in)
 
 _Static_assert(SCENE_MIX_MAX_NESTING <= MIX_MAX_NESTING, "the kernel resolves every mix the parser accepts");
 
-/* "interface" shapes bound media, which the renderer does not have: a ray
+/* "interface" shapes bound media: without media in the render a ray
  * passes them unchanged, so they are left out. */
 static int is_interface(const Scene *scene, const SceneShape *shape)
 {
@@ -534,14 +534,64 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
     return 0;
 }
 
-/* Adds shape `index`'s triangles or sphere (with its area light's
- * emission, its alpha: alpha_program its alpha texture's program or -1).
+/* The media the render traces: none unless the integrator renders media
+ * and something (the camera, a shape's interface) is in a homogeneous one;
+ * the other types are vacuum (the reader allowed them as unsupported).
+ * *map_out: per scene medium its render index or -1, NULL without media.
  * Returns 0, or 1 when out of memory. */
-static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int alpha_program, RenderScene *out)
+static int convert_media(const Scene *scene, RenderScene *out, int **map_out)
+{
+    *map_out = NULL;
+    if (!scene->integrator_media || scene->medium_count == 0)
+        return 0;
+    int *map = malloc(scene->medium_count * sizeof *map);
+    if (!map)
+        return 1;
+    int next = 0;
+    for (size_t i = 0; i < scene->medium_count; ++i)
+        map[i] = scene->media[i].type == SCENE_MEDIUM_HOMOGENEOUS ? next++ : -1;
+    int camera = scene->camera_medium >= 0 ? map[scene->camera_medium] : -1, used = camera >= 0;
+    for (size_t i = 0; i < scene->shape_count && !used; ++i) {
+        const SceneShape *shape = &scene->shapes[i];
+        used = (shape->medium_inside >= 0 ? map[shape->medium_inside] : -1) !=
+               (shape->medium_outside >= 0 ? map[shape->medium_outside] : -1);
+    }
+    for (size_t i = 0; i < scene->medium_count && used; ++i) {
+        const SceneMedium *in = &scene->media[i];
+        if (map[i] < 0)
+            continue;
+        Medium m;
+        memset(&m, 0, sizeof m);
+        memcpy(m.sigma_a, in->sigma_a, sizeof m.sigma_a);
+        memcpy(m.sigma_s, in->sigma_s, sizeof m.sigma_s);
+        memcpy(m.emission, in->emission, sizeof m.emission);
+        m.g = in->g;
+        if (render_scene_add_medium(out, &m) < 0) {
+            free(map);
+            return 1;
+        }
+    }
+    if (!used) {
+        free(map);
+        return 0;
+    }
+    out->constants.media.camera_medium = camera;
+    *map_out = map;
+    return 0;
+}
+
+/* Adds shape `index`'s triangles or sphere (with its area light's
+ * emission, its alpha: alpha_program its alpha texture's program or -1;
+ * with media, medium_map maps its interface's media). Returns 0, or 1 when
+ * out of memory. */
+static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int alpha_program, const int *medium_map,
+                     RenderScene *out)
 {
     const SceneShape *shape = &scene->shapes[index];
-    if (is_interface(scene, shape))
+    if (!medium_map && is_interface(scene, shape))
         return 0;
+    int inside = medium_map && shape->medium_inside >= 0 ? medium_map[shape->medium_inside] : -1;
+    int outside = medium_map && shape->medium_outside >= 0 ? medium_map[shape->medium_outside] : -1;
     int textured = out->texture_count > 0;
     const SceneAreaLight *light = shape->area_light >= 0 ? &scene->area_lights[shape->area_light] : NULL;
     const float *radiance = light ? emission[shape->area_light] : NULL;
@@ -575,6 +625,7 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int
         }
         failed = failed || ((shape->alpha < 1.0f || alpha_program >= 0) &&
                             render_scene_set_alpha(out, shape->alpha, alpha_program) != 0);
+        failed = failed || (inside != outside && render_scene_set_media(out, inside, outside) != 0);
     }
     return failed;
 }
@@ -582,14 +633,15 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int
 /* The objects (their shapes have no area lights: the scene reader drops
  * them) and their instances. Returns 0, 1 when out of memory, or -1 with a
  * message. */
-static int add_objects(const Scene *scene, const int *alpha_programs, RenderScene *out, char *error, size_t error_size)
+static int add_objects(const Scene *scene, const int *alpha_programs, const int *medium_map, RenderScene *out,
+                       char *error, size_t error_size)
 {
     for (size_t k = 0; k < scene->object_count; ++k) {
         const SceneObject *object = &scene->objects[k];
         if (render_scene_begin_object(out) < 0)
             return 1;
         for (size_t i = object->first_shape; i < object->first_shape + object->shape_count; ++i)
-            if (add_shape(scene, i, NULL, alpha_programs[i], out))
+            if (add_shape(scene, i, NULL, alpha_programs[i], medium_map, out))
                 return 1;
         render_scene_end_object(out);
     }
@@ -687,7 +739,15 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         return -1;
     }
     float(*emission)[3] = NULL;
+    int *medium_map = NULL;
+    if (convert_media(&scene, out, &medium_map)) {
+        snprintf(error, error_size, "%s: out of memory converting the media", path);
+        free(alpha_programs);
+        render_scene_destroy(out);
+        return -1;
+    }
     if (area_light_emission(&scene, &emission, error, error_size)) {
+        free(medium_map);
         free(alpha_programs);
         render_scene_destroy(out);
         return -1;
@@ -697,9 +757,10 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     for (int spheres = 0; spheres < 2; ++spheres)
         for (size_t i = 0; i < scene.shape_count && !failed; ++i)
             if (scene.shapes[i].object < 0 && (scene.shapes[i].kind == SCENE_SHAPE_SPHERE) == spheres)
-                failed = add_shape(&scene, i, emission, alpha_programs[i], out);
+                failed = add_shape(&scene, i, emission, alpha_programs[i], medium_map, out);
     if (!failed) /* -1 (its message written) must not become 1 (out of memory) */
-        failed = add_objects(&scene, alpha_programs, out, error, error_size);
+        failed = add_objects(&scene, alpha_programs, medium_map, out, error, error_size);
+    free(medium_map);
     free(emission);
     free(alpha_programs);
     if (failed < 0) {

@@ -17,6 +17,11 @@ void scene_destroy(Scene *scene)
     free(scene->sampler);
     free(scene->light_sampler);
     free(scene->materials);
+    for (size_t i = 0; i < scene->medium_count; ++i) {
+        free(scene->media[i].name);
+        free(scene->media[i].origin);
+    }
+    free(scene->media);
     for (size_t i = 0; i < scene->texture_count; ++i) {
         free(scene->textures[i].name);
         free(scene->textures[i].filename);

@@ -250,6 +250,10 @@ typedef struct {
     int object;        /* the object (Scene.objects) it belongs to, or -1: the world's */
     float alpha;       /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
     int alpha_texture; /* "texture alpha": a float texture (Scene.textures) in place of alpha, or -1 */
+    /* The MediumInterface in force: the media (Scene.media, or -1: vacuum)
+     * behind the surface (against its normal) and in front of it. Where
+     * the two are equal the shape is no boundary between media. */
+    int medium_inside, medium_outside;
 } SceneShape;
 
 /* ObjectBegin "name" ... ObjectEnd: shapes [first_shape, first_shape +
@@ -320,6 +324,31 @@ typedef struct {
     char *origin;                             /* "file:line" of the directive, for messages */
 } SceneLight;
 
+/* MakeNamedMedium's types (pbrt-v4's). */
+typedef enum {
+    SCENE_MEDIUM_HOMOGENEOUS,
+    SCENE_MEDIUM_UNIFORM_GRID,
+    SCENE_MEDIUM_RGB_GRID,
+    SCENE_MEDIUM_CLOUD,
+    SCENE_MEDIUM_NANOVDB,
+} SceneMediumType;
+
+/* A participating medium. Homogeneous: absorption and scattering
+ * coefficients (per unit of world length: "sigma_a", "sigma_s" or a
+ * "preset", times "scale"), emitted radiance ("Le" normalised as an
+ * emitter's, times "Lescale") and the Henyey-Greenstein asymmetry "g". The
+ * grid types are read and checked but not rendered (the renderer takes
+ * them as vacuum under allow_unsupported): their fields hold their
+ * sigma_a, sigma_s (times scale) and g only. */
+typedef struct {
+    char *name;
+    SceneMediumType type;
+    float sigma_a[3], sigma_s[3];
+    float emission[3];
+    float g;
+    char *origin; /* "file:line" of its MakeNamedMedium */
+} SceneMedium;
+
 typedef struct {
     SceneCamera camera;
     SceneFilter filter;     /* pbrt-v4's default: gaussian, radius 1.5, sigma 0.5 */
@@ -347,6 +376,13 @@ typedef struct {
     int regularize;            /* Integrator "regularize": recorded, not applied */
     float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (NULL: pbrt-v4's default, bvh) */
+    /* The integrator renders participating media (pbrt-v4's volpath, its
+     * default, simplevolpath, bdpt, mlt); pbrt-v4's path and the others
+     * ignore them, and so does the renderer then. */
+    int integrator_media;
+    SceneMedium *media;
+    size_t medium_count;
+    int camera_medium; /* the outside medium of the MediumInterface in force at Camera, or -1 */
 
     SceneMaterial *materials;
     size_t material_count;

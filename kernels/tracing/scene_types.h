@@ -100,7 +100,7 @@ KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
 #define MAT_MIX 5u /* resolved to one of its two materials at each hit */
 #define MAT_COATED_CONDUCTOR 6u
 #define MAT_THIN_DIELECTRIC 7u
-#define MAT_INTERFACE 8u  /* no surface: the host drops its shapes, the kernel never sees it */
+#define MAT_INTERFACE 8u  /* no surface: a boundary between media (FEATURE_MEDIA); else the host drops its shapes */
 #define MIX_MAX_NESTING 8 /* mixes of mixes, at most */
 
 /* 128 bytes. alpha_x/alpha_y are GGX roughnesses (of the coating for the
@@ -333,7 +333,7 @@ typedef struct {
 #define CAMERA_PERSPECTIVE 0u
 #define CAMERA_ORTHOGRAPHIC 1u
 
-/* The constants of one render, by concern. 224 bytes in all.
+/* The constants of one render, by concern. 256 bytes in all.
  *
  * The camera: an image point (sx, sy) in [-1, 1]^2 (x to the right, y up
  * in the image) is, for the perspective camera, the ray from `position`
@@ -410,6 +410,34 @@ typedef struct {
     uint32_t unbounded_lights; /* lights[0, this): the infinite, then the distant ones */
 } IntegratorData;
 
+/* A homogeneous participating medium (FEATURE_MEDIA): absorption and
+ * scattering coefficients per unit of world length, per channel, the
+ * radiance it emits (per unit of absorption, as pbrt-v4's Le) and the
+ * Henyey-Greenstein asymmetry g. 48 bytes. */
+typedef struct {
+    float sigma_a[3];
+    float g;
+    float sigma_s[3];
+    float pad0;
+    float emission[3];
+    float pad1;
+} Medium;
+
+/* primitive_media[i], primitive i's (in the BVH's order) MediumInterface:
+ * the medium behind it (against its normal) in the low 16 bits, the one in
+ * front in the high 16, each an index into media or MEDIUM_VACUUM; equal
+ * halves: no boundary, the ray keeps its medium. */
+#define MEDIUM_VACUUM 0xffffu
+#define MEDIUM_MAX_COUNT 0xffffu
+
+/* The media (FEATURE_MEDIA): `count` media, and the one the camera sees
+ * through (-1: vacuum). count 0: no media (primitive_media is empty). */
+typedef struct {
+    uint32_t count;
+    int32_t camera_medium;
+    uint32_t pad[2];
+} MediaData;
+
 /* The infinite lights: lights[0, infinite_count) of the light array. */
 typedef struct {
     uint32_t infinite_count;
@@ -422,6 +450,7 @@ typedef struct {
     FilmData film;
     IntegratorData integrator;
     BackgroundData background;
+    MediaData media;
 } SceneConstants;
 
 /* The scene's arrays, in the order the path tracer takes them after the
@@ -455,7 +484,9 @@ typedef struct {
     ARRAY(texture_floats, float)                                                                                       \
     ARRAY(surface_uvs, float)                                                                                          \
     ARRAY(instances, Instance)                                                                                         \
-    ARRAY(alphas, AlphaSlot)
+    ARRAY(alphas, AlphaSlot)                                                                                           \
+    ARRAY(media, Medium)                                                                                               \
+    ARRAY(primitive_media, uint32_t)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
@@ -467,7 +498,8 @@ _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout"
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(LightNode) == 64, "LightNode must match the kernel's layout");
-_Static_assert(sizeof(SceneConstants) == 240, "SceneConstants must match the kernel's layout");
+_Static_assert(sizeof(Medium) == 48, "Medium must match the kernel's layout");
+_Static_assert(sizeof(SceneConstants) == 256, "SceneConstants must match the kernel's layout");
 #endif
 
 #endif
