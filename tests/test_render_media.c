@@ -144,18 +144,85 @@ static void test_absorbing_slab(void **state)
     absorbing_slab(0.25f, 1); /* the camera's medium */
 }
 
+/* Cells of grids over the box [-3, 3]^3, GRID a side: the sphere of
+ * radius 2 at the centre stays clear of the outer half cells, where
+ * pbrt-v4's lookup fades to 0. */
+#define GRID 6
+#define CELLS (GRID * GRID * GRID)
+
+static uint32_t lcg_state = 12345u;
+static float random_in(float low, float high)
+{
+    lcg_state = lcg_state * 1664525u + 1013904223u;
+    return low + (high - low) * (float)(lcg_state >> 8) / 16777216.0f;
+}
+
+/* A grid medium over [-3, 3]^3: uniformgrid (density: CELLS values; Le
+ * scaled by a Lescale grid of one cell of 1) when rgb_sigma_a is NULL,
+ * else rgbgrid (rgb_*: 3 CELLS values, rgb_le NULL for none). */
+static int add_grid(RenderScene *scene, const float *density, const float sigma_a[3], const float sigma_s[3],
+                    const float *le, const float *rgb_sigma_a, const float *rgb_sigma_s, const float *rgb_le, float g)
+{
+    Medium m;
+    memset(&m, 0, sizeof m);
+    m.g = g;
+    float majorant = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        m.medium_from_world[k][k] = 1.0f / 6.0f;
+        m.medium_from_world[k][3] = 0.5f;
+        m.size[k] = GRID;
+        m.le_size[k] = 1;
+    }
+    m.density = m.le_scale = m.rgb_sigma_a = m.rgb_sigma_s = m.rgb_le = -1;
+    if (!rgb_sigma_a) {
+        const float one = 1.0f;
+        m.type = MEDIUM_UNIFORM_GRID;
+        memcpy(m.sigma_a, sigma_a, sizeof m.sigma_a);
+        memcpy(m.sigma_s, sigma_s, sizeof m.sigma_s);
+        if (le)
+            memcpy(m.emission, le, sizeof m.emission);
+        m.density = render_scene_add_medium_values(scene, density, CELLS);
+        m.le_scale = render_scene_add_medium_values(scene, &one, 1);
+        for (int i = 0; i < CELLS; ++i)
+            for (int k = 0; k < 3; ++k)
+                majorant = fmaxf(majorant, density[i] * (sigma_a[k] + sigma_s[k]));
+    } else {
+        m.type = MEDIUM_RGB_GRID;
+        for (int k = 0; k < 3; ++k) {
+            m.sigma_a[k] = m.sigma_s[k] = 1.0f; /* scale */
+            m.emission[k] = 1.0f;               /* Lescale */
+        }
+        m.rgb_sigma_a = render_scene_add_medium_values(scene, rgb_sigma_a, 3 * CELLS);
+        m.rgb_sigma_s = render_scene_add_medium_values(scene, rgb_sigma_s, 3 * CELLS);
+        if (rgb_le)
+            m.rgb_le = render_scene_add_medium_values(scene, rgb_le, 3 * CELLS);
+        for (int i = 0; i < 3 * CELLS; ++i)
+            majorant = fmaxf(majorant, rgb_sigma_a[i] + rgb_sigma_s[i]);
+    }
+    m.majorant = majorant * 1.0001f;
+    int index = render_scene_add_medium(scene, &m);
+    assert_true(index >= 0);
+    return index;
+}
+
 /* A sphere of absorbing medium (radius 1) before a white sky, seen by a
  * pinhole camera from z = -3: each pixel is the average over its area of
- * exp(-sigma_a * chord), integrated here on a 16 x 16 grid of the pixel. */
-static void test_absorbing_sphere_transmittance(void **state)
+ * exp(-sigma_a * chord), integrated here on a 16 x 16 grid of the pixel.
+ * Homogeneous, every pixel must match; as a uniform grid of density 1
+ * (ratio tracking: noisy), the mean difference from the closed forms must
+ * be within 5 of its standard errors. */
+static void absorbing_sphere(int as_grid)
 {
-    (void)state;
-    REQUIRE_TEST_DEVICE();
     const float sigma_a[3] = {0.3f, 1.0f, 3.0f}, none[3] = {0, 0, 0}, sky[3] = {1, 1, 1}, centre[3] = {0, 0, 0};
     const float tan_half = 0.4f;
     RenderScene scene;
     render_scene_init(&scene);
-    medium_sphere(&scene, centre, 1.0f, add_medium(&scene, sigma_a, none, NULL, 0.0f));
+    float density[CELLS];
+    for (int i = 0; i < CELLS; ++i)
+        density[i] = 1.0f;
+    int medium = as_grid ? add_grid(&scene, density, sigma_a, none, NULL, NULL, NULL, NULL, 0.0f)
+                         : add_medium(&scene, sigma_a, none, NULL, 0.0f);
+    medium_sphere(&scene, centre, 1.0f, medium);
     assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
     const float position[3] = {0, 0, -3}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
     RenderCamera camera = render_camera_pinhole(position, forward, right, up, tan_half, tan_half, SIZE, SIZE);
@@ -163,7 +230,7 @@ static void test_absorbing_sphere_transmittance(void **state)
     const unsigned spp = 256;
     float *image = render(&scene, 1, 5, spp);
     int sub = 16, far = 0;
-    double total_error = 0.0;
+    double total_error = 0.0, difference[3] = {0, 0, 0}, difference2[3] = {0, 0, 0};
     for (int y = 0; y < SIZE; ++y)
         for (int x = 0; x < SIZE; ++x)
             for (int c = 0; c < 3; ++c) {
@@ -188,15 +255,32 @@ static void test_absorbing_sphere_transmittance(void **state)
                 double deviation = sqrt(fmax(sum2 / n - expected * expected, 0.0));
                 double error = fabs(image[3 * (y * SIZE + x) + c] - expected);
                 total_error += error;
+                difference[c] += image[3 * (y * SIZE + x) + c] - expected;
+                difference2[c] += error * error;
                 /* The pixel's only noise is where in it a sample lands. */
                 if (error > 5.0 * deviation / sqrt((double)spp) + 2e-3)
                     ++far;
             }
-    printf("  absorbing sphere: mean absolute error %.3g per value, %d of %d values off\n",
-           total_error / (3.0 * SIZE * SIZE), far, 3 * SIZE * SIZE);
-    assert_int_equal(far, 0);
+    printf("  absorbing sphere%s: mean absolute error %.3g per value, %d of %d values off\n",
+           as_grid ? " (uniform grid)" : "", total_error / (3.0 * SIZE * SIZE), far, 3 * SIZE * SIZE);
+    if (!as_grid)
+        assert_int_equal(far, 0);
+    for (int c = 0; c < 3 && as_grid; ++c) {
+        double n = SIZE * SIZE, mean = difference[c] / n;
+        double standard_error = sqrt(fmax(difference2[c] / n - mean * mean, 0.0) / n);
+        printf("    channel %d: mean difference %.5f (standard error %.5f)\n", c, mean, standard_error);
+        assert_true(fabs(mean) <= 5.0 * standard_error + 1e-4);
+    }
     free(image);
     render_scene_destroy(&scene);
+}
+
+static void test_absorbing_sphere_transmittance(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    absorbing_sphere(0);
+    absorbing_sphere(1);
 }
 
 /* Renders and checks each channel's image mean against `expected`, within
@@ -219,26 +303,31 @@ static void check_mean(const float *image, const double expected[3], const char 
 
 /* The camera inside a sphere (radius 2) of medium under a constant sky.
  * Where the medium scatters without absorbing, every direction sees the
- * sky's radiance; where its emission equals the sky's radiance, too. */
-static void furnace(const float sigma_a[3], const float sigma_s[3], const float *emission, float g, int nee,
-                    const char *name)
+ * sky's radiance; where its emission equals the sky's radiance, too.
+ * furnace_in takes a scene holding medium `medium`, and destroys it. */
+static void furnace_in(RenderScene *scene, int medium, int nee, const char *name)
 {
     const float sky[3] = {1.5f, 1.5f, 1.5f}, centre[3] = {0, 0, 0};
-    RenderScene scene;
-    render_scene_init(&scene);
-    int medium = add_medium(&scene, sigma_a, sigma_s, emission, g);
-    medium_sphere(&scene, centre, 2.0f, medium);
-    assert_int_equal(render_scene_add_infinite_light(&scene, sky), 0);
+    medium_sphere(scene, centre, 2.0f, medium);
+    assert_int_equal(render_scene_add_infinite_light(scene, sky), 0);
     const float position[3] = {0, 0, 0}, forward[3] = {0, 0, 1}, right[3] = {1, 0, 0}, up[3] = {0, 1, 0};
     RenderCamera camera = render_camera_pinhole(position, forward, right, up, 1.0f, 1.0f, SIZE, SIZE);
-    render_scene_set_camera(&scene, &camera);
-    scene.constants.media.camera_medium = medium;
-    scene.constants.integrator.rr_threshold = 0.0f; /* no roulette: its weights are not what is tested */
-    float *image = render(&scene, nee, 400, 64);
+    render_scene_set_camera(scene, &camera);
+    scene->constants.media.camera_medium = medium;
+    scene->constants.integrator.rr_threshold = 0.0f; /* no roulette: its weights are not what is tested */
+    float *image = render(scene, nee, 400, 64);
     const double expected[3] = {1.5, 1.5, 1.5};
     check_mean(image, expected, name);
     free(image);
-    render_scene_destroy(&scene);
+    render_scene_destroy(scene);
+}
+
+static void furnace(const float sigma_a[3], const float sigma_s[3], const float *emission, float g, int nee,
+                    const char *name)
+{
+    RenderScene scene;
+    render_scene_init(&scene);
+    furnace_in(&scene, add_medium(&scene, sigma_a, sigma_s, emission, g), nee, name);
 }
 
 static void test_scattering_furnace(void **state)
@@ -283,13 +372,39 @@ static void test_emission(void **state)
     render_scene_destroy(&scene);
 }
 
+/* Heterogeneous media: the furnace in a uniform grid of random densities
+ * (scattering only), and with emission balancing absorption in an RGB
+ * grid of random coefficients per cell and channel. */
+static void test_grid_furnace(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    float density[CELLS], rgb_a[3 * CELLS], rgb_s[3 * CELLS], rgb_le[3 * CELLS];
+    for (int i = 0; i < CELLS; ++i)
+        density[i] = random_in(0.2f, 1.0f);
+    for (int i = 0; i < 3 * CELLS; ++i) {
+        rgb_a[i] = random_in(0.0f, 1.0f);
+        rgb_s[i] = random_in(0.0f, 1.5f);
+        rgb_le[i] = 1.5f;
+    }
+    const float none[3] = {0, 0, 0}, coloured[3] = {0.5f, 1.0f, 2.0f};
+    for (int nee = 1; nee >= 0; --nee) {
+        RenderScene scene;
+        render_scene_init(&scene);
+        furnace_in(&scene, add_grid(&scene, density, none, coloured, NULL, NULL, NULL, NULL, 0.5f), nee,
+                   nee ? "uniform grid furnace, NEE" : "uniform grid furnace, phase sampling only");
+        render_scene_init(&scene);
+        furnace_in(&scene, add_grid(&scene, NULL, NULL, NULL, NULL, rgb_a, rgb_s, rgb_le, -0.3f), nee,
+                   nee ? "emitting RGB grid furnace, NEE" : "emitting RGB grid furnace, phase sampling only");
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_absorbing_slab),
-        cmocka_unit_test(test_absorbing_sphere_transmittance),
-        cmocka_unit_test(test_scattering_furnace),
-        cmocka_unit_test(test_emission),
+        cmocka_unit_test(test_absorbing_slab),     cmocka_unit_test(test_absorbing_sphere_transmittance),
+        cmocka_unit_test(test_scattering_furnace), cmocka_unit_test(test_emission),
+        cmocka_unit_test(test_grid_furnace),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

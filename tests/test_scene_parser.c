@@ -1310,8 +1310,8 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "phimax"));
-    assert_true(has_warning(&s, "MakeNamedMedium \"smoke\": type \"cloud\" is not rendered (homogeneous is); the "
-                                "medium is rendered as vacuum"));
+    assert_true(has_warning(&s, "MakeNamedMedium \"smoke\": type \"cloud\" is not rendered (homogeneous, uniformgrid "
+                                "and rgbgrid are); the medium is rendered as vacuum"));
     for (size_t i = 0; i < s.warning_count; ++i)
         assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
     scene_destroy(&s);
@@ -1374,29 +1374,62 @@ static void test_media(void **state)
     assert_vec3(s.media[0].sigma_a, 2, 2, 2);
     scene_destroy(&s);
 
-    /* The grid types are read and checked, then refused (with
+    /* Grids: their values, box and transform kept. */
+    load_ok("Translate 1 2 3\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" "
+            "[ 0.5 1 ] \"float Lescale\" [ 1 2 ] \"rgb Le\" [ 1 1 1 ] \"point3 p0\" [ -1 0 0 ] \"point3 p1\" [ 1 2 4 ] "
+            "\"rgb sigma_a\" [ 1 2 3 ] \"float scale\" 2\n"
+            "MakeNamedMedium \"n\" \"string type\" \"uniformgrid\" \"float density\" [ 3 ]\n"
+            "MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"integer ny\" 2 \"rgb sigma_s\" [ 1 1 1 2 2 2 ] "
+            "\"float Lescale\" 3 \"float scale\" 0.5\n" WORLD,
+            &s);
+    const SceneMedium *grid = &s.media[0];
+    assert_int_equal(grid->type, SCENE_MEDIUM_UNIFORM_GRID);
+    assert_int_equal(grid->rendered, 1);
+    assert_int_equal(grid->size[0], 2);
+    assert_int_equal(grid->size[1] * grid->size[2], 1);
+    assert_near(grid->density[0], 0.5, 0);
+    assert_near(grid->density[1], 1, 0);
+    assert_near(grid->le_scale[1], 2, 0);
+    assert_int_equal(grid->le_size[0], 2);
+    assert_vec3(grid->sigma_a, 2, 4, 6);
+    assert_vec3(grid->sigma_s, 2, 2, 2);
+    assert_vec3(grid->emission, 1, 1, 1);
+    assert_vec3(grid->bounds[0], -1, 0, 0);
+    assert_vec3(grid->bounds[1], 1, 2, 4);
+    assert_vec3(grid->world_from_medium[3], 1, 2, 3); /* the CTM's translation */
+    assert_int_equal(s.media[1].le_size[0] * s.media[1].le_size[1] * s.media[1].le_size[2], 1); /* Lescale: 1 */
+    assert_near(s.media[1].le_scale[0], 1, 0);
+    assert_vec3(s.media[1].bounds[1], 1, 1, 1);
+    const SceneMedium *rgb = &s.media[2];
+    assert_int_equal(rgb->type, SCENE_MEDIUM_RGB_GRID);
+    assert_null(rgb->rgb_sigma_a);
+    assert_near(rgb->rgb_sigma_s[3], 2, 0);
+    assert_vec3(rgb->sigma_s, 0.5, 0.5, 0.5);
+    assert_vec3(rgb->emission, 3, 3, 3);
+    scene_destroy(&s);
+
+    /* The types not rendered are read and checked, then refused (with
      * allow_unsupported: vacuum). */
     unsigned char nvdb[16] = "NanoVDB0";
     write_bytes("cloud.nvdb", nvdb, sizeof nvdb);
-    static const char *const grids[] = {
-        "\"uniformgrid\" \"integer nx\" 2 \"float density\" [ 0.5 1 ] \"float Lescale\" [ 1 2 ] \"rgb Le\" [ 1 1 1 ] "
-        "\"point3 p0\" [ 0 0 0 ] \"point3 p1\" [ 1 1 1 ] \"rgb sigma_a\" [ 1 1 1 ]",
+    static const char *const unrendered[] = {
         "\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
         "\"float temperaturescale\" 2 \"float temperatureoffset\" 100",
-        "\"rgbgrid\" \"integer ny\" 2 \"rgb sigma_a\" [ 1 1 1 2 2 2 ] \"rgb Le\" [ 0 0 0 1 0 0 ] \"float g\" -0.5",
         "\"cloud\" \"float density\" 2 \"float wispiness\" 0.5 \"float frequency\" 4",
         "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
     };
-    static const char *const types[] = {"uniformgrid", "uniformgrid", "rgbgrid", "cloud", "nanovdb"};
-    for (size_t i = 0; i < sizeof grids / sizeof grids[0]; ++i) {
+    static const char *const types[] = {"uniformgrid\" with a temperature grid", "cloud\"", "nanovdb\""};
+    for (size_t i = 0; i < sizeof unrendered / sizeof unrendered[0]; ++i) {
         char text[512], message[128];
-        snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, grids[i]);
+        snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, unrendered[i]);
         assert_int_equal(load_text("grid.pbrt", text, &s, 1), 0);
-        snprintf(message, sizeof message, "type \"%s\" is not rendered (homogeneous is)", types[i]);
+        snprintf(message, sizeof message, "type \"%s is not rendered (homogeneous, uniformgrid and rgbgrid are)",
+                 types[i]);
         if (!has_warning(&s, message))
-            fail_msg("%s: no warning \"%s\"", grids[i], message);
+            fail_msg("%s: no warning \"%s\"", unrendered[i], message);
         assert_int_equal(s.medium_count, 1);
-        assert_int_equal(s.media[0].type, i < 2 ? SCENE_MEDIUM_UNIFORM_GRID : SCENE_MEDIUM_RGB_GRID + (int)i - 2);
+        assert_int_equal(s.media[0].type, SCENE_MEDIUM_UNIFORM_GRID + (i == 0 ? 0 : (int)i + 1));
+        assert_int_equal(s.media[0].rendered, 0);
         scene_destroy(&s);
         load_fails(text, 1, message);
     }
@@ -1433,6 +1466,11 @@ static void test_media(void **state)
         "MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"rgb Le\" [ 1 1 1 ] \"rgb sigma_s\" [ 1 1 1 ]\n" WORLD, 1,
         "\"Le\" needs \"sigma_a\"");
     load_fails("MakeNamedMedium \"m\" \"string type\" \"rgbgrid\"\n" WORLD, 1, "\"sigma_a\" or \"sigma_s\" values");
+    load_fails(
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \"point3 p1\" [ 1 0 1 ]\n" WORLD,
+        1, "\"p1\" must exceed \"p0\"");
+    load_fails("Scale 1 0 1\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ]\n" WORLD, 2,
+               "the transform is singular");
     load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\"\n" WORLD, 1, "\"filename\" is required");
     load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"none.nvdb\"\n" WORLD, 1,
                "cannot open");

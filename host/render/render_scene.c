@@ -45,6 +45,7 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->light_nodes);
     free(scene->light_trails);
     free(scene->media);
+    free(scene->medium_values);
     free(scene->medium_interfaces);
     free(scene->primitive_media);
     bvh_destroy(&scene->bvh);
@@ -91,6 +92,8 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.media_count = scene->constants.media.count;
     a.primitive_media = scene->primitive_media;
     a.primitive_media_count = scene->primitive_media ? (size_t)scene->bvh.primitive_count : 0;
+    a.medium_values = scene->medium_values;
+    a.medium_values_count = scene->medium_value_count;
     return a;
 }
 
@@ -338,6 +341,17 @@ static float *grow_floats(float **array, size_t *count, size_t *capacity, size_t
     float *start = *array + *count;
     *count += more;
     return start;
+}
+
+int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count)
+{
+    if (scene->medium_value_count + count > INT32_MAX)
+        return -1;
+    float *at = grow_floats(&scene->medium_values, &scene->medium_value_count, &scene->medium_value_capacity, count);
+    if (!at)
+        return -1;
+    memcpy(at, values, count * sizeof *at);
+    return (int32_t)(at - scene->medium_values);
 }
 
 /* Writes a CDF of n values f (n + 1 entries, 0 to 1); uniform when f sums to 0. */

@@ -77,6 +77,8 @@ typedef struct {
      * order (NULL until render_scene_set_media) and in the BVH's order. */
     Medium *media;
     int medium_capacity;
+    float *medium_values; /* the grids' values (Medium) */
+    size_t medium_value_count, medium_value_capacity;
     uint32_t *medium_interfaces;
     size_t medium_interface_capacity; /* in primitives */
     uint32_t *primitive_media;
@@ -137,6 +139,9 @@ int render_scene_set_alpha(RenderScene *scene, float alpha, int texture);
  * keep the ray's medium); the camera's medium is constants.media's
  * camera_medium. Returns 0, or -1 when out of memory. */
 int render_scene_add_medium(RenderScene *scene, const Medium *medium);
+/* Appends a grid's values for a Medium; returns the first one's index, or
+ * -1 when out of memory. */
+int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count);
 int render_scene_set_media(RenderScene *scene, int inside, int outside);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform

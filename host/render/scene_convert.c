@@ -534,8 +534,77 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
     return 0;
 }
 
+/* medium_from_world of a grid medium: world points to the unit cube of
+ * its box (rows of an affine map). Returns 0, or -1 when singular. */
+static int grid_transform(const SceneMedium *in, float out[3][4])
+{
+    double m[3][4], inv[3][4]; /* world_from_medium's rows, and its inverse */
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            m[r][c] = in->world_from_medium[c][r];
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(fabs(det) > 1e-30))
+        return -1;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+            inv[r][c] = (m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]) / det; /* cofactor, transposed */
+        }
+    for (int r = 0; r < 3; ++r)
+        inv[r][3] = -(inv[r][0] * m[0][3] + inv[r][1] * m[1][3] + inv[r][2] * m[2][3]);
+    for (int r = 0; r < 3; ++r) {
+        double extent = (double)in->bounds[1][r] - in->bounds[0][r];
+        for (int c = 0; c < 4; ++c)
+            out[r][c] = (float)((inv[r][c] - (c == 3 ? in->bounds[0][r] : 0.0)) / extent);
+    }
+    return 0;
+}
+
+/* A grid medium's values and majorant (the largest sigma_t of any cell
+ * and channel: trilinear lookups never exceed it). Returns 0, or 1 when
+ * out of memory. */
+static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
+{
+    size_t n = (size_t)in->size[0] * in->size[1] * in->size[2];
+    for (int k = 0; k < 3; ++k) {
+        m->size[k] = (uint32_t)in->size[k];
+        m->le_size[k] = (uint32_t)in->le_size[k];
+    }
+    m->density = m->le_scale = m->rgb_sigma_a = m->rgb_sigma_s = m->rgb_le = -1;
+    double majorant = 0.0;
+    if (in->type == SCENE_MEDIUM_UNIFORM_GRID) {
+        m->type = MEDIUM_UNIFORM_GRID;
+        double densest = 0.0, sigma_t = 0.0;
+        for (size_t i = 0; i < n; ++i)
+            densest = fmax(densest, in->density[i]);
+        for (int k = 0; k < 3; ++k)
+            sigma_t = fmax(sigma_t, (double)in->sigma_a[k] + in->sigma_s[k]);
+        majorant = densest * sigma_t;
+        size_t le_n = (size_t)in->le_size[0] * in->le_size[1] * in->le_size[2];
+        if ((m->density = render_scene_add_medium_values(out, in->density, n)) < 0 ||
+            (m->le_scale = render_scene_add_medium_values(out, in->le_scale, le_n)) < 0)
+            return 1;
+    } else {
+        m->type = MEDIUM_RGB_GRID;
+        for (size_t i = 0; i < n; ++i)
+            for (int k = 0; k < 3; ++k) {
+                double a = in->rgb_sigma_a ? in->rgb_sigma_a[3 * i + k] : 1.0;
+                double s = in->rgb_sigma_s ? in->rgb_sigma_s[3 * i + k] : 1.0;
+                majorant = fmax(majorant, (a * in->sigma_a[k] + s * in->sigma_s[k]));
+            }
+        if ((in->rgb_sigma_a && (m->rgb_sigma_a = render_scene_add_medium_values(out, in->rgb_sigma_a, 3 * n)) < 0) ||
+            (in->rgb_sigma_s && (m->rgb_sigma_s = render_scene_add_medium_values(out, in->rgb_sigma_s, 3 * n)) < 0) ||
+            (in->rgb_le && (m->rgb_le = render_scene_add_medium_values(out, in->rgb_le, 3 * n)) < 0))
+            return 1;
+    }
+    /* A little above the largest value, so float lookups stay under it. */
+    m->majorant = (float)(majorant * (1.0 + 1e-5));
+    return 0;
+}
+
 /* The media the render traces: none unless the integrator renders media
- * and something (the camera, a shape's interface) is in a homogeneous one;
+ * and something (the camera, a shape's interface) is in one it renders;
  * the other types are vacuum (the reader allowed them as unsupported).
  * *map_out: per scene medium its render index or -1, NULL without media.
  * Returns 0, or 1 when out of memory. */
@@ -549,7 +618,7 @@ static int convert_media(const Scene *scene, RenderScene *out, int **map_out)
         return 1;
     int next = 0;
     for (size_t i = 0; i < scene->medium_count; ++i)
-        map[i] = scene->media[i].type == SCENE_MEDIUM_HOMOGENEOUS ? next++ : -1;
+        map[i] = scene->media[i].rendered ? next++ : -1;
     int camera = scene->camera_medium >= 0 ? map[scene->camera_medium] : -1, used = camera >= 0;
     for (size_t i = 0; i < scene->shape_count && !used; ++i) {
         const SceneShape *shape = &scene->shapes[i];
@@ -566,7 +635,11 @@ static int convert_media(const Scene *scene, RenderScene *out, int **map_out)
         memcpy(m.sigma_s, in->sigma_s, sizeof m.sigma_s);
         memcpy(m.emission, in->emission, sizeof m.emission);
         m.g = in->g;
-        if (render_scene_add_medium(out, &m) < 0) {
+        m.type = MEDIUM_HOMOGENEOUS;
+        if (in->type != SCENE_MEDIUM_HOMOGENEOUS &&
+            (grid_transform(in, m.medium_from_world) || grid_medium(in, out, &m)))
+            map[i] = -2; /* out of memory (the reader refuses singular transforms) */
+        if (map[i] == -2 || render_scene_add_medium(out, &m) < 0) {
             free(map);
             return 1;
         }

@@ -188,22 +188,39 @@ static int read_homogeneous(Parser *p, Lexer *lex, const Token *d, ParamList *pa
                    "used",
                    params->owner, preset))
         return -1;
+    m->rendered = 1;
     return read_coefficients(p, lex, d, params, from_preset, m) || read_emission(p, lex, d, params, m) ? -1 : 0;
 }
 
-/* A grid's "nx", "ny", "nz" (default 1, at least 1): their product. */
-static int grid_size(Parser *p, Lexer *lex, const Token *d, ParamList *params, size_t *count)
+/* A grid's "nx", "ny", "nz" (default 1, at least 1) and their product. */
+static int grid_size(Parser *p, Lexer *lex, const Token *d, ParamList *params, int n[3], size_t *count)
 {
-    int n[3] = {1, 1, 1};
     static const char *const names[3] = {"nx", "ny", "nz"};
     *count = 1;
     for (int k = 0; k < 3; ++k) {
+        n[k] = 1;
         if (params_get_int(params, names[k], &n[k]) < 0)
             return -1;
         if (n[k] < 1)
             return scene_error(&p->diag, lex->path, d->line, "%s: \"%s\" must be at least 1", params->owner, names[k]);
         *count *= (size_t)n[k];
     }
+    return 0;
+}
+
+/* A copy of a numeric parameter's values as floats (NULL when absent).
+ * Returns 0 or -1. */
+static int copy_values(Parser *p, Lexer *lex, const Token *d, ParamList *params, const char *name, ParamType type,
+                       float **out)
+{
+    const Param *param = NULL;
+    *out = NULL;
+    if (params_get_array(params, name, type, &param) <= 0)
+        return 0; /* absent (an error was reported by grid_values) */
+    if (!(*out = malloc((param->count ? param->count : 1) * sizeof **out)))
+        return out_of_memory(p, lex->path, d->line);
+    for (size_t i = 0; i < param->count; ++i)
+        (*out)[i] = (float)param->numbers[i];
     return 0;
 }
 
@@ -229,18 +246,38 @@ static int grid_values(Parser *p, Lexer *lex, const Token *d, ParamList *params,
     return 0;
 }
 
-/* The box the grid spans in the medium's space, "p0" to "p1". */
-static void ignore_bounds(ParamList *params)
+/* The box the grid spans in the medium's space, "p0" to "p1" (default
+ * the unit cube), each side longer than 0; the CTM places the medium. */
+static int read_bounds(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
-    params_ignore(params, "p0");
-    params_ignore(params, "p1");
+    static const char *const names[2] = {"p0", "p1"};
+    for (int i = 0; i < 2; ++i) {
+        const Param *param = NULL;
+        int found = params_get_array(params, names[i], PARAM_POINT3, &param);
+        if (found < 0)
+            return -1;
+        if (found && param->count != 3)
+            return params_error(params, param, "expected one point (3 values), got %zu values", param->count);
+        for (int k = 0; k < 3; ++k)
+            m->bounds[i][k] = found ? (float)param->numbers[k] : (float)i;
+    }
+    for (int k = 0; k < 3; ++k)
+        if (!(m->bounds[1][k] > m->bounds[0][k]))
+            return scene_error(&p->diag, lex->path, d->line, "%s: \"p1\" must exceed \"p0\" along every axis",
+                               params->owner);
+    memcpy(m->world_from_medium, p->state.ctm, sizeof m->world_from_medium);
+    if (!(fabs(glm_mat3_det((mat3){{p->state.ctm[0][0], p->state.ctm[0][1], p->state.ctm[0][2]},
+                                   {p->state.ctm[1][0], p->state.ctm[1][1], p->state.ctm[1][2]},
+                                   {p->state.ctm[2][0], p->state.ctm[2][1], p->state.ctm[2][2]}})) > 1e-30))
+        return scene_error(&p->diag, lex->path, d->line, "%s: the transform is singular", params->owner);
+    return 0;
 }
 
 static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
     size_t n;
     const Param *le = NULL, *temperature = NULL;
-    if (grid_size(p, lex, d, params, &n) || grid_values(p, lex, d, params, "density", PARAM_FLOAT, n, 1) ||
+    if (grid_size(p, lex, d, params, m->size, &n) || grid_values(p, lex, d, params, "density", PARAM_FLOAT, n, 1) ||
         grid_values(p, lex, d, params, "temperature", PARAM_FLOAT, n, 0) ||
         params_get_array(params, "temperature", PARAM_FLOAT, &temperature) < 0)
         return -1;
@@ -256,17 +293,28 @@ static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *p
         grid_values(p, lex, d, params, "Lescale", PARAM_FLOAT, n, 0) ||
         params_get_float(params, "temperatureoffset", &unused) < 0 ||
         params_get_float(params, "temperaturecutoff", &unused) < 0 ||
-        params_get_float(params, "temperaturescale", &unused) < 0)
+        params_get_float(params, "temperaturescale", &unused) < 0 || read_bounds(p, lex, d, params, m) ||
+        read_coefficients(p, lex, d, params, 0, m) ||
+        copy_values(p, lex, d, params, "density", PARAM_FLOAT, &m->density) ||
+        copy_values(p, lex, d, params, "Lescale", PARAM_FLOAT, &m->le_scale))
         return -1;
-    ignore_bounds(params);
-    return read_coefficients(p, lex, d, params, 0, m);
+    if (m->le_scale) {
+        memcpy(m->le_size, m->size, sizeof m->le_size);
+    } else { /* pbrt-v4's one cell of 1 (its Le's normalisation, applied to Le here) */
+        if (!(m->le_scale = malloc(sizeof *m->le_scale)))
+            return out_of_memory(p, lex->path, d->line);
+        m->le_scale[0] = 1.0f;
+        m->le_size[0] = m->le_size[1] = m->le_size[2] = 1;
+    }
+    m->rendered = !temperature; /* blackbody emission from a temperature grid is not rendered */
+    return 0;
 }
 
 static int read_rgb_grid(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
     size_t n;
     const Param *sigma_a = NULL, *sigma_s = NULL, *le = NULL;
-    if (grid_size(p, lex, d, params, &n) || params_get_array(params, "sigma_a", PARAM_RGB, &sigma_a) < 0 ||
+    if (grid_size(p, lex, d, params, m->size, &n) || params_get_array(params, "sigma_a", PARAM_RGB, &sigma_a) < 0 ||
         params_get_array(params, "sigma_s", PARAM_RGB, &sigma_s) < 0 ||
         params_get_array(params, "Le", PARAM_RGB, &le) < 0)
         return -1;
@@ -281,9 +329,16 @@ static int read_rgb_grid(Parser *p, Lexer *lex, const Token *d, ParamList *param
         grid_values(p, lex, d, params, "Le", PARAM_RGB, n, 0) ||
         get_float_in(p, lex, d, params, "scale", 0.0f, FLT_MAX, &scale) ||
         get_float_in(p, lex, d, params, "Lescale", 0.0f, FLT_MAX, &le_scale) ||
-        get_float_in(p, lex, d, params, "g", -0.999f, 0.999f, &m->g))
+        get_float_in(p, lex, d, params, "g", -0.999f, 0.999f, &m->g) || read_bounds(p, lex, d, params, m) ||
+        copy_values(p, lex, d, params, "sigma_a", PARAM_RGB, &m->rgb_sigma_a) ||
+        copy_values(p, lex, d, params, "sigma_s", PARAM_RGB, &m->rgb_sigma_s) ||
+        copy_values(p, lex, d, params, "Le", PARAM_RGB, &m->rgb_le))
         return -1;
-    ignore_bounds(params);
+    for (int k = 0; k < 3; ++k) {
+        m->sigma_a[k] = m->sigma_s[k] = scale;
+        m->emission[k] = le_scale;
+    }
+    m->rendered = 1;
     return 0;
 }
 
@@ -293,8 +348,7 @@ static int read_cloud(Parser *p, Lexer *lex, const Token *d, ParamList *params, 
     if (get_float_in(p, lex, d, params, "density", 0.0f, FLT_MAX, &density) ||
         params_get_float(params, "wispiness", &wispiness) < 0 || params_get_float(params, "frequency", &frequency) < 0)
         return -1;
-    ignore_bounds(params);
-    return read_coefficients(p, lex, d, params, 0, m);
+    return read_bounds(p, lex, d, params, m) || read_coefficients(p, lex, d, params, 0, m) ? -1 : 0;
 }
 
 /* A NanoVDB file: pbrt-v4 reads its "density" grid (and "temperature");
@@ -381,10 +435,12 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
     }
     if (result == 0)
         result = params_check_unused(&params);
-    if (result == 0 && m.type != SCENE_MEDIUM_HOMOGENEOUS)
+    if (result == 0 && !m.rendered)
         result = scene_unsupported(&p->diag, lex->path, d->line, "the medium is rendered as vacuum",
-                                   "MakeNamedMedium \"%s\": type \"%s\" is not rendered (homogeneous is)",
-                                   p->scene->media[index].name, type);
+                                   "MakeNamedMedium \"%s\": type \"%s\"%s is not rendered (homogeneous, "
+                                   "uniformgrid and rgbgrid are)",
+                                   p->scene->media[index].name, type,
+                                   m.type == SCENE_MEDIUM_UNIFORM_GRID ? " with a temperature grid" : "");
     char origin[512];
     snprintf(origin, sizeof origin, "%s:%d", lex->path, d->line);
     if (result == 0 && !(m.origin = scene_strndup(origin, strlen(origin))))
@@ -393,6 +449,12 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
         m.name = p->scene->media[index].name;
         p->scene->media[index] = m;
         p->medium_names[index].defined = 1;
+    } else {
+        free(m.density);
+        free(m.le_scale);
+        free(m.rgb_sigma_a);
+        free(m.rgb_sigma_s);
+        free(m.rgb_le);
     }
     params_free(&params);
     return result;

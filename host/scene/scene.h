@@ -336,17 +336,34 @@ typedef enum {
 /* A participating medium. Homogeneous: absorption and scattering
  * coefficients (per unit of world length: "sigma_a", "sigma_s" or a
  * "preset", times "scale"), emitted radiance ("Le" normalised as an
- * emitter's, times "Lescale") and the Henyey-Greenstein asymmetry "g". The
- * grid types are read and checked but not rendered (the renderer takes
- * them as vacuum under allow_unsupported): their fields hold their
- * sigma_a, sigma_s (times scale) and g only. */
+ * emitter's, times "Lescale") and the Henyey-Greenstein asymmetry "g".
+ * Grids have size[0] x size[1] x size[2] cells (x fastest) over the box
+ * bounds[0]..bounds[1] ("p0", "p1") of the medium's space, placed in the
+ * world by world_from_medium (the CTM at MakeNamedMedium), looked up as
+ * pbrt-v4 does (trilinear between cell centres, 0 outside). uniformgrid:
+ * sigma_a, sigma_s and emission are per unit of `density` (one value a
+ * cell) and the emission is scaled by the `le_scale` grid ("Lescale",
+ * le_size cells; one cell of 1 when not given). rgbgrid: rgb_sigma_a,
+ * rgb_sigma_s, rgb_le (3 values a cell; NULL: 1, 1 and 0), sigma_a and
+ * sigma_s holding "scale" and emission "Lescale" in each channel. The
+ * other types (cloud, nanovdb, uniformgrid with temperature) are read and
+ * checked but not rendered: the renderer takes them as vacuum under
+ * allow_unsupported (`rendered` 0). */
 typedef struct {
     char *name;
     SceneMediumType type;
+    int rendered;
     float sigma_a[3], sigma_s[3];
     float emission[3];
     float g;
-    char *origin; /* "file:line" of its MakeNamedMedium */
+    int size[3];
+    float *density;
+    int le_size[3];
+    float *le_scale;
+    float *rgb_sigma_a, *rgb_sigma_s, *rgb_le;
+    float bounds[2][3];
+    float world_from_medium[4][4]; /* column-major, [column][row] like cglm's mat4 */
+    char *origin;                  /* "file:line" of its MakeNamedMedium */
 } SceneMedium;
 
 typedef struct {

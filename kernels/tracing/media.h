@@ -11,10 +11,23 @@
  * channels): each channel's estimate is unbiased, whichever channel was
  * picked. A homogeneous medium's transmittance and emission along a
  * segment have closed forms (ratio tracking against a majorant equal to
- * the extinction would return them exactly), so they carry no noise. */
+ * the extinction would return them exactly), so they carry no noise.
+ *
+ * Grid media are tracked against one majorant, the largest extinction of
+ * any cell and channel (grey): weighted delta tracking samples tentative
+ * collisions from it, and at each one scatters with probability
+ * P = mean(sigma_s) / majorant, weighing the path per channel by
+ * sigma_s / (majorant P), else goes on weighed by
+ * (majorant - sigma_t) / (majorant (1 - P)) (absorption is in these
+ * weights): unbiased per channel for any such P (the null-scattering path
+ * integral). Emission is added at every tentative collision, weighed by
+ * sigma_a Le / majorant. Shadow rays use ratio tracking: the product of
+ * (majorant - sigma_t) / majorant over the tentative collisions. Both
+ * track only where the ray is inside the grid's box. */
 #ifndef KERNELS_MEDIA_H
 #define KERNELS_MEDIA_H
 
+#include "sampler.h"
 #include "scene.h"
 
 /* Each medium segment of a path takes its two random numbers from its own
@@ -24,6 +37,142 @@
 KERNEL_FN Vec3 medium_sigma_t(GLOBAL const Medium *m)
 {
     return v_add(vec3_from_global(m->sigma_a), vec3_from_global(m->sigma_s));
+}
+
+/* A grid's value at u (unit-cube coordinates) as pbrt-v4's SampledGrid
+ * looks it up: trilinear between the cells' centres, cells outside the
+ * grid 0. `channels` values a cell (1: the value in all three). */
+KERNEL_FN Vec3 grid_lookup(GLOBAL const float *values, GLOBAL const uint32_t *size, int channels, Vec3 u)
+{
+    float p[3] = {u.x * (float)size[0] - 0.5f, u.y * (float)size[1] - 0.5f, u.z * (float)size[2] - 0.5f};
+    int cell[3];
+    float d[3];
+    for (int k = 0; k < 3; ++k) {
+        cell[k] = (int)p[k];
+        cell[k] -= (float)cell[k] > p[k]; /* floor */
+        d[k] = p[k] - (float)cell[k];
+    }
+    Vec3 sum = vec3(0.0f, 0.0f, 0.0f);
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = cell[0] + (corner & 1), y = cell[1] + ((corner >> 1) & 1), z = cell[2] + (corner >> 2);
+        if (x < 0 || y < 0 || z < 0 || x >= (int)size[0] || y >= (int)size[1] || z >= (int)size[2])
+            continue;
+        float w = ((corner & 1) ? d[0] : 1.0f - d[0]) * (((corner >> 1) & 1) ? d[1] : 1.0f - d[1]) *
+                  ((corner >> 2) ? d[2] : 1.0f - d[2]);
+        GLOBAL const float *v =
+            values + ((size_t)((uint32_t)z * size[1] + (uint32_t)y) * size[0] + (uint32_t)x) * (size_t)channels;
+        sum = v_add(sum, v_scale(channels == 3 ? vec3(v[0], v[1], v[2]) : vec3(v[0], v[0], v[0]), w));
+    }
+    return sum;
+}
+
+/* A grid medium's point in its unit cube. */
+KERNEL_FN Vec3 grid_point(GLOBAL const Medium *m, Vec3 p)
+{
+    GLOBAL const float(*r)[4] = m->medium_from_world;
+    return vec3(r[0][0] * p.x + r[0][1] * p.y + r[0][2] * p.z + r[0][3],
+                r[1][0] * p.x + r[1][1] * p.y + r[1][2] * p.z + r[1][3],
+                r[2][0] * p.x + r[2][1] * p.y + r[2][2] * p.z + r[2][3]);
+}
+
+/* A grid medium's coefficients and emitted radiance at world point p. */
+KERNEL_FN void grid_medium_at(const Scene *scene, GLOBAL const Medium *m, Vec3 p, Vec3 *sigma_a, Vec3 *sigma_s,
+                              Vec3 *le)
+{
+    Vec3 u = grid_point(m, p), one = vec3(1.0f, 1.0f, 1.0f);
+    GLOBAL const float *values = scene->medium_values;
+    if (m->type == MEDIUM_UNIFORM_GRID) {
+        float density = grid_lookup(values + m->density, m->size, 1, u).x;
+        *sigma_a = v_scale(vec3_from_global(m->sigma_a), density);
+        *sigma_s = v_scale(vec3_from_global(m->sigma_s), density);
+        *le = v_scale(vec3_from_global(m->emission), grid_lookup(values + m->le_scale, m->le_size, 1, u).x);
+        return;
+    }
+    *sigma_a = v_scale(m->rgb_sigma_a >= 0 ? grid_lookup(values + m->rgb_sigma_a, m->size, 3, u) : one, m->sigma_a[0]);
+    *sigma_s = v_scale(m->rgb_sigma_s >= 0 ? grid_lookup(values + m->rgb_sigma_s, m->size, 3, u) : one, m->sigma_s[0]);
+    *le = m->rgb_le >= 0 ? v_scale(grid_lookup(values + m->rgb_le, m->size, 3, u), m->emission[0])
+                         : vec3(0.0f, 0.0f, 0.0f);
+}
+
+/* Where the ray origin + t direction, t in [0, t_max), is inside the grid's
+ * box: [*t0, *t1). Returns 0 when nowhere. */
+KERNEL_FN int grid_span(GLOBAL const Medium *m, Vec3 origin, Vec3 direction, float t_max, float *t0, float *t1)
+{
+    GLOBAL const float(*r)[4] = m->medium_from_world;
+    Vec3 o = grid_point(m, origin);
+    float o3[3] = {o.x, o.y, o.z}, near = 0.0f, far = t_max;
+    for (int k = 0; k < 3; ++k) {
+        float d = r[k][0] * direction.x + r[k][1] * direction.y + r[k][2] * direction.z;
+        if (d == 0.0f) {
+            if (o3[k] < 0.0f || o3[k] > 1.0f)
+                return 0;
+            continue;
+        }
+        float a = -o3[k] / d, b = (1.0f - o3[k]) / d;
+        near = fmax(near, fmin(a, b));
+        far = fmin(far, fmax(a, b));
+    }
+    *t0 = near;
+    *t1 = far;
+    return near < far;
+}
+
+/* Weighted delta tracking through a grid medium along [0, t_max) (see
+ * the top): returns 1 with *t where the path scatters, 0 when it passes;
+ * *beta takes the weights, *emitted (with emit) the emission times *beta.
+ * Each tentative collision draws two numbers at *dimension. */
+KERNEL_FN int grid_sample_distance(const Scene *scene, GLOBAL const Medium *m, Vec3 origin, Vec3 direction, float t_max,
+                                   const SampleStream *stream, uint32_t *dimension, int emit, Vec3 *beta, Vec3 *emitted,
+                                   float *t)
+{
+    float t0, t1, majorant = m->majorant;
+    if (!(majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
+        return 0;
+    for (float s = t0;;) {
+        float u1, u2;
+        sample_2d(stream, *dimension, &u1, &u2);
+        *dimension += 2u;
+        s -= log_float(1.0f - u1) / majorant;
+        if (!(s < t1))
+            return 0;
+        Vec3 sigma_a, sigma_s, le;
+        grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
+        if (emit)
+            *emitted = v_add(*emitted, v_scale(v_mul(*beta, v_mul(sigma_a, le)), 1.0f / majorant));
+        float scatter = fmin((sigma_s.x + sigma_s.y + sigma_s.z) / (3.0f * majorant), 1.0f);
+        if (u2 < scatter) {
+            *beta = v_scale(v_mul(*beta, sigma_s), 1.0f / (majorant * scatter));
+            *t = s;
+            return 1;
+        }
+        Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
+        sigma_n = vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f));
+        *beta = v_scale(v_mul(*beta, sigma_n), 1.0f / (majorant * (1.0f - scatter)));
+        if (!(v_max_component(*beta) > 0.0f))
+            return 0;
+    }
+}
+
+/* Ratio tracking through a grid medium along [0, t_max): its
+ * transmittance, estimated. */
+KERNEL_FN Vec3 grid_transmittance(const Scene *scene, GLOBAL const Medium *m, Vec3 origin, Vec3 direction, float t_max,
+                                  const SampleStream *stream, uint32_t *dimension)
+{
+    float t0, t1, majorant = m->majorant;
+    Vec3 tr = vec3(1.0f, 1.0f, 1.0f);
+    if (!(majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
+        return tr;
+    for (float s = t0;;) {
+        s -= log_float(1.0f - sample_1d(stream, *dimension)) / majorant;
+        *dimension += 2u;
+        if (!(s < t1) || !(v_max_component(tr) > 0.0f))
+            return tr;
+        Vec3 sigma_a, sigma_s, le;
+        grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
+        Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
+        tr = v_mul(tr,
+                   v_scale(vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f)), 1.0f / majorant));
+    }
 }
 
 /* exp(-sigma_t t) per channel; 1 where sigma_t is 0 (also for t infinite). */
@@ -95,7 +244,7 @@ KERNEL_FN int medium_sample_distance(GLOBAL const Medium *m, float t_max, float 
  * material blocks it, else the product of the media's transmittances over
  * the segments between interface surfaces, which it passes. */
 KERNEL_FN Vec3 shadow_transmittance(const Scene *scene, Vec3 origin, Vec3 direction, float distance, int medium,
-                                    uint32_t *rays)
+                                    const SampleStream *stream, uint32_t *dimension, uint32_t *rays)
 {
     Vec3 tr = vec3(1.0f, 1.0f, 1.0f);
     Vec3 target = v_add(origin, v_scale(direction, distance));
@@ -103,8 +252,13 @@ KERNEL_FN Vec3 shadow_transmittance(const Scene *scene, Vec3 origin, Vec3 direct
         Ray ray = make_ray(origin, direction);
         Hit hit;
         int found = scene_intersect(scene, &ray, 0.0f, distance, 0, &hit);
-        if (medium >= 0)
-            tr = v_mul(tr, medium_transmittance(medium_sigma_t(scene->media + medium), found ? hit.t : distance));
+        if (medium >= 0) {
+            GLOBAL const Medium *m = scene->media + medium;
+            float t = found ? hit.t : distance;
+            tr = v_mul(tr, m->type == MEDIUM_HOMOGENEOUS
+                               ? medium_transmittance(medium_sigma_t(m), t)
+                               : grid_transmittance(scene, m, origin, direction, t, stream, dimension));
+        }
         if (!found)
             return tr;
         GLOBAL const Primitive *prim = scene->primitives + hit.primitive;

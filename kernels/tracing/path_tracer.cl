@@ -87,15 +87,16 @@ KERNEL_FN Vec3 emitted(__global const Light *light, Vec3 n, Vec3 w)
  * scaled by the transmittance, from `medium`, or from the side of
  * `primitive` (-1: none, a point in a medium) the ray leaves to. */
 KERNEL_FN int light_visible(const Scene *scene, Vec3 origin, float distance, int32_t primitive, Vec3 n, int medium,
-                            LightSample *s, uint *rays)
+                            const SampleStream *stream, uint *dimension, LightSample *s, uint *rays)
 {
 #if GMON_HAS_MEDIA
     if (primitive >= 0)
         medium = medium_after(scene, primitive, n, s->wi, medium);
-    s->radiance = v_mul(s->radiance, shadow_transmittance(scene, origin, s->wi, distance, medium, rays));
+    s->radiance =
+        v_mul(s->radiance, shadow_transmittance(scene, origin, s->wi, distance, medium, stream, dimension, rays));
     return v_max_component(s->radiance) > 0.0f;
 #else
-    (void)primitive, (void)n, (void)medium, (void)rays;
+    (void)primitive, (void)n, (void)medium, (void)stream, (void)dimension, (void)rays;
     return !occluded(scene, origin, s->wi, distance);
 #endif
 }
@@ -103,9 +104,10 @@ KERNEL_FN int light_visible(const Scene *scene, Vec3 origin, float distance, int
 /* Next-event estimation at a surface (of primitive `primitive`, normal n)
  * or at a point in a medium (n = 0, primitive -1): picks a light
  * (pick_light_at) and samples it; its radiance reaching p and density
- * (solid angle, with the pick). Returns 0 if none. */
+ * (solid angle, with the pick). Grid media's transmittance draws random
+ * numbers from stream at *dimension on. Returns 0 if none. */
 KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, int32_t primitive, int medium, float u_pick, float u1,
-                           float u2, LightSample *s, uint *rays)
+                           float u2, const SampleStream *stream, uint *dimension, LightSample *s, uint *rays)
 {
     if (scene->constants->integrator.light_count == 0)
         return 0;
@@ -122,7 +124,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, int32_t primitive
     ++*rays;
     Vec3 origin = offset_origin(p, n, s->wi);
     if (!(s->distance < INFINITY))
-        return light_visible(scene, origin, INFINITY, primitive, n, medium, s, rays);
+        return light_visible(scene, origin, INFINITY, primitive, n, medium, stream, dimension, s, rays);
     /* Aim from the offset origin at the sampled point itself: a ray
      * parallel to p's would cross a light's plane before that point at
      * grazing angles (by offset / cos), and the light would shadow itself. */
@@ -131,7 +133,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, int32_t primitive
     if (!(distance > 0.0f))
         return 0;
     s->wi = v_scale(to_light, 1.0f / distance);
-    return light_visible(scene, origin, distance * (1.0f - 1e-4f), primitive, n, medium, s, rays);
+    return light_visible(scene, origin, distance * (1.0f - 1e-4f), primitive, n, medium, stream, dimension, s, rays);
 }
 
 /* Adds a contribution to the radiance and, with TRACK_DIRECT, to its
@@ -186,9 +188,10 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
     int specular_bounce = 0;
 #if GMON_HAS_MEDIA
     int medium = scene->constants->media.count > 0 ? scene->constants->media.camera_medium : -1;
-    uint segment = 0; /* medium segments so far: each has its own random dimensions */
+    uint medium_dimension = MEDIUM_DIMENSION; /* the next of the media's own random dimensions */
 #else
     const int medium = -1;
+    uint medium_dimension = 0;
 #endif
     for (uint depth = 0;; ++depth) {
         Hit hit;
@@ -204,13 +207,24 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             found = scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit);
             if (medium >= 0) {
                 __global const Medium *m = scene->media + medium;
-                float t_max = found ? hit.t : INFINITY, t = 0.0f, u1, u2;
-                if (depth < integrator->max_depth) /* as pbrt-v4: no emission past the last bounce */
-                    ADD_LIGHT(v_mul(throughput, medium_emission(m, t_max)), depth <= 1);
-                sample_2d(stream, MEDIUM_DIMENSION + 2 * segment++, &u1, &u2);
-                Vec3 weight;
-                scattered = medium_sample_distance(m, t_max, u1, u2, &t, &weight);
-                throughput = v_mul(throughput, weight);
+                float t_max = found ? hit.t : INFINITY, t = 0.0f;
+                int emit = depth < integrator->max_depth; /* as pbrt-v4: no emission past the last bounce */
+                if (m->type == MEDIUM_HOMOGENEOUS) {
+                    float u1, u2;
+                    if (emit)
+                        ADD_LIGHT(v_mul(throughput, medium_emission(m, t_max)), depth <= 1);
+                    sample_2d(stream, medium_dimension, &u1, &u2);
+                    medium_dimension += 2u;
+                    Vec3 weight;
+                    scattered = medium_sample_distance(m, t_max, u1, u2, &t, &weight);
+                    throughput = v_mul(throughput, weight);
+                } else {
+                    Vec3 emitted = vec3(0.0f, 0.0f, 0.0f);
+                    scattered = grid_sample_distance(scene, m, origin, direction, t_max, stream, &medium_dimension,
+                                                     emit, &throughput, &emitted, &t);
+                    if (emit)
+                        ADD_LIGHT(emitted, depth <= 1);
+                }
                 if (scattered) {
                     origin = v_add(origin, v_scale(direction, t));
                     break;
@@ -234,8 +248,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             if (use_nee) {
                 LightSample ls;
                 sample_2d(stream, dim + 1, &u1, &u2);
-                if (sample_light(scene, origin, vec3(0.0f, 0.0f, 0.0f), -1, medium, sample_1d(stream, dim), u1, u2, &ls,
-                                 rays)) {
+                if (sample_light(scene, origin, vec3(0.0f, 0.0f, 0.0f), -1, medium, sample_1d(stream, dim), u1, u2,
+                                 stream, &medium_dimension, &ls, rays)) {
                     float phase = hg_phase(wo, ls.wi, g);
                     float weight = ls.is_delta ? 1.0f : power_heuristic(ls.pdf, phase);
                     ADD_LIGHT(v_scale(v_mul(throughput, ls.radiance), phase * weight / ls.pdf), depth == 0);
@@ -322,7 +336,8 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             LightSample ls;
             float u1, u2;
             sample_2d(stream, dim + 1, &u1, &u2);
-            if (sample_light(scene, p, n, hit.primitive, medium, sample_1d(stream, dim), u1, u2, &ls, rays)) {
+            if (sample_light(scene, p, n, hit.primitive, medium, sample_1d(stream, dim), u1, u2, stream,
+                             &medium_dimension, &ls, rays)) {
                 Vec3 wi = vec3(v_dot(ls.wi, s), v_dot(ls.wi, t), v_dot(ls.wi, ns));
                 float bsdf_pdf = 0.0f;
                 Vec3 f = bsdf_eval(material, wo, wi, &bsdf_pdf);

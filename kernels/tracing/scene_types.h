@@ -410,17 +410,36 @@ typedef struct {
     uint32_t unbounded_lights; /* lights[0, this): the infinite, then the distant ones */
 } IntegratorData;
 
-/* A homogeneous participating medium (FEATURE_MEDIA): absorption and
- * scattering coefficients per unit of world length, per channel, the
- * radiance it emits (per unit of absorption, as pbrt-v4's Le) and the
- * Henyey-Greenstein asymmetry g. 48 bytes. */
+/* Medium.type */
+#define MEDIUM_HOMOGENEOUS 0u
+#define MEDIUM_UNIFORM_GRID 1u /* sigma_a, sigma_s, emission times a density grid (and a Lescale grid) */
+#define MEDIUM_RGB_GRID 2u     /* RGB grids of sigma_a, sigma_s and Le */
+
+/* A participating medium (FEATURE_MEDIA): absorption and scattering
+ * coefficients per unit of world length, per channel, the radiance it
+ * emits (per unit of absorption, as pbrt-v4's Le) and the
+ * Henyey-Greenstein asymmetry g. Grids (media.h, medium_at): their values
+ * in medium_values, size[0] x size[1] x size[2] cells (x fastest) over the
+ * unit cube that medium_from_world (rows of an affine map) takes world
+ * points to; uniformgrid: the density grid at `density` multiplies sigma_a,
+ * sigma_s and emission, the emission also the le_size grid at `le_scale`;
+ * rgbgrid: RGB grids (3 values a cell, or -1: sigma 1, Le 0) times
+ * sigma_a[0], sigma_s[0] ("scale"), emission[0] ("Lescale"). `majorant`
+ * bounds sigma_t over the cube in every channel. 144 bytes. */
 typedef struct {
     float sigma_a[3];
     float g;
     float sigma_s[3];
-    float pad0;
+    uint32_t type;
     float emission[3];
-    float pad1;
+    float majorant;
+    float medium_from_world[3][4];
+    uint32_t size[3];
+    int32_t density;
+    uint32_t le_size[3];
+    int32_t le_scale;
+    int32_t rgb_sigma_a, rgb_sigma_s, rgb_le;
+    uint32_t pad;
 } Medium;
 
 /* primitive_media[i], primitive i's (in the BVH's order) MediumInterface:
@@ -486,7 +505,8 @@ typedef struct {
     ARRAY(instances, Instance)                                                                                         \
     ARRAY(alphas, AlphaSlot)                                                                                           \
     ARRAY(media, Medium)                                                                                               \
-    ARRAY(primitive_media, uint32_t)
+    ARRAY(primitive_media, uint32_t)                                                                                   \
+    ARRAY(medium_values, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
@@ -498,7 +518,7 @@ _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout"
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(LightNode) == 64, "LightNode must match the kernel's layout");
-_Static_assert(sizeof(Medium) == 48, "Medium must match the kernel's layout");
+_Static_assert(sizeof(Medium) == 144, "Medium must match the kernel's layout");
 _Static_assert(sizeof(SceneConstants) == 256, "SceneConstants must match the kernel's layout");
 #endif
 
