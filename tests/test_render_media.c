@@ -166,7 +166,6 @@ static int add_grid(RenderScene *scene, const float *density, const float sigma_
     Medium m;
     memset(&m, 0, sizeof m);
     m.g = g;
-    float majorant = 0.0f;
     for (int k = 0; k < 3; ++k) {
         m.medium_from_world[k][k] = 1.0f / 6.0f;
         m.medium_from_world[k][3] = 0.5f;
@@ -183,9 +182,6 @@ static int add_grid(RenderScene *scene, const float *density, const float sigma_
             memcpy(m.emission, le, sizeof m.emission);
         m.density = render_scene_add_medium_values(scene, density, CELLS);
         m.le_scale = render_scene_add_medium_values(scene, &one, 1);
-        for (int i = 0; i < CELLS; ++i)
-            for (int k = 0; k < 3; ++k)
-                majorant = fmaxf(majorant, density[i] * (sigma_a[k] + sigma_s[k]));
     } else {
         m.type = MEDIUM_RGB_GRID;
         for (int k = 0; k < 3; ++k) {
@@ -196,10 +192,7 @@ static int add_grid(RenderScene *scene, const float *density, const float sigma_
         m.rgb_sigma_s = render_scene_add_medium_values(scene, rgb_sigma_s, 3 * CELLS);
         if (rgb_le)
             m.rgb_le = render_scene_add_medium_values(scene, rgb_le, 3 * CELLS);
-        for (int i = 0; i < 3 * CELLS; ++i)
-            majorant = fmaxf(majorant, rgb_sigma_a[i] + rgb_sigma_s[i]);
     }
-    m.majorant = majorant * 1.0001f;
     int index = render_scene_add_medium(scene, &m);
     assert_true(index >= 0);
     return index;

@@ -199,6 +199,57 @@ int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const
     return 0;
 }
 
+/* A grid medium's largest sigma_t (any channel) in cell i: uniformgrid's
+ * density times its largest sigma_a + sigma_s, rgbgrid's coefficients (1
+ * where a grid is absent) times scale. */
+static double cell_sigma_t(const RenderScene *scene, const Medium *m, size_t i)
+{
+    const float *v = scene->medium_values;
+    double largest = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        int uniform = m->type == MEDIUM_UNIFORM_GRID;
+        double a = uniform ? v[m->density + i] : m->rgb_sigma_a >= 0 ? v[m->rgb_sigma_a + 3 * i + (size_t)k] : 1.0;
+        double s = uniform ? v[m->density + i] : m->rgb_sigma_s >= 0 ? v[m->rgb_sigma_s + 3 * i + (size_t)k] : 1.0;
+        largest = fmax(largest, a * m->sigma_a[k] + s * m->sigma_s[k]);
+    }
+    return largest;
+}
+
+/* pbrt-v4's majorant grid: per cell of a MEDIUM_MAJORANT_GRID^3 division
+ * of the unit cube, the largest sigma_t of the grid cells a trilinear
+ * lookup in it may read (those whose centres are within one cell of it),
+ * a little above, so float lookups stay under it; m->majorant the largest
+ * of all. Returns 0, or -1 when out of memory. */
+static int add_majorant_grid(RenderScene *scene, Medium *m)
+{
+    enum { R = MEDIUM_MAJORANT_GRID };
+    float grid[R * R * R];
+    double overall = 0.0;
+    for (int z = 0; z < R; ++z)
+        for (int y = 0; y < R; ++y)
+            for (int x = 0; x < R; ++x) {
+                int at[3] = {x, y, z}, lo[3], hi[3];
+                for (int k = 0; k < 3; ++k) {
+                    int n = (int)m->size[k];
+                    lo[k] = (int)floor((double)at[k] / R * n - 0.5);
+                    hi[k] = (int)floor((double)(at[k] + 1) / R * n - 0.5) + 1;
+                    lo[k] = lo[k] < 0 ? 0 : lo[k];
+                    hi[k] = hi[k] > n - 1 ? n - 1 : hi[k];
+                }
+                double largest = 0.0;
+                for (int k = lo[2]; k <= hi[2]; ++k)
+                    for (int j = lo[1]; j <= hi[1]; ++j)
+                        for (int i = lo[0]; i <= hi[0]; ++i) {
+                            size_t cell = ((size_t)k * m->size[1] + (size_t)j) * m->size[0] + (size_t)i;
+                            largest = fmax(largest, cell_sigma_t(scene, m, cell));
+                        }
+                grid[(z * R + y) * R + x] = (float)(largest * (1.0 + 1e-5));
+                overall = fmax(overall, largest);
+            }
+    m->majorant = (float)(overall * (1.0 + 1e-5));
+    return (m->majorants = render_scene_add_medium_values(scene, grid, R * R * R)) < 0 ? -1 : 0;
+}
+
 int render_scene_add_medium(RenderScene *scene, const Medium *medium)
 {
     int count = (int)scene->constants.media.count;
@@ -206,6 +257,8 @@ int render_scene_add_medium(RenderScene *scene, const Medium *medium)
         reserve_one((void **)&scene->media, count, &scene->medium_capacity, sizeof *scene->media))
         return -1;
     scene->media[count] = *medium;
+    if (medium->type != MEDIUM_HOMOGENEOUS && add_majorant_grid(scene, &scene->media[count]))
+        return -1;
     scene->constants.media.count++;
     return count;
 }

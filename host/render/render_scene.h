@@ -133,7 +133,8 @@ int render_scene_add_instance(RenderScene *scene, int object, const double world
 int render_scene_set_alpha(RenderScene *scene, float alpha, int texture);
 
 /* Participating media: render_scene_add_medium returns the medium's index
- * (-1 when out of memory or past MEDIUM_MAX_COUNT);
+ * (-1 when out of memory or past MEDIUM_MAX_COUNT); for a grid (its
+ * values added before) it computes the majorant grid and majorant;
  * render_scene_set_media gives the primitive just added its media behind
  * and in front of it (indices, or -1 for vacuum; primitives without one
  * keep the ray's medium); the camera's medium is constants.media's

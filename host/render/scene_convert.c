@@ -561,9 +561,8 @@ static int grid_transform(const SceneMedium *in, float out[3][4])
     return 0;
 }
 
-/* A grid medium's values and majorant (the largest sigma_t of any cell
- * and channel: trilinear lookups never exceed it). Returns 0, or 1 when
- * out of memory. */
+/* A grid medium's values (render_scene_add_medium adds its majorants).
+ * Returns 0, or 1 when out of memory. */
 static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
 {
     size_t n = (size_t)in->size[0] * in->size[1] * in->size[2];
@@ -572,34 +571,19 @@ static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
         m->le_size[k] = (uint32_t)in->le_size[k];
     }
     m->density = m->le_scale = m->rgb_sigma_a = m->rgb_sigma_s = m->rgb_le = -1;
-    double majorant = 0.0;
     if (in->type == SCENE_MEDIUM_UNIFORM_GRID) {
         m->type = MEDIUM_UNIFORM_GRID;
-        double densest = 0.0, sigma_t = 0.0;
-        for (size_t i = 0; i < n; ++i)
-            densest = fmax(densest, in->density[i]);
-        for (int k = 0; k < 3; ++k)
-            sigma_t = fmax(sigma_t, (double)in->sigma_a[k] + in->sigma_s[k]);
-        majorant = densest * sigma_t;
         size_t le_n = (size_t)in->le_size[0] * in->le_size[1] * in->le_size[2];
         if ((m->density = render_scene_add_medium_values(out, in->density, n)) < 0 ||
             (m->le_scale = render_scene_add_medium_values(out, in->le_scale, le_n)) < 0)
             return 1;
     } else {
         m->type = MEDIUM_RGB_GRID;
-        for (size_t i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k) {
-                double a = in->rgb_sigma_a ? in->rgb_sigma_a[3 * i + k] : 1.0;
-                double s = in->rgb_sigma_s ? in->rgb_sigma_s[3 * i + k] : 1.0;
-                majorant = fmax(majorant, (a * in->sigma_a[k] + s * in->sigma_s[k]));
-            }
         if ((in->rgb_sigma_a && (m->rgb_sigma_a = render_scene_add_medium_values(out, in->rgb_sigma_a, 3 * n)) < 0) ||
             (in->rgb_sigma_s && (m->rgb_sigma_s = render_scene_add_medium_values(out, in->rgb_sigma_s, 3 * n)) < 0) ||
             (in->rgb_le && (m->rgb_le = render_scene_add_medium_values(out, in->rgb_le, 3 * n)) < 0))
             return 1;
     }
-    /* A little above the largest value, so float lookups stay under it. */
-    m->majorant = (float)(majorant * (1.0 + 1e-5));
     return 0;
 }
 

@@ -1,26 +1,29 @@
 /* Participating media (FEATURE_MEDIA): which medium a ray is in, distance
- * sampling, transmittance and emission of homogeneous media, for the
+ * sampling, transmittance and emission of homogeneous and grid media, for the
  * volumetric path tracer in path_tracer.cl (docs/design.md, "Participating
  * media"). Host-buildable for the tests.
  *
  * RGB media have one extinction per channel, so no single exponential
  * distance matches all three. A distance is sampled from one channel's
- * exponential, the channel picked uniformly, and weighed by the density of
- * the mixture of the three (the balance heuristic over the channels, the
- * one-sample spectral MIS of pbrt-v4's hero wavelength, with three
- * channels): each channel's estimate is unbiased, whichever channel was
- * picked. A homogeneous medium's transmittance and emission along a
+ * exponential, the channel picked with a chance proportional to the path's
+ * throughput in it, and weighed by the density of the mixture of the
+ * three (the balance heuristic over the channels, the one-sample spectral
+ * MIS of pbrt-v4's hero wavelength, with three channels): each channel's
+ * estimate is unbiased, whichever channel was picked, and the
+ * throughput's channel sum never grows. A homogeneous medium's transmittance and emission along a
  * segment have closed forms (ratio tracking against a majorant equal to
  * the extinction would return them exactly), so they carry no noise.
  *
- * Grid media are tracked against one majorant, the largest extinction of
- * any cell and channel (grey): weighted delta tracking samples tentative
- * collisions from it, and at each one scatters with probability
- * P = mean(sigma_s) / majorant, weighing the path per channel by
- * sigma_s / (majorant P), else goes on weighed by
- * (majorant - sigma_t) / (majorant (1 - P)) (absorption is in these
- * weights): unbiased per channel for any such P (the null-scattering path
- * integral). Emission is added at every tentative collision, weighed by
+ * Grid media are tracked against grey majorants, the largest extinction of
+ * any channel in each cell of a 16^3 majorant grid over the medium's box
+ * (pbrt-v4's MajorantGrid, walked by a DDA): weighted delta tracking
+ * samples tentative collisions from them, and at each one scatters,
+ * goes on (a null collision) or is absorbed with chances proportional to
+ * beta . sigma_s, beta . sigma_n and beta . sigma_a (beta the path's
+ * throughput, sigma_n = majorant - sigma_t), weighing the path per channel
+ * by sigma / (majorant P) of the event (Kutz et al. 2017's spectral
+ * tracking): unbiased per channel, and the throughput's channel sum never
+ * grows. Emission is added at every tentative collision, weighed by
  * sigma_a Le / majorant. Shadow rays use ratio tracking: the product of
  * (majorant - sigma_t) / majorant over the tentative collisions. Both
  * track only where the ray is inside the grid's box. */
@@ -117,6 +120,57 @@ KERNEL_FN int grid_span(GLOBAL const Medium *m, Vec3 origin, Vec3 direction, flo
     return near < far;
 }
 
+/* A walk through the majorant grid's cells along a ray (a 3D DDA): the
+ * current cell, where the ray enters it (t) and the next crossing of
+ * each axis' cell planes. */
+typedef struct {
+    float t, t1;
+    int cell[3], step[3];
+    float next[3], delta[3];
+} MajorantWalk;
+
+KERNEL_FN void majorant_walk_start(GLOBAL const Medium *m, Vec3 origin, Vec3 direction, float t0, float t1,
+                                   MajorantWalk *w)
+{
+    GLOBAL const float(*r)[4] = m->medium_from_world;
+    const float cells = (float)MEDIUM_MAJORANT_GRID;
+    Vec3 o = grid_point(m, v_add(origin, v_scale(direction, t0)));
+    float p[3] = {o.x, o.y, o.z};
+    w->t = t0;
+    w->t1 = t1;
+    for (int k = 0; k < 3; ++k) {
+        float d = r[k][0] * direction.x + r[k][1] * direction.y + r[k][2] * direction.z;
+        int c = (int)(p[k] * cells);
+        c = c < 0 ? 0 : (c > MEDIUM_MAJORANT_GRID - 1 ? MEDIUM_MAJORANT_GRID - 1 : c);
+        w->cell[k] = c;
+        w->step[k] = d > 0.0f ? 1 : -1;
+        w->next[k] = d > 0.0f   ? t0 + ((float)(c + 1) / cells - p[k]) / d
+                     : d < 0.0f ? t0 + ((float)c / cells - p[k]) / d
+                                : INFINITY;
+        w->delta[k] = d != 0.0f ? 1.0f / (cells * fabs(d)) : INFINITY;
+    }
+}
+
+/* The current cell's majorant, and where along the ray the ray leaves it. */
+KERNEL_FN float majorant_cell(const Scene *scene, GLOBAL const Medium *m, const MajorantWalk *w, float *end)
+{
+    *end = fmin(fmin(w->next[0], w->next[1]), fmin(w->next[2], w->t1));
+    int index = (w->cell[2] * MEDIUM_MAJORANT_GRID + w->cell[1]) * MEDIUM_MAJORANT_GRID + w->cell[0];
+    return scene->medium_values[m->majorants + index];
+}
+
+/* Moves to the next cell; 0 when the walk is past t1 or the grid. */
+KERNEL_FN int majorant_walk_next(MajorantWalk *w)
+{
+    int axis = w->next[0] < w->next[1] ? (w->next[0] < w->next[2] ? 0 : 2) : (w->next[1] < w->next[2] ? 1 : 2);
+    if (!(w->next[axis] < w->t1))
+        return 0;
+    w->t = w->next[axis];
+    w->cell[axis] += w->step[axis];
+    w->next[axis] += w->delta[axis];
+    return w->cell[axis] >= 0 && w->cell[axis] < MEDIUM_MAJORANT_GRID;
+}
+
 /* Weighted delta tracking through a grid medium along [0, t_max) (see
  * the top): returns 1 with *t where the path scatters, 0 when it passes;
  * *beta takes the weights, *emitted (with emit) the emission times *beta.
@@ -125,32 +179,44 @@ KERNEL_FN int grid_sample_distance(const Scene *scene, GLOBAL const Medium *m, V
                                    const SampleStream *stream, uint32_t *dimension, int emit, Vec3 *beta, Vec3 *emitted,
                                    float *t)
 {
-    float t0, t1, majorant = m->majorant;
-    if (!(majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
+    float t0, t1;
+    if (!(m->majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
         return 0;
-    for (float s = t0;;) {
-        float u1, u2;
-        sample_2d(stream, *dimension, &u1, &u2);
-        *dimension += 2u;
-        s -= log_float(1.0f - u1) / majorant;
-        if (!(s < t1))
-            return 0;
-        Vec3 sigma_a, sigma_s, le;
-        grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
-        if (emit)
-            *emitted = v_add(*emitted, v_scale(v_mul(*beta, v_mul(sigma_a, le)), 1.0f / majorant));
-        float scatter = fmin((sigma_s.x + sigma_s.y + sigma_s.z) / (3.0f * majorant), 1.0f);
-        if (u2 < scatter) {
-            *beta = v_scale(v_mul(*beta, sigma_s), 1.0f / (majorant * scatter));
-            *t = s;
-            return 1;
+    MajorantWalk walk;
+    majorant_walk_start(m, origin, direction, t0, t1, &walk);
+    do {
+        float end, majorant = majorant_cell(scene, m, &walk, &end);
+        /* Exponential steps are memoryless: each cell starts afresh. */
+        for (float s = walk.t; majorant > 0.0f;) {
+            float u1, u2;
+            sample_2d(stream, *dimension, &u1, &u2);
+            *dimension += 2u;
+            s -= log_float(1.0f - u1) / majorant;
+            if (!(s < end))
+                break;
+            Vec3 sigma_a, sigma_s, le;
+            grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
+            if (emit)
+                *emitted = v_add(*emitted, v_scale(v_mul(*beta, v_mul(sigma_a, le)), 1.0f / majorant));
+            /* Spectral tracking: each event's chance is its coefficient
+             * weighed by the throughput's channels. */
+            Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
+            sigma_n = vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f));
+            float total = majorant * (beta->x + beta->y + beta->z);
+            float scatter = v_dot(*beta, sigma_s) / total, go_on = v_dot(*beta, sigma_n) / total;
+            if (u2 < scatter) {
+                *beta = v_scale(v_mul(*beta, sigma_s), 1.0f / (majorant * scatter));
+                *t = s;
+                return 1;
+            }
+            if (!(u2 < scatter + go_on) || !(go_on > 0.0f)) { /* absorbed */
+                *beta = vec3(0.0f, 0.0f, 0.0f);
+                return 0;
+            }
+            *beta = v_scale(v_mul(*beta, sigma_n), 1.0f / (majorant * go_on));
         }
-        Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
-        sigma_n = vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f));
-        *beta = v_scale(v_mul(*beta, sigma_n), 1.0f / (majorant * (1.0f - scatter)));
-        if (!(v_max_component(*beta) > 0.0f))
-            return 0;
-    }
+    } while (majorant_walk_next(&walk));
+    return 0;
 }
 
 /* Ratio tracking through a grid medium along [0, t_max): its
@@ -158,21 +224,29 @@ KERNEL_FN int grid_sample_distance(const Scene *scene, GLOBAL const Medium *m, V
 KERNEL_FN Vec3 grid_transmittance(const Scene *scene, GLOBAL const Medium *m, Vec3 origin, Vec3 direction, float t_max,
                                   const SampleStream *stream, uint32_t *dimension)
 {
-    float t0, t1, majorant = m->majorant;
+    float t0, t1;
     Vec3 tr = vec3(1.0f, 1.0f, 1.0f);
-    if (!(majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
+    if (!(m->majorant > 0.0f) || !grid_span(m, origin, direction, t_max, &t0, &t1))
         return tr;
-    for (float s = t0;;) {
-        s -= log_float(1.0f - sample_1d(stream, *dimension)) / majorant;
-        *dimension += 2u;
-        if (!(s < t1) || !(v_max_component(tr) > 0.0f))
-            return tr;
-        Vec3 sigma_a, sigma_s, le;
-        grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
-        Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
-        tr = v_mul(tr,
-                   v_scale(vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f)), 1.0f / majorant));
-    }
+    MajorantWalk walk;
+    majorant_walk_start(m, origin, direction, t0, t1, &walk);
+    do {
+        float end, majorant = majorant_cell(scene, m, &walk, &end);
+        for (float s = walk.t; majorant > 0.0f;) {
+            s -= log_float(1.0f - sample_1d(stream, *dimension)) / majorant;
+            *dimension += 2u;
+            if (!(s < end))
+                break;
+            Vec3 sigma_a, sigma_s, le;
+            grid_medium_at(scene, m, v_add(origin, v_scale(direction, s)), &sigma_a, &sigma_s, &le);
+            Vec3 sigma_n = v_sub(vec3(majorant, majorant, majorant), v_add(sigma_a, sigma_s));
+            tr = v_mul(tr, v_scale(vec3(fmax(sigma_n.x, 0.0f), fmax(sigma_n.y, 0.0f), fmax(sigma_n.z, 0.0f)),
+                                   1.0f / majorant));
+            if (!(v_max_component(tr) > 0.0f))
+                return tr;
+        }
+    } while (majorant_walk_next(&walk));
+    return tr;
 }
 
 /* exp(-sigma_t t) per channel; 1 where sigma_t is 0 (also for t infinite). */
@@ -210,31 +284,36 @@ KERNEL_FN Vec3 medium_emission(GLOBAL const Medium *m, float t_max)
                 sigma_t.z > 0.0f ? le.z * (1.0f - tr.z) / sigma_t.z : 0.0f);
 }
 
-/* Samples where along a segment [0, t_max) of medium m a ray scatters
- * (t_max INFINITY: no surface behind). Returns 1 with *t the distance when
- * it scatters there, *weight = T(t) sigma_s / p(t); 0 when it passes the
- * segment, *weight = T(t_max) / P(pass). p(t) is the mean over the channels
- * of sigma_t exp(-sigma_t t), P(pass) the mean of exp(-sigma_t t_max). A
- * medium that does not scatter is passed with its transmittance. */
-KERNEL_FN int medium_sample_distance(GLOBAL const Medium *m, float t_max, float u_channel, float u_distance, float *t,
-                                     Vec3 *weight)
+/* Samples where along a segment [0, t_max) of medium m a path of
+ * throughput beta scatters (t_max INFINITY: no surface behind). Channel c
+ * is picked with chance q_c = beta_c / sum(beta). Returns 1 with *t the
+ * distance when it scatters there, *weight = T(t) sigma_s / p(t); 0 when it
+ * passes the segment, *weight = T(t_max) / P(pass); p(t) is the sum over
+ * the channels of q_c sigma_t exp(-sigma_t t), P(pass) that of
+ * q_c exp(-sigma_t t_max). So the new throughput's channels sum to at most
+ * the old's. A medium that does not scatter is passed with its
+ * transmittance. */
+KERNEL_FN int medium_sample_distance(GLOBAL const Medium *m, float t_max, Vec3 beta, float u_channel, float u_distance,
+                                     float *t, Vec3 *weight)
 {
     Vec3 sigma_t = medium_sigma_t(m), sigma_s = vec3_from_global(m->sigma_s);
-    if (v_max_component(sigma_s) <= 0.0f) {
+    float total = beta.x + beta.y + beta.z;
+    if (v_max_component(sigma_s) <= 0.0f || !(total > 0.0f)) {
         *weight = medium_transmittance(sigma_t, t_max);
         return 0;
     }
-    float channel = u_channel < 1.0f / 3.0f ? sigma_t.x : (u_channel < 2.0f / 3.0f ? sigma_t.y : sigma_t.z);
+    Vec3 q = v_scale(beta, 1.0f / total);
+    float channel = u_channel < q.x ? sigma_t.x : (u_channel < q.x + q.y ? sigma_t.y : sigma_t.z);
     float sampled = channel > 0.0f ? -log_float(1.0f - u_distance) / channel : INFINITY;
     if (sampled < t_max) {
         Vec3 tr = medium_transmittance(sigma_t, sampled);
-        float pdf = (sigma_t.x * tr.x + sigma_t.y * tr.y + sigma_t.z * tr.z) / 3.0f;
+        float pdf = v_dot(q, v_mul(sigma_t, tr));
         *t = sampled;
         *weight = pdf > 0.0f ? v_scale(v_mul(tr, sigma_s), 1.0f / pdf) : vec3(0.0f, 0.0f, 0.0f);
         return 1;
     }
     Vec3 tr = medium_transmittance(sigma_t, t_max);
-    float pass = (tr.x + tr.y + tr.z) / 3.0f;
+    float pass = v_dot(q, tr);
     *weight = pass > 0.0f ? v_scale(tr, 1.0f / pass) : vec3(0.0f, 0.0f, 0.0f);
     return 0;
 }

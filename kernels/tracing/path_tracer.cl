@@ -216,7 +216,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
                     sample_2d(stream, medium_dimension, &u1, &u2);
                     medium_dimension += 2u;
                     Vec3 weight;
-                    scattered = medium_sample_distance(m, t_max, u1, u2, &t, &weight);
+                    scattered = medium_sample_distance(m, t_max, throughput, u1, u2, &t, &weight);
                     throughput = v_mul(throughput, weight);
                 } else {
                     Vec3 emitted = vec3(0.0f, 0.0f, 0.0f);

@@ -424,8 +424,11 @@ typedef struct {
  * points to; uniformgrid: the density grid at `density` multiplies sigma_a,
  * sigma_s and emission, the emission also the le_size grid at `le_scale`;
  * rgbgrid: RGB grids (3 values a cell, or -1: sigma 1, Le 0) times
- * sigma_a[0], sigma_s[0] ("scale"), emission[0] ("Lescale"). `majorant`
- * bounds sigma_t over the cube in every channel. 144 bytes. */
+ * sigma_a[0], sigma_s[0] ("scale"), emission[0] ("Lescale"). The
+ * majorant grid, MEDIUM_MAJORANT_GRID^3 values at `majorants` (x fastest),
+ * bounds sigma_t in every channel over each of its cells of the cube (as
+ * pbrt-v4's MajorantGrid); `majorant` over the whole cube. 144 bytes. */
+#define MEDIUM_MAJORANT_GRID 16
 typedef struct {
     float sigma_a[3];
     float g;
@@ -439,7 +442,7 @@ typedef struct {
     uint32_t le_size[3];
     int32_t le_scale;
     int32_t rgb_sigma_a, rgb_sigma_s, rgb_le;
-    uint32_t pad;
+    int32_t majorants;
 } Medium;
 
 /* primitive_media[i], primitive i's (in the BVH's order) MediumInterface:
