@@ -1413,8 +1413,8 @@ static void test_media(void **state)
     unsigned char nvdb[16] = "NanoVDB0";
     write_bytes("cloud.nvdb", nvdb, sizeof nvdb);
     static const char *const unrendered[] = {
-        "\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
-        "\"float temperaturescale\" 2 \"float temperatureoffset\" 100",
+        ("\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
+         "\"float temperaturescale\" 2 \"float temperatureoffset\" 100"),
         "\"cloud\" \"float density\" 2 \"float wispiness\" 0.5 \"float frequency\" 4",
         "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
     };
