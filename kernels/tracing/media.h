@@ -37,6 +37,10 @@
  * dimensions, past any bounce's (camera.h keeps the lens higher still). */
 #define MEDIUM_DIMENSION 0x80000000u
 
+/* A ray crossing more interface boundaries than this in one step (a ray
+ * caught between coincident boundaries) ends: no infinite loop. */
+#define MEDIUM_MAX_CROSSINGS 256
+
 KERNEL_FN Vec3 medium_sigma_t(GLOBAL const Medium *m)
 {
     return v_add(vec3_from_global(m->sigma_a), vec3_from_global(m->sigma_s));
@@ -327,7 +331,7 @@ KERNEL_FN Vec3 shadow_transmittance(const Scene *scene, Vec3 origin, Vec3 direct
 {
     Vec3 tr = vec3(1.0f, 1.0f, 1.0f);
     Vec3 target = v_add(origin, v_scale(direction, distance));
-    for (int crossing = 0; crossing < 256; ++crossing) {
+    for (int crossing = 0; crossing < MEDIUM_MAX_CROSSINGS; ++crossing) {
         Ray ray = make_ray(origin, direction);
         Hit hit;
         int found = scene_intersect(scene, &ray, 0.0f, distance, 0, &hit);

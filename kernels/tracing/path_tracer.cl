@@ -201,7 +201,7 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         /* Along the ray through media and "interface" boundaries to where
          * it scatters: in a medium, or at a surface with a material. */
         int found, scattered = 0;
-        for (;;) {
+        for (int crossings = 0;; ++crossings) {
             Ray ray = make_ray(origin, direction);
             ++*rays;
             found = scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit);
@@ -232,6 +232,10 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             }
             if (!found || scene->materials[scene->primitives[hit.primitive].material].type != MAT_INTERFACE)
                 break;
+            if (crossings >= MEDIUM_MAX_CROSSINGS) {
+                throughput = vec3(0.0f, 0.0f, 0.0f); /* ends the path below */
+                break;
+            }
             __global const Primitive *boundary = scene->primitives + hit.primitive;
             Vec3 p = v_add(origin, v_scale(direction, hit.t));
             Vec3 n = hit_normal(scene, &hit, boundary, p);
