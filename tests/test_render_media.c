@@ -365,9 +365,29 @@ static void test_emission(void **state)
     render_scene_destroy(&scene);
 }
 
+/* pbrt-v4's cloud (density 3, wispiness 1, frequency 5) over [-3, 3]^3. */
+static int add_cloud(RenderScene *scene, const float sigma_a[3], const float sigma_s[3])
+{
+    Medium m;
+    memset(&m, 0, sizeof m);
+    m.type = MEDIUM_CLOUD;
+    memcpy(m.sigma_a, sigma_a, sizeof m.sigma_a);
+    memcpy(m.sigma_s, sigma_s, sizeof m.sigma_s);
+    for (int k = 0; k < 3; ++k) {
+        m.medium_from_world[k][k] = 1.0f / 6.0f;
+        m.medium_from_world[k][3] = 0.5f;
+    }
+    const float cloud[9] = {3, 1, 5, -3, -3, -3, 6, 6, 6};
+    m.density = render_scene_add_medium_values(scene, cloud, 9);
+    m.le_scale = m.rgb_sigma_a = m.rgb_sigma_s = m.rgb_le = -1;
+    int index = render_scene_add_medium(scene, &m);
+    assert_true(index >= 0);
+    return index;
+}
+
 /* Heterogeneous media: the furnace in a uniform grid of random densities
- * (scattering only), and with emission balancing absorption in an RGB
- * grid of random coefficients per cell and channel. */
+ * (scattering only), with emission balancing absorption in an RGB grid of
+ * random coefficients per cell and channel, and in pbrt-v4's cloud. */
 static void test_grid_furnace(void **state)
 {
     (void)state;
@@ -389,6 +409,9 @@ static void test_grid_furnace(void **state)
         render_scene_init(&scene);
         furnace_in(&scene, add_grid(&scene, NULL, NULL, NULL, NULL, rgb_a, rgb_s, rgb_le, -0.3f), nee,
                    nee ? "emitting RGB grid furnace, NEE" : "emitting RGB grid furnace, phase sampling only");
+        render_scene_init(&scene);
+        furnace_in(&scene, add_cloud(&scene, none, coloured), nee,
+                   nee ? "cloud furnace, NEE" : "cloud furnace, phase sampling only");
     }
 }
 

@@ -1290,7 +1290,8 @@ static void test_allow_unsupported_substitutes(void **state)
               "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
               "AreaLightSource \"goniometric\"\n" TRIANGLE                         /* does not emit */
               "Shape \"sphere\" \"float phimax\" 180\n"                            /* full sphere */
-              "MakeNamedMedium \"smoke\" \"string type\" \"cloud\"\n";             /* vacuum */
+              "MakeNamedMedium \"smoke\" \"string type\" \"uniformgrid\" \"float density\" 1 \"float temperature\" "
+              "900\n"; /* vacuum */
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
     assert_int_equal(s.triangle_count, 3);
@@ -1310,8 +1311,9 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "phimax"));
-    assert_true(has_warning(&s, "MakeNamedMedium \"smoke\": type \"cloud\" is not rendered (homogeneous, uniformgrid "
-                                "and rgbgrid are); the medium is rendered as vacuum"));
+    assert_true(has_warning(&s,
+                            "MakeNamedMedium \"smoke\": type \"uniformgrid\" with a temperature grid is not rendered "
+                            "(homogeneous, uniformgrid, rgbgrid and cloud are); the medium is rendered as vacuum"));
     for (size_t i = 0; i < s.warning_count; ++i)
         assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
     scene_destroy(&s);
@@ -1407,6 +1409,16 @@ static void test_media(void **state)
     assert_vec3(rgb->sigma_s, 0.5, 0.5, 0.5);
     assert_vec3(rgb->emission, 3, 3, 3);
     scene_destroy(&s);
+    load_ok("MakeNamedMedium \"c\" \"string type\" \"cloud\" \"float density\" 2 \"float wispiness\" 0.5 \"float "
+            "frequency\" 4 "
+            "\"point3 p1\" [ 2 1 1 ]\nMakeNamedMedium \"d\" \"string type\" \"cloud\"\n" WORLD,
+            &s);
+    assert_int_equal(s.media[0].type, SCENE_MEDIUM_CLOUD);
+    assert_int_equal(s.media[0].rendered, 1);
+    assert_vec3(s.media[0].cloud, 2, 0.5, 4);
+    assert_vec3(s.media[0].bounds[1], 2, 1, 1);
+    assert_vec3(s.media[1].cloud, 1, 1, 5); /* pbrt-v4's defaults */
+    scene_destroy(&s);
 
     /* The types not rendered are read and checked, then refused (with
      * allow_unsupported: vacuum). */
@@ -1415,20 +1427,19 @@ static void test_media(void **state)
     static const char *const unrendered[] = {
         ("\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
          "\"float temperaturescale\" 2 \"float temperatureoffset\" 100"),
-        "\"cloud\" \"float density\" 2 \"float wispiness\" 0.5 \"float frequency\" 4",
         "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
     };
-    static const char *const types[] = {"uniformgrid\" with a temperature grid", "cloud\"", "nanovdb\""};
+    static const char *const types[] = {"uniformgrid\" with a temperature grid", "nanovdb\""};
     for (size_t i = 0; i < sizeof unrendered / sizeof unrendered[0]; ++i) {
         char text[512], message[128];
         snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, unrendered[i]);
         assert_int_equal(load_text("grid.pbrt", text, &s, 1), 0);
-        snprintf(message, sizeof message, "type \"%s is not rendered (homogeneous, uniformgrid and rgbgrid are)",
+        snprintf(message, sizeof message, "type \"%s is not rendered (homogeneous, uniformgrid, rgbgrid and cloud are)",
                  types[i]);
         if (!has_warning(&s, message))
             fail_msg("%s: no warning \"%s\"", unrendered[i], message);
         assert_int_equal(s.medium_count, 1);
-        assert_int_equal(s.media[0].type, SCENE_MEDIUM_UNIFORM_GRID + (i == 0 ? 0 : (int)i + 1));
+        assert_int_equal(s.media[0].type, i == 0 ? SCENE_MEDIUM_UNIFORM_GRID : SCENE_MEDIUM_NANOVDB);
         assert_int_equal(s.media[0].rendered, 0);
         scene_destroy(&s);
         load_fails(text, 1, message);

@@ -207,6 +207,10 @@ static double cell_sigma_t(const RenderScene *scene, const Medium *m, size_t i)
     const float *v = scene->medium_values;
     double largest = 0.0;
     for (int k = 0; k < 3; ++k) {
+        if (m->type == MEDIUM_CLOUD) { /* its density is at most 1 */
+            largest = fmax(largest, (double)m->sigma_a[k] + m->sigma_s[k]);
+            continue;
+        }
         int uniform = m->type == MEDIUM_UNIFORM_GRID;
         double a = uniform ? v[m->density + i] : m->rgb_sigma_a >= 0 ? v[m->rgb_sigma_a + 3 * i + (size_t)k] : 1.0;
         double s = uniform ? v[m->density + i] : m->rgb_sigma_s >= 0 ? v[m->rgb_sigma_s + 3 * i + (size_t)k] : 1.0;
@@ -219,7 +223,8 @@ static double cell_sigma_t(const RenderScene *scene, const Medium *m, size_t i)
  * of the unit cube, the largest sigma_t of the grid cells a trilinear
  * lookup in it may read (those whose centres are within one cell of it),
  * a little above, so float lookups stay under it; m->majorant the largest
- * of all. Returns 0, or -1 when out of memory. */
+ * of all (a cloud's density is at most 1: sigma_t everywhere). Returns 0,
+ * or -1 when out of memory. */
 static int add_majorant_grid(RenderScene *scene, Medium *m)
 {
     enum { R = MEDIUM_MAJORANT_GRID };
@@ -230,7 +235,7 @@ static int add_majorant_grid(RenderScene *scene, Medium *m)
             for (int x = 0; x < R; ++x) {
                 int at[3] = {x, y, z}, lo[3], hi[3];
                 for (int k = 0; k < 3; ++k) {
-                    int n = (int)m->size[k];
+                    int n = m->type == MEDIUM_CLOUD ? 1 : (int)m->size[k];
                     lo[k] = (int)floor((double)at[k] / R * n - 0.5);
                     hi[k] = (int)floor((double)(at[k] + 1) / R * n - 0.5) + 1;
                     lo[k] = lo[k] < 0 ? 0 : lo[k];

@@ -571,7 +571,17 @@ static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
         m->le_size[k] = (uint32_t)in->le_size[k];
     }
     m->density = m->le_scale = m->rgb_sigma_a = m->rgb_sigma_s = m->rgb_le = -1;
-    if (in->type == SCENE_MEDIUM_UNIFORM_GRID) {
+    if (in->type == SCENE_MEDIUM_CLOUD) {
+        m->type = MEDIUM_CLOUD;
+        float cloud[9];
+        for (int k = 0; k < 3; ++k) {
+            cloud[k] = in->cloud[k];
+            cloud[3 + k] = in->bounds[0][k];
+            cloud[6 + k] = in->bounds[1][k] - in->bounds[0][k];
+        }
+        if ((m->density = render_scene_add_medium_values(out, cloud, 9)) < 0)
+            return 1;
+    } else if (in->type == SCENE_MEDIUM_UNIFORM_GRID) {
         m->type = MEDIUM_UNIFORM_GRID;
         size_t le_n = (size_t)in->le_size[0] * in->le_size[1] * in->le_size[2];
         if ((m->density = render_scene_add_medium_values(out, in->density, n)) < 0 ||

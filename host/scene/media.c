@@ -344,10 +344,14 @@ static int read_rgb_grid(Parser *p, Lexer *lex, const Token *d, ParamList *param
 
 static int read_cloud(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
-    float density = 1.0f, wispiness = 1.0f, frequency = 5.0f;
-    if (get_float_in(p, lex, d, params, "density", 0.0f, FLT_MAX, &density) ||
-        params_get_float(params, "wispiness", &wispiness) < 0 || params_get_float(params, "frequency", &frequency) < 0)
+    m->cloud[0] = 1.0f; /* density, wispiness, frequency: pbrt-v4's defaults */
+    m->cloud[1] = 1.0f;
+    m->cloud[2] = 5.0f;
+    if (get_float_in(p, lex, d, params, "density", 0.0f, FLT_MAX, &m->cloud[0]) ||
+        params_get_float(params, "wispiness", &m->cloud[1]) < 0 ||
+        params_get_float(params, "frequency", &m->cloud[2]) < 0)
         return -1;
+    m->rendered = 1;
     return read_bounds(p, lex, d, params, m) || read_coefficients(p, lex, d, params, 0, m) ? -1 : 0;
 }
 
@@ -438,7 +442,7 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
     if (result == 0 && !m.rendered)
         result = scene_unsupported(&p->diag, lex->path, d->line, "the medium is rendered as vacuum",
                                    "MakeNamedMedium \"%s\": type \"%s\"%s is not rendered (homogeneous, "
-                                   "uniformgrid and rgbgrid are)",
+                                   "uniformgrid, rgbgrid and cloud are)",
                                    p->scene->media[index].name, type,
                                    m.type == SCENE_MEDIUM_UNIFORM_GRID ? " with a temperature grid" : "");
     char origin[512];

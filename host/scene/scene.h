@@ -345,10 +345,12 @@ typedef enum {
  * cell) and the emission is scaled by the `le_scale` grid ("Lescale",
  * le_size cells; one cell of 1 when not given). rgbgrid: rgb_sigma_a,
  * rgb_sigma_s, rgb_le (3 values a cell; NULL: 1, 1 and 0), sigma_a and
- * sigma_s holding "scale" and emission "Lescale" in each channel. The
- * other types (cloud, nanovdb, uniformgrid with temperature) are read and
- * checked but not rendered: the renderer takes them as vacuum under
- * allow_unsupported (`rendered` 0). */
+ * sigma_s holding "scale" and emission "Lescale" in each channel. cloud:
+ * pbrt-v4's procedural cloud over bounds, `cloud` its density, wispiness
+ * and frequency, sigma_a and sigma_s per unit of its density. The other
+ * types (nanovdb, uniformgrid with temperature) are read and checked but
+ * not rendered: the renderer takes them as vacuum under allow_unsupported
+ * (`rendered` 0). */
 typedef struct {
     char *name;
     SceneMediumType type;
@@ -361,6 +363,7 @@ typedef struct {
     int le_size[3];
     float *le_scale;
     float *rgb_sigma_a, *rgb_sigma_s, *rgb_le;
+    float cloud[3];
     float bounds[2][3];
     float world_from_medium[4][4]; /* column-major, [column][row] like cglm's mat4 */
     char *origin;                  /* "file:line" of its MakeNamedMedium */

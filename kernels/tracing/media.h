@@ -32,6 +32,7 @@
 
 #include "sampler.h"
 #include "scene.h"
+#include "texture.h" /* Perlin noise, for clouds */
 
 /* Each medium segment of a path takes its two random numbers from its own
  * dimensions, past any bounce's (camera.h keeps the lens higher still). */
@@ -82,12 +83,51 @@ KERNEL_FN Vec3 grid_point(GLOBAL const Medium *m, Vec3 p)
                 r[2][0] * p.x + r[2][1] * p.y + r[2][2] * p.z + r[2][3]);
 }
 
+/* pbrt-v4's procedural cloud density at p (the medium's space): noise
+ * octaves at a point perturbed by noise's gradient (finite differences of
+ * 0.01, as pbrt-v4's DNoise), thinning with height, in [0, 1]. */
+KERNEL_FN float cloud_density(Vec3 p, float density, float wispiness, float frequency)
+{
+    Vec3 pp = v_scale(p, frequency);
+    float omega = 0.05f * wispiness, lambda = 10.0f;
+    for (int i = 0; i < 2 && wispiness > 0.0f; ++i) {
+        Vec3 q = v_scale(pp, lambda);
+        float n = noise_at(q);
+        Vec3 gradient = vec3((noise_at(v_add(q, vec3(0.01f, 0.0f, 0.0f))) - n) / 0.01f,
+                             (noise_at(v_add(q, vec3(0.0f, 0.01f, 0.0f))) - n) / 0.01f,
+                             (noise_at(v_add(q, vec3(0.0f, 0.0f, 0.01f))) - n) / 0.01f);
+        pp = v_add(pp, v_scale(gradient, omega));
+        omega *= 0.5f;
+        lambda *= 1.99f;
+    }
+    float d = 0.0f;
+    omega = 0.5f;
+    lambda = 1.0f;
+    for (int i = 0; i < 5; ++i) {
+        d += omega * noise_at(v_scale(pp, lambda));
+        omega *= 0.5f;
+        lambda *= 1.99f;
+    }
+    d = fmin(fmax((1.0f - p.y) * 4.5f * density * d, 0.0f), 1.0f);
+    d += 2.0f * fmax(0.0f, 0.5f - p.y);
+    return fmin(fmax(d, 0.0f), 1.0f);
+}
+
 /* A grid medium's coefficients and emitted radiance at world point p. */
 KERNEL_FN void grid_medium_at(const Scene *scene, GLOBAL const Medium *m, Vec3 p, Vec3 *sigma_a, Vec3 *sigma_s,
                               Vec3 *le)
 {
     Vec3 u = grid_point(m, p), one = vec3(1.0f, 1.0f, 1.0f);
     GLOBAL const float *values = scene->medium_values;
+    if (m->type == MEDIUM_CLOUD) {
+        GLOBAL const float *c = values + m->density;
+        Vec3 q = vec3(c[3] + u.x * c[6], c[4] + u.y * c[7], c[5] + u.z * c[8]);
+        float d = cloud_density(q, c[0], c[1], c[2]);
+        *sigma_a = v_scale(vec3_from_global(m->sigma_a), d);
+        *sigma_s = v_scale(vec3_from_global(m->sigma_s), d);
+        *le = vec3(0.0f, 0.0f, 0.0f);
+        return;
+    }
     if (m->type == MEDIUM_UNIFORM_GRID) {
         float density = grid_lookup(values + m->density, m->size, 1, u).x;
         *sigma_a = v_scale(vec3_from_global(m->sigma_a), density);
