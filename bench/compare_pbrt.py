@@ -76,8 +76,8 @@ REGION = 4  # pixels a region side
 REGION_MIN = 0.05  # regions compared: pbrt-v4 mean at least this fraction of the image mean
 LIT_MIN = 0.01  # lit pixels: pbrt-v4 mean at least this fraction of the image mean ...
 EMITTER = 50.0  # ... and at most this multiple of it
-MEDIA = ("cornell-box-volume",)
-LUMINANCE = (0.2126, 0.7152, 0.0722)  # Rec. 709 / sRGB primaries' Y  # folders whose scenes need participating media
+LUMINANCE = (0.2126, 0.7152, 0.0722)  # Rec. 709 / sRGB primaries' Y
+INTEGRATOR_VARIANTS = {}  # folder -> integrator: a row "the same with `Integrator "volpath"`" (scene_table)
 
 
 # ---------------------------------------------------------------- statistics
@@ -388,17 +388,38 @@ def read_seconds(path):
 
 def scene_table(renders):
     """folder -> (scene file relative to the scenes folder, width, height) from
-    the table in renders/README.md; rows without a .pbrt file are left out."""
-    table = {}
+    the table in renders/README.md; a row "the same with `Integrator "X"`"
+    takes the row above's file, its integrator replaced (INTEGRATOR_VARIANTS);
+    other rows without a .pbrt file are left out."""
+    table, last = {}, None
     readme = renders / "README.md"
     if not readme.is_file():
         raise FileNotFoundError(f"{readme} is missing")
     for line in readme.read_text().splitlines():
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) >= 3 and re.fullmatch(r"\d+x\d+", cells[2]) and cells[1].endswith(".pbrt"):
-            w, h = map(int, cells[2].split("x"))
+        if len(cells) < 3 or not re.fullmatch(r"\d+x\d+", cells[2]):
+            continue
+        w, h = map(int, cells[2].split("x"))
+        variant = re.fullmatch(r'the same with `Integrator "(\w+)"`', cells[1])
+        if cells[1].endswith(".pbrt"):
             table[cells[0]] = (cells[1], w, h)
+            last = cells[1]
+        elif variant and last:
+            table[cells[0]] = (last, w, h)
+            INTEGRATOR_VARIANTS[cells[0]] = variant.group(1)
     return table
+
+
+def integrator_variant(scene, integrator, directory):
+    """A copy of the scene in `directory` (beside links to its folder's
+    files) with its Integrator's type replaced; returns its path."""
+    directory.mkdir(parents=True, exist_ok=True)
+    for entry in scene.parent.iterdir():
+        if entry.name != scene.name and not (directory / entry.name).exists():
+            (directory / entry.name).symlink_to(entry)
+    copy = directory / scene.name
+    copy.write_text(re.sub(r'Integrator\s+"\w+"', f'Integrator "{integrator}"', scene.read_text(), count=1))
+    return copy
 
 
 def compare_scene(args, folder, scene, width, height, workdir, say):
@@ -570,9 +591,6 @@ def main(argv=None):
             return 2
     chosen = []
     for folder in requested or list(known):
-        if folder.startswith(MEDIA):
-            print(f"note: skipping {folder}: it needs participating media, which gmonrt does not render", file=sys.stderr)
-            continue
         scene = args.scene_dir / known[folder][0]
         if not scene.is_file():
             print(f"compare_pbrt.py: {folder}: scene file {scene} is missing", file=sys.stderr)
@@ -608,6 +626,8 @@ def main(argv=None):
         workdir = args.keep or Path(temporary)
         workdir.mkdir(parents=True, exist_ok=True)
         for folder, scene, width, height in chosen:
+            if folder in INTEGRATOR_VARIANTS:
+                scene = integrator_variant(scene, INTEGRATOR_VARIANTS[folder], workdir / f"{folder}-scene")
             try:
                 rows.append(compare_scene(args, folder, scene, width, height, workdir, say))
             except (RenderError, FileNotFoundError, ValueError) as e:

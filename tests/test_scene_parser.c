@@ -315,7 +315,7 @@ static void test_film_sampler_integrator_filter(void **state)
     load_fails(WORLD "Camera \"perspective\"\n", 2, "before WorldBegin");
     assert_int_equal(load_text("opt.pbrt", "Integrator \"volpath\"\nFilm \"gbuffer\"\n" WORLD, &s, 1), 0);
     assert_int_equal(s.warning_count, 1);
-    assert_int_equal(s.note_count, 1); /* volpath: the same image */
+    assert_int_equal(s.note_count, 0); /* volpath: the path tracer, volumetric where there are media */
     scene_destroy(&s);
 }
 
@@ -326,15 +326,18 @@ static void test_film_sampler_integrator_filter(void **state)
 static void test_integrators(void **state)
 {
     (void)state;
-    static const char *const same[] = {"volpath", "simplevolpath", "simplepath", "randomwalk"};
+    /* Those that render media in pbrt-v4 are rendered as volpath. */
+    static const char *const same[] = {"simplevolpath", "simplepath", "randomwalk"};
     for (size_t i = 0; i < sizeof same / sizeof same[0]; ++i) {
         Scene s;
-        char text[256], note[128];
+        char text[256], note[160];
         snprintf(text, sizeof text, "Integrator \"%s\" \"integer maxdepth\" 3\n" WORLD, same[i]);
         load_ok(text, &s);
         assert_int_equal(s.max_depth, 3);
         assert_int_equal(s.note_count, 1);
-        snprintf(note, sizeof note, ":1: note: Integrator \"%s\" is rendered by the path tracer", same[i]);
+        assert_int_equal(s.integrator_media, i < 1);
+        snprintf(note, sizeof note, ":1: note: Integrator \"%s\" is rendered by the path tracer (\"%s\")", same[i],
+                 i < 1 ? "volpath" : "path");
         if (!strstr(s.notes[0], note) || !strstr(s.notes[0], "the expected image is the same"))
             fail_msg("note \"%s\" lacks \"%s\"", s.notes[0], note);
         scene_destroy(&s);
@@ -364,7 +367,16 @@ static void test_integrators(void **state)
         assert_non_null(strstr(s.notes[0], "bidirectional path tracing"));
         scene_destroy(&s);
     }
+    load_ok("Integrator \"volpath\"\n" WORLD, &s);
+    assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.integrator_media, 1);
+    scene_destroy(&s);
+    load_ok(WORLD, &s);
+    assert_int_equal(s.integrator_media, 1); /* pbrt-v4's default integrator is volpath */
+    scene_destroy(&s);
     load_ok("Integrator \"path\"\n" WORLD, &s);
+    assert_int_equal(s.note_count, 0);
+    assert_int_equal(s.integrator_media, 0);
     assert_string_equal(s.light_sampler, "bvh"); /* pbrt-v4's default */
     scene_destroy(&s);
     /* Parameters that only tune convergence are accepted. */
@@ -1304,7 +1316,8 @@ static void test_allow_unsupported_substitutes(void **state)
               "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
               "AreaLightSource \"goniometric\"\n" TRIANGLE                         /* does not emit */
               "Shape \"sphere\" \"float phimax\" 180\n"                            /* full sphere */
-              "MediumInterface \"\" \"fog\"\n";
+              "MakeNamedMedium \"smoke\" \"string type\" \"uniformgrid\" \"float density\" 1 \"float temperature\" "
+              "900\n"; /* vacuum */
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
     assert_int_equal(s.triangle_count, 3);
@@ -1324,10 +1337,186 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "phimax"));
-    assert_true(has_warning(&s, "MediumInterface"));
+    assert_true(has_warning(&s,
+                            "MakeNamedMedium \"smoke\": type \"uniformgrid\" with a temperature grid is not rendered "
+                            "(homogeneous, uniformgrid, rgbgrid and cloud are); the medium is rendered as vacuum"));
     for (size_t i = 0; i < s.warning_count; ++i)
         assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
     scene_destroy(&s);
+}
+
+/* ---------------------------------------------------------------- media */
+
+#define FOG "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\" "
+
+/* MakeNamedMedium's types and parameters, MediumInterface on the shapes
+ * and at the Camera, names bound at the end. */
+static void test_media(void **state)
+{
+    (void)state;
+    Scene s;
+    load_ok(FOG "\"rgb sigma_a\" [ 0.5 0.25 1 ] \"rgb sigma_s\" [ 2 0 1 ] \"float scale\" 2 \"float g\" 0.5 "
+                "\"rgb Le\" [ 1 2 3 ] \"float Lescale\" 0.5\n"
+                "MediumInterface \"\" \"fog\"\nCamera \"perspective\"\n" WORLD
+                "AttributeBegin\nMediumInterface \"glass\" \"fog\"\n" TRIANGLE "AttributeEnd\n"
+                "MediumInterface \"fog\"\n" TRIANGLE
+                "MakeNamedMedium \"glass\" \"string type\" \"homogeneous\" \"string preset\" \"Skin1\"\n"
+                "MakeNamedMedium \"plain\" \"string type\" \"homogeneous\"\n",
+            &s);
+    assert_int_equal(s.medium_count, 3);
+    const SceneMedium *fog = &s.media[0], *glass = &s.media[1], *plain = &s.media[2];
+    assert_string_equal(fog->name, "fog");
+    assert_int_equal(fog->type, SCENE_MEDIUM_HOMOGENEOUS);
+    assert_vec3(fog->sigma_a, 1, 0.5, 2); /* times scale */
+    assert_vec3(fog->sigma_s, 4, 0, 2);
+    assert_vec3(fog->emission, 0.5, 1, 1.5); /* an rgb Le as given, times Lescale */
+    assert_near(fog->g, 0.5, 0);
+    assert_string_equal(glass->name, "glass"); /* named before its definition */
+    assert_vec3(glass->sigma_s, 0.74, 0.88, 1.01);
+    assert_vec3(glass->sigma_a, 0.032, 0.17, 0.48);
+    assert_vec3(plain->sigma_a, 1, 1, 1); /* pbrt-v4's defaults */
+    assert_vec3(plain->sigma_s, 1, 1, 1);
+    assert_vec3(plain->emission, 0, 0, 0);
+    assert_near(plain->g, 0, 0);
+    assert_int_equal(s.camera_medium, 0); /* the outside medium at Camera */
+    assert_int_equal(s.shape_count, 2);
+    assert_int_equal(s.shapes[0].medium_inside, 1);
+    assert_int_equal(s.shapes[0].medium_outside, 0);
+    /* WorldBegin keeps the interface ("" "fog"); one name sets both sides. */
+    assert_int_equal(s.shapes[1].medium_inside, 0);
+    assert_int_equal(s.shapes[1].medium_outside, 0);
+    assert_int_equal(s.integrator_media, 1);
+    scene_destroy(&s);
+
+    /* pbrt-v4's path integrator ignores media: a note says so. */
+    load_ok("Integrator \"path\"\n" FOG "\nMediumInterface \"\" \"fog\"\nCamera \"perspective\"\n" WORLD, &s);
+    assert_int_equal(s.integrator_media, 0);
+    assert_int_equal(s.note_count, 1);
+    assert_non_null(strstr(s.notes[0], "the integrator ignores the scene's participating media"));
+    scene_destroy(&s);
+
+    /* An unknown preset: pbrt-v4 warns and takes sigma_a, sigma_s. */
+    assert_int_equal(load_text("preset.pbrt", FOG "\"string preset\" \"Fog\" \"rgb sigma_a\" [ 2 2 2 ]\n" WORLD, &s, 0),
+                     0);
+    assert_true(has_warning(&s, "preset \"Fog\" is not one of pbrt-v4's"));
+    assert_vec3(s.media[0].sigma_a, 2, 2, 2);
+    scene_destroy(&s);
+
+    /* Grids: their values, box and transform kept. */
+    load_ok("Translate 1 2 3\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" "
+            "[ 0.5 1 ] \"float Lescale\" [ 1 2 ] \"rgb Le\" [ 1 1 1 ] \"point3 p0\" [ -1 0 0 ] \"point3 p1\" [ 1 2 4 ] "
+            "\"rgb sigma_a\" [ 1 2 3 ] \"float scale\" 2\n"
+            "MakeNamedMedium \"n\" \"string type\" \"uniformgrid\" \"float density\" [ 3 ]\n"
+            "MakeNamedMedium \"c\" \"string type\" \"rgbgrid\" \"integer ny\" 2 \"rgb sigma_s\" [ 1 1 1 2 2 2 ] "
+            "\"float Lescale\" 3 \"float scale\" 0.5\n" WORLD,
+            &s);
+    const SceneMedium *grid = &s.media[0];
+    assert_int_equal(grid->type, SCENE_MEDIUM_UNIFORM_GRID);
+    assert_int_equal(grid->rendered, 1);
+    assert_int_equal(grid->size[0], 2);
+    assert_int_equal(grid->size[1] * grid->size[2], 1);
+    assert_near(grid->density[0], 0.5, 0);
+    assert_near(grid->density[1], 1, 0);
+    assert_near(grid->le_scale[1], 2, 0);
+    assert_int_equal(grid->le_size[0], 2);
+    assert_vec3(grid->sigma_a, 2, 4, 6);
+    assert_vec3(grid->sigma_s, 2, 2, 2);
+    assert_vec3(grid->emission, 1, 1, 1);
+    assert_vec3(grid->bounds[0], -1, 0, 0);
+    assert_vec3(grid->bounds[1], 1, 2, 4);
+    assert_vec3(grid->world_from_medium[3], 1, 2, 3); /* the CTM's translation */
+    assert_int_equal(s.media[1].le_size[0] * s.media[1].le_size[1] * s.media[1].le_size[2], 1); /* Lescale: 1 */
+    assert_near(s.media[1].le_scale[0], 1, 0);
+    assert_vec3(s.media[1].bounds[1], 1, 1, 1);
+    const SceneMedium *rgb = &s.media[2];
+    assert_int_equal(rgb->type, SCENE_MEDIUM_RGB_GRID);
+    assert_null(rgb->rgb_sigma_a);
+    assert_near(rgb->rgb_sigma_s[3], 2, 0);
+    assert_vec3(rgb->sigma_s, 0.5, 0.5, 0.5);
+    assert_vec3(rgb->emission, 3, 3, 3);
+    scene_destroy(&s);
+    load_ok("MakeNamedMedium \"c\" \"string type\" \"cloud\" \"float density\" 2 \"float wispiness\" 0.5 \"float "
+            "frequency\" 4 "
+            "\"point3 p1\" [ 2 1 1 ]\nMakeNamedMedium \"d\" \"string type\" \"cloud\"\n" WORLD,
+            &s);
+    assert_int_equal(s.media[0].type, SCENE_MEDIUM_CLOUD);
+    assert_int_equal(s.media[0].rendered, 1);
+    assert_vec3(s.media[0].cloud, 2, 0.5, 4);
+    assert_vec3(s.media[0].bounds[1], 2, 1, 1);
+    assert_vec3(s.media[1].cloud, 1, 1, 5); /* pbrt-v4's defaults */
+    scene_destroy(&s);
+
+    /* The types not rendered are read and checked, then refused (with
+     * allow_unsupported: vacuum). */
+    unsigned char nvdb[16] = "NanoVDB0";
+    write_bytes("cloud.nvdb", nvdb, sizeof nvdb);
+    static const char *const unrendered[] = {
+        ("\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
+         "\"float temperaturescale\" 2 \"float temperatureoffset\" 100"),
+        "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
+    };
+    static const char *const types[] = {"uniformgrid\" with a temperature grid", "nanovdb\""};
+    for (size_t i = 0; i < sizeof unrendered / sizeof unrendered[0]; ++i) {
+        char text[512], message[128];
+        snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, unrendered[i]);
+        assert_int_equal(load_text("grid.pbrt", text, &s, 1), 0);
+        snprintf(message, sizeof message, "type \"%s is not rendered (homogeneous, uniformgrid, rgbgrid and cloud are)",
+                 types[i]);
+        if (!has_warning(&s, message))
+            fail_msg("%s: no warning \"%s\"", unrendered[i], message);
+        assert_int_equal(s.medium_count, 1);
+        assert_int_equal(s.media[0].type, i == 0 ? SCENE_MEDIUM_UNIFORM_GRID : SCENE_MEDIUM_NANOVDB);
+        assert_int_equal(s.media[0].rendered, 0);
+        scene_destroy(&s);
+        load_fails(text, 1, message);
+    }
+
+    /* Bad input: file:line errors. */
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"fog\"\n" WORLD, 1, "unknown type \"fog\"");
+    load_fails("MakeNamedMedium \"m\" \"float scale\" 1\n" WORLD, 1, "missing \"string type\"");
+    load_fails(WORLD "\n" FOG "\"rgb sigma_a\" [ -1 0 0 ]\n", 3, "negative");
+    load_fails(FOG "\"spectrum sigma_s\" [ 400 -1 700 1 ]\n" WORLD, 1, "negative");
+    load_fails(FOG "\"float scale\" -1\n" WORLD, 1, "\"scale\" -1 must lie in");
+    load_fails(FOG "\"float Lescale\" -1\n" WORLD, 1, "\"Lescale\" -1 must lie in");
+    load_fails(FOG "\"float g\" 1\n" WORLD, 1, "\"g\" 1 must lie in");
+    load_fails(FOG "\"float density\" 1\n" WORLD, 1, "density");
+    load_fails(FOG "\n" FOG "\n" WORLD, 2, "\"fog\" is defined twice");
+    load_fails("MakeNamedMedium \"\" \"string type\" \"homogeneous\"\n" WORLD, 1, "must not be empty");
+    load_fails(WORLD "\nMediumInterface \"nope\"\n" TRIANGLE, 3, "medium \"nope\" is not defined");
+    load_fails("MediumInterface \"\" \"nope\"\nCamera \"perspective\"\n" WORLD, 1, "medium \"nope\" is not defined");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 2 \"float density\" [ 1 ]\n" WORLD,
+               1, "1 values for a grid of 2 (nx * ny * nz)");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nx\" 0 \"float density\" [ 1 ]\n" WORLD,
+               1, "\"nx\" must be at least 1");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ -1 ]\n" WORLD, 1,
+               "is negative");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\"\n" WORLD, 1, "\"density\" values are required");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \"float temperature\" "
+               "[ 1 ] \"rgb Le\" [ 1 1 1 ]\n" WORLD,
+               1, "both \"Le\" and \"temperature\"");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer ny\" 2 \"float density\" [ 1 1 ] "
+               "\"float Lescale\" [ 1 ]\n" WORLD,
+               1, "1 values for a grid of 2");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"integer nx\" 2 \"rgb sigma_s\" [ 1 1 1 ]\n" WORLD,
+               1, "1 values for a grid of 2");
+    load_fails(
+        "MakeNamedMedium \"m\" \"string type\" \"rgbgrid\" \"rgb Le\" [ 1 1 1 ] \"rgb sigma_s\" [ 1 1 1 ]\n" WORLD, 1,
+        "\"Le\" needs \"sigma_a\"");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"rgbgrid\"\n" WORLD, 1, "\"sigma_a\" or \"sigma_s\" values");
+    load_fails(
+        "MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ] \"point3 p1\" [ 1 0 1 ]\n" WORLD,
+        1, "\"p1\" must exceed \"p0\"");
+    load_fails("Scale 1 0 1\nMakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" [ 1 ]\n" WORLD, 2,
+               "the transform is singular");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\"\n" WORLD, 1, "\"filename\" is required");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"none.nvdb\"\n" WORLD, 1,
+               "cannot open");
+    write_text("corrupt.nvdb", "not a grid at all");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"corrupt.nvdb\"\n" WORLD, 1,
+               "is not a NanoVDB file");
+    write_text("short.nvdb", "Nano");
+    load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"short.nvdb\"\n" WORLD, 1,
+               "is not a NanoVDB file");
 }
 
 /* ------------------------------------------------------------------ PLY */
@@ -2150,6 +2339,7 @@ int main(void)
         cmocka_unit_test(test_orthographic_camera),
         cmocka_unit_test(test_pixel_filters),
         cmocka_unit_test(test_film_sampler_integrator_filter),
+        cmocka_unit_test(test_media),
         cmocka_unit_test(test_translate_then_scale),
         cmocka_unit_test(test_rotate),
         cmocka_unit_test(test_transform_concat_identity),

@@ -20,6 +20,7 @@ void render_scene_init(RenderScene *scene)
     for (int i = 0; i < 3; ++i)
         scene->constants.film.from_radiance[i][i] = 1.0f;
     scene->constants.film.max_component_value = INFINITY;
+    scene->constants.media.camera_medium = -1;
 }
 
 void render_scene_destroy(RenderScene *scene)
@@ -43,6 +44,10 @@ void render_scene_destroy(RenderScene *scene)
     free(scene->instances);
     free(scene->light_nodes);
     free(scene->light_trails);
+    free(scene->media);
+    free(scene->medium_values);
+    free(scene->medium_interfaces);
+    free(scene->primitive_media);
     bvh_destroy(&scene->bvh);
     memset(scene, 0, sizeof *scene);
 }
@@ -83,6 +88,12 @@ RenderSceneArrays render_scene_arrays(const RenderScene *scene)
     a.instances_count = (size_t)scene->instance_count;
     a.alphas = scene->alphas;
     a.alphas_count = (size_t)scene->alpha_count;
+    a.media = scene->media;
+    a.media_count = scene->constants.media.count;
+    a.primitive_media = scene->primitive_media;
+    a.primitive_media_count = scene->primitive_media ? (size_t)scene->bvh.primitive_count : 0;
+    a.medium_values = scene->medium_values;
+    a.medium_values_count = scene->medium_value_count;
     return a;
 }
 
@@ -185,6 +196,98 @@ int render_scene_set_vertex_normals(RenderScene *scene, const float na[3], const
     memcpy(v + 3, nb, 3 * sizeof *v);
     memcpy(v + 6, nc, 3 * sizeof *v);
     scene->primitives[last].kind |= PRIM_SHADING_NORMAL;
+    return 0;
+}
+
+/* A grid medium's largest sigma_t (any channel) in cell i: uniformgrid's
+ * density times its largest sigma_a + sigma_s, rgbgrid's coefficients (1
+ * where a grid is absent) times scale. */
+static double cell_sigma_t(const RenderScene *scene, const Medium *m, size_t i)
+{
+    const float *v = scene->medium_values;
+    double largest = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        if (m->type == MEDIUM_CLOUD) { /* its density is at most 1 */
+            largest = fmax(largest, (double)m->sigma_a[k] + m->sigma_s[k]);
+            continue;
+        }
+        int uniform = m->type == MEDIUM_UNIFORM_GRID;
+        double a = uniform ? v[m->density + i] : m->rgb_sigma_a >= 0 ? v[m->rgb_sigma_a + 3 * i + (size_t)k] : 1.0;
+        double s = uniform ? v[m->density + i] : m->rgb_sigma_s >= 0 ? v[m->rgb_sigma_s + 3 * i + (size_t)k] : 1.0;
+        largest = fmax(largest, a * m->sigma_a[k] + s * m->sigma_s[k]);
+    }
+    return largest;
+}
+
+/* pbrt-v4's majorant grid: per cell of a MEDIUM_MAJORANT_GRID^3 division
+ * of the unit cube, the largest sigma_t of the grid cells a trilinear
+ * lookup in it may read (those whose centres are within one cell of it),
+ * a little above, so float lookups stay under it; m->majorant the largest
+ * of all (a cloud's density is at most 1: sigma_t everywhere). Returns 0,
+ * or -1 when out of memory. */
+static int add_majorant_grid(RenderScene *scene, Medium *m)
+{
+    enum { R = MEDIUM_MAJORANT_GRID };
+    float grid[R * R * R];
+    double overall = 0.0;
+    for (int z = 0; z < R; ++z)
+        for (int y = 0; y < R; ++y)
+            for (int x = 0; x < R; ++x) {
+                int at[3] = {x, y, z}, lo[3], hi[3];
+                for (int k = 0; k < 3; ++k) {
+                    int n = m->type == MEDIUM_CLOUD ? 1 : (int)m->size[k];
+                    lo[k] = (int)floor((double)at[k] / R * n - 0.5);
+                    hi[k] = (int)floor((double)(at[k] + 1) / R * n - 0.5) + 1;
+                    lo[k] = lo[k] < 0 ? 0 : lo[k];
+                    hi[k] = hi[k] > n - 1 ? n - 1 : hi[k];
+                }
+                double largest = 0.0;
+                for (int k = lo[2]; k <= hi[2]; ++k)
+                    for (int j = lo[1]; j <= hi[1]; ++j)
+                        for (int i = lo[0]; i <= hi[0]; ++i) {
+                            size_t cell = ((size_t)k * m->size[1] + (size_t)j) * m->size[0] + (size_t)i;
+                            largest = fmax(largest, cell_sigma_t(scene, m, cell));
+                        }
+                grid[(z * R + y) * R + x] = (float)(largest * (1.0 + 1e-5));
+                overall = fmax(overall, largest);
+            }
+    m->majorant = (float)(overall * (1.0 + 1e-5));
+    return (m->majorants = render_scene_add_medium_values(scene, grid, R * R * R)) < 0 ? -1 : 0;
+}
+
+int render_scene_add_medium(RenderScene *scene, const Medium *medium)
+{
+    int count = (int)scene->constants.media.count;
+    if (count >= (int)MEDIUM_MAX_COUNT ||
+        reserve_one((void **)&scene->media, count, &scene->medium_capacity, sizeof *scene->media))
+        return -1;
+    scene->media[count] = *medium;
+    if (medium->type != MEDIUM_HOMOGENEOUS && add_majorant_grid(scene, &scene->media[count]))
+        return -1;
+    scene->constants.media.count++;
+    return count;
+}
+
+/* A medium index as primitive_media packs it. */
+static uint32_t packed_medium(int medium)
+{
+    return medium < 0 ? MEDIUM_VACUUM : (uint32_t)medium;
+}
+
+int render_scene_set_media(RenderScene *scene, int inside, int outside)
+{
+    if ((size_t)scene->primitive_capacity > scene->medium_interface_capacity) {
+        size_t capacity = (size_t)scene->primitive_capacity;
+        uint32_t *grown = realloc(scene->medium_interfaces, capacity * sizeof *grown);
+        if (!grown)
+            return -1;
+        /* Primitives added before any interface keep the ray's medium. */
+        for (size_t i = scene->medium_interface_capacity; i < capacity; ++i)
+            grown[i] = MEDIUM_VACUUM | MEDIUM_VACUUM << 16;
+        scene->medium_interfaces = grown;
+        scene->medium_interface_capacity = capacity;
+    }
+    scene->medium_interfaces[scene->primitive_count - 1] = packed_medium(inside) | packed_medium(outside) << 16;
     return 0;
 }
 
@@ -296,6 +399,17 @@ static float *grow_floats(float **array, size_t *count, size_t *capacity, size_t
     float *start = *array + *count;
     *count += more;
     return start;
+}
+
+int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count)
+{
+    if (scene->medium_value_count + count > INT32_MAX)
+        return -1;
+    float *at = grow_floats(&scene->medium_values, &scene->medium_value_count, &scene->medium_value_capacity, count);
+    if (!at)
+        return -1;
+    memcpy(at, values, count * sizeof *at);
+    return (int32_t)(at - scene->medium_values);
 }
 
 /* Writes a CDF of n values f (n + 1 entries, 0 to 1); uniform when f sums to 0. */
@@ -841,6 +955,25 @@ int render_scene_finalize(RenderScene *scene, char *error, size_t error_size)
                        9 * sizeof *scene->shading_normals);
     }
 
+    /* So do the media's interfaces. */
+    free(scene->primitive_media);
+    scene->primitive_media = NULL;
+    if (scene->constants.media.count > 0 && scene->bvh.primitive_count > 0) {
+        size_t count = (size_t)scene->bvh.primitive_count;
+        scene->primitive_media = malloc(count * sizeof *scene->primitive_media);
+        if (!scene->primitive_media) {
+            snprintf(error, error_size, "out of memory for the media's interfaces");
+            return -1;
+        }
+        for (size_t i = 0; i < count; ++i) {
+            int input = scene->bvh.order[i];
+            scene->primitive_media[i] =
+                scene->medium_interfaces && input >= 0 && (size_t)input < scene->medium_interface_capacity
+                    ? scene->medium_interfaces[input]
+                    : MEDIUM_VACUUM | MEDIUM_VACUUM << 16;
+        }
+    }
+
     if (render_scene_finalize_textures(scene, error, error_size))
         return -1;
 
@@ -949,6 +1082,8 @@ uint64_t render_scene_features(const RenderScene *scene)
             features |= FEATURE_ALPHA_TEXTURE;
     if (scene->instance_count > 0)
         features |= FEATURE_INSTANCING;
+    if (scene->constants.media.count > 0)
+        features |= FEATURE_MEDIA;
     static const uint64_t by_type[] = {
         [MAT_DIFFUSE] = FEATURE_DIFFUSE,
         [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,
@@ -958,7 +1093,7 @@ uint64_t render_scene_features(const RenderScene *scene)
         [MAT_MIX] = FEATURE_MIX,
         [MAT_COATED_CONDUCTOR] = FEATURE_COATED_CONDUCTOR | FEATURE_LAYERED,
         [MAT_THIN_DIELECTRIC] = FEATURE_THIN_DIELECTRIC,
-        [MAT_INTERFACE] = 0, /* its shapes are not in the scene */
+        [MAT_INTERFACE] = 0, /* FEATURE_MEDIA's boundaries, else its shapes are not in the scene */
     };
     for (int i = 0; i < scene->material_count; ++i) {
         const Material *m = &scene->materials[i];

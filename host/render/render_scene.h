@@ -72,6 +72,16 @@ typedef struct {
     int world_primitive_count;
     Instance *instances;
     int instance_count;
+    /* Participating media (FEATURE_MEDIA; constants.media.count of them):
+     * each primitive's interface as primitive_media packs it, in input
+     * order (NULL until render_scene_set_media) and in the BVH's order. */
+    Medium *media;
+    int medium_capacity;
+    float *medium_values; /* the grids' values (Medium) */
+    size_t medium_value_count, medium_value_capacity;
+    uint32_t *medium_interfaces;
+    size_t medium_interface_capacity; /* in primitives */
+    uint32_t *primitive_media;
 } RenderScene;
 
 /* The arrays of kernels/tracing/scene_types.h's list, as the path tracer takes them. */
@@ -121,6 +131,19 @@ int render_scene_add_instance(RenderScene *scene, int object, const double world
  * ("texture alpha"; alpha is then ignored). Returns 0, or -1 when out of
  * memory or past PRIM_MAX_ALPHA_SLOTS distinct alphas. */
 int render_scene_set_alpha(RenderScene *scene, float alpha, int texture);
+
+/* Participating media: render_scene_add_medium returns the medium's index
+ * (-1 when out of memory or past MEDIUM_MAX_COUNT); for a grid (its
+ * values added before) it computes the majorant grid and majorant;
+ * render_scene_set_media gives the primitive just added its media behind
+ * and in front of it (indices, or -1 for vacuum; primitives without one
+ * keep the ray's medium); the camera's medium is constants.media's
+ * camera_medium. Returns 0, or -1 when out of memory. */
+int render_scene_add_medium(RenderScene *scene, const Medium *medium);
+/* Appends a grid's values for a Medium; returns the first one's index, or
+ * -1 when out of memory. */
+int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count);
+int render_scene_set_media(RenderScene *scene, int inside, int outside);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform
  * infinite: Light's fields as scene_types.h describes them; pick fields are

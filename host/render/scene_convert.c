@@ -65,7 +65,7 @@ static Material convert_material(const SceneMaterial *in)
 
 _Static_assert(SCENE_MIX_MAX_NESTING <= MIX_MAX_NESTING, "the kernel resolves every mix the parser accepts");
 
-/* "interface" shapes bound media, which the renderer does not have: a ray
+/* "interface" shapes bound media: without media in the render a ray
  * passes them unchanged, so they are left out. */
 static int is_interface(const Scene *scene, const SceneShape *shape)
 {
@@ -534,14 +534,131 @@ static int convert_camera(const Scene *scene, unsigned width, unsigned height, R
     return 0;
 }
 
-/* Adds shape `index`'s triangles or sphere (with its area light's
- * emission, its alpha: alpha_program its alpha texture's program or -1).
+/* medium_from_world of a grid medium: world points to the unit cube of
+ * its box (rows of an affine map). Returns 0, or -1 when singular. */
+static int grid_transform(const SceneMedium *in, float out[3][4])
+{
+    double m[3][4], inv[3][4]; /* world_from_medium's rows, and its inverse */
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c)
+            m[r][c] = in->world_from_medium[c][r];
+    double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+                 m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    if (!(fabs(det) > 1e-30))
+        return -1;
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) {
+            int r1 = (c + 1) % 3, r2 = (c + 2) % 3, c1 = (r + 1) % 3, c2 = (r + 2) % 3;
+            inv[r][c] = (m[r1][c1] * m[r2][c2] - m[r1][c2] * m[r2][c1]) / det; /* cofactor, transposed */
+        }
+    for (int r = 0; r < 3; ++r)
+        inv[r][3] = -(inv[r][0] * m[0][3] + inv[r][1] * m[1][3] + inv[r][2] * m[2][3]);
+    for (int r = 0; r < 3; ++r) {
+        double extent = (double)in->bounds[1][r] - in->bounds[0][r];
+        for (int c = 0; c < 4; ++c)
+            out[r][c] = (float)((inv[r][c] - (c == 3 ? in->bounds[0][r] : 0.0)) / extent);
+    }
+    return 0;
+}
+
+/* A grid medium's values (render_scene_add_medium adds its majorants).
  * Returns 0, or 1 when out of memory. */
-static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int alpha_program, RenderScene *out)
+static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
+{
+    size_t n = (size_t)in->size[0] * in->size[1] * in->size[2];
+    for (int k = 0; k < 3; ++k) {
+        m->size[k] = (uint32_t)in->size[k];
+        m->le_size[k] = (uint32_t)in->le_size[k];
+    }
+    m->density = m->le_scale = m->rgb_sigma_a = m->rgb_sigma_s = m->rgb_le = -1;
+    if (in->type == SCENE_MEDIUM_CLOUD) {
+        m->type = MEDIUM_CLOUD;
+        float cloud[9];
+        for (int k = 0; k < 3; ++k) {
+            cloud[k] = in->cloud[k];
+            cloud[3 + k] = in->bounds[0][k];
+            cloud[6 + k] = in->bounds[1][k] - in->bounds[0][k];
+        }
+        if ((m->density = render_scene_add_medium_values(out, cloud, 9)) < 0)
+            return 1;
+    } else if (in->type == SCENE_MEDIUM_UNIFORM_GRID) {
+        m->type = MEDIUM_UNIFORM_GRID;
+        size_t le_n = (size_t)in->le_size[0] * in->le_size[1] * in->le_size[2];
+        if ((m->density = render_scene_add_medium_values(out, in->density, n)) < 0 ||
+            (m->le_scale = render_scene_add_medium_values(out, in->le_scale, le_n)) < 0)
+            return 1;
+    } else {
+        m->type = MEDIUM_RGB_GRID;
+        if ((in->rgb_sigma_a && (m->rgb_sigma_a = render_scene_add_medium_values(out, in->rgb_sigma_a, 3 * n)) < 0) ||
+            (in->rgb_sigma_s && (m->rgb_sigma_s = render_scene_add_medium_values(out, in->rgb_sigma_s, 3 * n)) < 0) ||
+            (in->rgb_le && (m->rgb_le = render_scene_add_medium_values(out, in->rgb_le, 3 * n)) < 0))
+            return 1;
+    }
+    return 0;
+}
+
+/* The media the render traces: none unless the integrator renders media
+ * and something (the camera, a shape's interface) is in one it renders;
+ * the other types are vacuum (the reader allowed them as unsupported).
+ * *map_out: per scene medium its render index or -1, NULL without media.
+ * Returns 0, or 1 when out of memory. */
+static int convert_media(const Scene *scene, RenderScene *out, int **map_out)
+{
+    *map_out = NULL;
+    if (!scene->integrator_media || scene->medium_count == 0)
+        return 0;
+    int *map = malloc(scene->medium_count * sizeof *map);
+    if (!map)
+        return 1;
+    int next = 0;
+    for (size_t i = 0; i < scene->medium_count; ++i)
+        map[i] = scene->media[i].rendered ? next++ : -1;
+    int camera = scene->camera_medium >= 0 ? map[scene->camera_medium] : -1, used = camera >= 0;
+    for (size_t i = 0; i < scene->shape_count && !used; ++i) {
+        const SceneShape *shape = &scene->shapes[i];
+        used = (shape->medium_inside >= 0 ? map[shape->medium_inside] : -1) !=
+               (shape->medium_outside >= 0 ? map[shape->medium_outside] : -1);
+    }
+    for (size_t i = 0; i < scene->medium_count && used; ++i) {
+        const SceneMedium *in = &scene->media[i];
+        if (map[i] < 0)
+            continue;
+        Medium m;
+        memset(&m, 0, sizeof m);
+        memcpy(m.sigma_a, in->sigma_a, sizeof m.sigma_a);
+        memcpy(m.sigma_s, in->sigma_s, sizeof m.sigma_s);
+        memcpy(m.emission, in->emission, sizeof m.emission);
+        m.g = in->g;
+        m.type = MEDIUM_HOMOGENEOUS;
+        if (in->type != SCENE_MEDIUM_HOMOGENEOUS &&
+            (grid_transform(in, m.medium_from_world) || grid_medium(in, out, &m)))
+            map[i] = -2; /* out of memory (the reader refuses singular transforms) */
+        if (map[i] == -2 || render_scene_add_medium(out, &m) < 0) {
+            free(map);
+            return 1;
+        }
+    }
+    if (!used) {
+        free(map);
+        return 0;
+    }
+    out->constants.media.camera_medium = camera;
+    *map_out = map;
+    return 0;
+}
+
+/* Adds shape `index`'s triangles or sphere (with its area light's
+ * emission, its alpha: alpha_program its alpha texture's program or -1;
+ * with media, medium_map maps its interface's media). Returns 0, or 1 when
+ * out of memory. */
+static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int alpha_program, const int *medium_map,
+                     RenderScene *out)
 {
     const SceneShape *shape = &scene->shapes[index];
-    if (is_interface(scene, shape))
+    if (!medium_map && is_interface(scene, shape))
         return 0;
+    int inside = medium_map && shape->medium_inside >= 0 ? medium_map[shape->medium_inside] : -1;
+    int outside = medium_map && shape->medium_outside >= 0 ? medium_map[shape->medium_outside] : -1;
     int textured = out->texture_count > 0;
     const SceneAreaLight *light = shape->area_light >= 0 ? &scene->area_lights[shape->area_light] : NULL;
     const float *radiance = light ? emission[shape->area_light] : NULL;
@@ -575,6 +692,7 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int
         }
         failed = failed || ((shape->alpha < 1.0f || alpha_program >= 0) &&
                             render_scene_set_alpha(out, shape->alpha, alpha_program) != 0);
+        failed = failed || (inside != outside && render_scene_set_media(out, inside, outside) != 0);
     }
     return failed;
 }
@@ -582,14 +700,15 @@ static int add_shape(const Scene *scene, size_t index, float (*emission)[3], int
 /* The objects (their shapes have no area lights: the scene reader drops
  * them) and their instances. Returns 0, 1 when out of memory, or -1 with a
  * message. */
-static int add_objects(const Scene *scene, const int *alpha_programs, RenderScene *out, char *error, size_t error_size)
+static int add_objects(const Scene *scene, const int *alpha_programs, const int *medium_map, RenderScene *out,
+                       char *error, size_t error_size)
 {
     for (size_t k = 0; k < scene->object_count; ++k) {
         const SceneObject *object = &scene->objects[k];
         if (render_scene_begin_object(out) < 0)
             return 1;
         for (size_t i = object->first_shape; i < object->first_shape + object->shape_count; ++i)
-            if (add_shape(scene, i, NULL, alpha_programs[i], out))
+            if (add_shape(scene, i, NULL, alpha_programs[i], medium_map, out))
                 return 1;
         render_scene_end_object(out);
     }
@@ -646,6 +765,8 @@ void scene_convert_light_subpaths(RenderScene *out, int light_subpaths, int regu
     const char *name = light_subpaths == SCENE_BDPT ? "bdpt" : "lightpath", *why = NULL;
     if (out->constants.camera.projection != CAMERA_PERSPECTIVE)
         why = "an orthographic camera";
+    else if (out->constants.media.count > 0)
+        why = "participating media";
     for (int i = 0; i < out->light_count && !why; ++i)
         if (!light_emits(out->lights[i].type))
             why = "distant and infinite lights";
@@ -723,7 +844,15 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
         return -1;
     }
     float(*emission)[3] = NULL;
+    int *medium_map = NULL;
+    if (convert_media(&scene, out, &medium_map)) {
+        snprintf(error, error_size, "%s: out of memory converting the media", path);
+        free(alpha_programs);
+        render_scene_destroy(out);
+        return -1;
+    }
     if (area_light_emission(&scene, &emission, error, error_size)) {
+        free(medium_map);
         free(alpha_programs);
         render_scene_destroy(out);
         return -1;
@@ -733,9 +862,10 @@ int scene_convert(const Scene *in, const char *path, unsigned width, unsigned he
     for (int spheres = 0; spheres < 2; ++spheres)
         for (size_t i = 0; i < scene.shape_count && !failed; ++i)
             if (scene.shapes[i].object < 0 && (scene.shapes[i].kind == SCENE_SHAPE_SPHERE) == spheres)
-                failed = add_shape(&scene, i, emission, alpha_programs[i], out);
+                failed = add_shape(&scene, i, emission, alpha_programs[i], medium_map, out);
     if (!failed) /* -1 (its message written) must not become 1 (out of memory) */
-        failed = add_objects(&scene, alpha_programs, out, error, error_size);
+        failed = add_objects(&scene, alpha_programs, medium_map, out, error, error_size);
+    free(medium_map);
     free(emission);
     free(alpha_programs);
     if (failed < 0) {

@@ -46,6 +46,9 @@ static const char *const buffer_names[] = {
     BUFFER(surface_uvs) = "the triangles' uvs",
     BUFFER(instances) = "the instances",
     BUFFER(alphas) = "the alpha table",
+    BUFFER(media) = "the media",
+    BUFFER(primitive_media) = "the media's interfaces",
+    BUFFER(medium_values) = "the media's grids",
 };
 #undef BUFFER
 _Static_assert(sizeof buffer_names / sizeof *buffer_names == SCENE_BUFFERS, "a name for each scene buffer");

@@ -105,6 +105,7 @@ int on_camera(Parser *p, Lexer *lex, const Token *d)
         p->scene->camera = camera;
         p->camera_file = lex->path;
         p->camera_line = d->line;
+        p->scene->camera_medium = p->state.medium_outside; /* pbrt-v4's camera medium */
     }
     params_free(&params);
     return result;
@@ -261,9 +262,11 @@ int on_sampler(Parser *p, Lexer *lex, const Token *d)
     return result;
 }
 
-/* pbrt-v4's integrators whose expected image is the path tracer's (for a
- * scene without participating media, which gmonrt does not support), and
- * their parameters that only change how fast they converge. */
+/* pbrt-v4's integrators whose expected image is the path tracer's, and
+ * their parameters that only change how fast they converge. Those that
+ * render participating media in pbrt-v4 (volpath, simplevolpath, bdpt,
+ * mlt) have the path tracer render them too; the others ignore media, as
+ * in pbrt-v4 (Scene.integrator_media). */
 static const struct {
     const char *name;
     const char *tuning[6];
@@ -301,7 +304,11 @@ static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token 
                                      "Integrator %s: \"visualizestrategies\" and \"visualizeweights\" are "
                                      "not supported",
                                      shown);
-        if (token_is(type, "path"))
+        const char *name = same_image_integrators[i].name;
+        p->scene->integrator_media = strcmp(name, "volpath") == 0 || strcmp(name, "simplevolpath") == 0 ||
+                                     strcmp(name, "bdpt") == 0 || strcmp(name, "mlt") == 0;
+        /* The path tracer is pbrt-v4's path, and its volpath where the scene has media. */
+        if (token_is(type, "path") || token_is(type, "volpath"))
             return 0;
         if (token_is(type, "lightpath")) {
             p->scene->light_subpaths = SCENE_LIGHTPATH;
@@ -320,13 +327,11 @@ static int choose_integrator(Parser *p, Lexer *lex, const Token *d, const Token 
                               "image is the same, the noise differs",
                               shown);
         }
-        const char *media = strstr(same_image_integrators[i].name, "vol")
-                                ? " without participating media (which gmonrt does not support)"
-                                : "";
         return scene_note(&p->diag, lex->path, d->line,
-                          "Integrator %s is rendered by the path tracer (\"path\"): the expected image is the same%s",
-                          shown, media);
+                          "Integrator %s is rendered by the path tracer (\"%s\"): the expected image is the same",
+                          shown, p->scene->integrator_media ? "volpath" : "path");
     }
+    p->scene->integrator_media = 0;
     return scene_unsupported(&p->diag, lex->path, d->line, "\"path\" is used",
                              "Integrator %s is not supported: its image differs from the path tracer's "
                              "(path, volpath, simplevolpath, bdpt, mlt, sppm, simplepath, lightpath, randomwalk are)",

@@ -33,6 +33,7 @@ typedef struct {
     float area_power;      /* "power", or -1 */
     char area_origin[256]; /* "file:line" of the AreaLightSource */
     int reverse_orientation;
+    int medium_inside, medium_outside; /* MediumInterface: indices into Scene.media, or -1 (vacuum) */
     /* Where this state was pushed (kept on the stack only). */
     PushKind kind;
     const char *file;
@@ -82,6 +83,14 @@ typedef struct Parser {
     int include_depth;
     NamedMaterial *named;
     size_t named_count, named_capacity;
+    /* Per Scene.media entry: whether MakeNamedMedium defined it, and where
+     * it was first named (pbrt-v4 binds medium names at the end too). */
+    struct MediumName {
+        int defined;
+        const char *file;
+        int line;
+    } * medium_names;
+    size_t medium_capacity, medium_name_capacity;
     NamedTransform *coordinate_systems;
     size_t coordinate_system_count, coordinate_system_capacity;
     int motion_warned; /* one warning for all animated transforms */

@@ -10,6 +10,7 @@
 #include "scene/instance_check.h"
 #include "scene/lights.h"
 #include "scene/materials.h"
+#include "scene/media.h"
 #include "scene/read_file.h"
 #include "scene/shapes.h"
 #include "scene/textures.h"
@@ -515,7 +516,9 @@ static int on_include(Parser *p, Lexer *lex, const Token *d)
  * they are skipped with their arguments (ObjectBegin/End/Instance have
  * handlers: they must skip the shapes in between). */
 static const char *const unsupported_directives[] = {
-    "MakeNamedMedium", "MediumInterface", "Option", "ColorSpace", "Attribute",
+    "Option",
+    "ColorSpace",
+    "Attribute",
 };
 
 static int skip_directive(Parser *p, Lexer *lex, const Token *d)
@@ -567,8 +570,8 @@ static const struct {
     {"Shape", on_shape},
     {"Include", on_include},
     {"Import", on_include},
-    /* Participating media, when they come: MakeNamedMedium and
-     * MediumInterface in media.c (unsupported_directives until then). */
+    {"MakeNamedMedium", on_make_named_medium},
+    {"MediumInterface", on_medium_interface},
 };
 
 static int parse_directives(Parser *p, Lexer *lex)
@@ -661,6 +664,7 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     p.default_material = -1;
     p.object = -1;
     p.state.material = -1;
+    p.state.medium_inside = p.state.medium_outside = -1;
     glm_mat4_identity(p.state.ctm);
     glm_mat4_identity(p.state.ctm_end);
     p.state.active_transforms = ACTIVE_ALL;
@@ -674,6 +678,8 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     scene->spp = 16;
     scene->max_depth = 5;
     scene->rr_threshold = 1.0f;
+    scene->integrator_media = 1; /* pbrt-v4's default integrator is volpath */
+    scene->camera_medium = -1;
     scene->camera.fov = 90.0f;
     scene->camera.focal_distance = 1e6f;
     scene->filter = default_pixel_filter();
@@ -704,11 +710,14 @@ int scene_load(const char *path, const SceneLoadOptions *options, Scene *scene, 
     if (result == 0)
         result = finish_named_materials(&p);
     if (result == 0)
+        result = finish_media(&p);
+    if (result == 0)
         result = scene_texture_finish(&p.diag, scene, files_missing(&p));
 
     for (size_t i = 0; i < p.named_count; ++i)
         free(p.named[i].name);
     free(p.named);
+    free(p.medium_names);
     for (size_t i = 0; i < p.coordinate_system_count; ++i)
         free(p.coordinate_systems[i].name);
     free(p.coordinate_systems);

@@ -255,6 +255,10 @@ typedef struct {
     int object;        /* the object (Scene.objects) it belongs to, or -1: the world's */
     float alpha;       /* "float alpha": 1 opaque, else a cut-out (pbrt-v4's stochastic alpha) */
     int alpha_texture; /* "texture alpha": a float texture (Scene.textures) in place of alpha, or -1 */
+    /* The MediumInterface in force: the media (Scene.media, or -1: vacuum)
+     * behind the surface (against its normal) and in front of it. Where
+     * the two are equal the shape is no boundary between media. */
+    int medium_inside, medium_outside;
 } SceneShape;
 
 /* ObjectBegin "name" ... ObjectEnd: shapes [first_shape, first_shape +
@@ -325,6 +329,51 @@ typedef struct {
     char *origin;                             /* "file:line" of the directive, for messages */
 } SceneLight;
 
+/* MakeNamedMedium's types (pbrt-v4's). */
+typedef enum {
+    SCENE_MEDIUM_HOMOGENEOUS,
+    SCENE_MEDIUM_UNIFORM_GRID,
+    SCENE_MEDIUM_RGB_GRID,
+    SCENE_MEDIUM_CLOUD,
+    SCENE_MEDIUM_NANOVDB,
+} SceneMediumType;
+
+/* A participating medium. Homogeneous: absorption and scattering
+ * coefficients (per unit of world length: "sigma_a", "sigma_s" or a
+ * "preset", times "scale"), emitted radiance ("Le" normalised as an
+ * emitter's, times "Lescale") and the Henyey-Greenstein asymmetry "g".
+ * Grids have size[0] x size[1] x size[2] cells (x fastest) over the box
+ * bounds[0]..bounds[1] ("p0", "p1") of the medium's space, placed in the
+ * world by world_from_medium (the CTM at MakeNamedMedium), looked up as
+ * pbrt-v4 does (trilinear between cell centres, 0 outside). uniformgrid:
+ * sigma_a, sigma_s and emission are per unit of `density` (one value a
+ * cell) and the emission is scaled by the `le_scale` grid ("Lescale",
+ * le_size cells; one cell of 1 when not given). rgbgrid: rgb_sigma_a,
+ * rgb_sigma_s, rgb_le (3 values a cell; NULL: 1, 1 and 0), sigma_a and
+ * sigma_s holding "scale" and emission "Lescale" in each channel. cloud:
+ * pbrt-v4's procedural cloud over bounds, `cloud` its density, wispiness
+ * and frequency, sigma_a and sigma_s per unit of its density. The other
+ * types (nanovdb, uniformgrid with temperature) are read and checked but
+ * not rendered: the renderer takes them as vacuum under allow_unsupported
+ * (`rendered` 0). */
+typedef struct {
+    char *name;
+    SceneMediumType type;
+    int rendered;
+    float sigma_a[3], sigma_s[3];
+    float emission[3];
+    float g;
+    int size[3];
+    float *density;
+    int le_size[3];
+    float *le_scale;
+    float *rgb_sigma_a, *rgb_sigma_s, *rgb_le;
+    float cloud[3];
+    float bounds[2][3];
+    float world_from_medium[4][4]; /* column-major, [column][row] like cglm's mat4 */
+    char *origin;                  /* "file:line" of its MakeNamedMedium */
+} SceneMedium;
+
 typedef struct {
     SceneCamera camera;
     SceneFilter filter;     /* pbrt-v4's default: gaussian, radius 1.5, sigma 0.5 */
@@ -353,6 +402,13 @@ typedef struct {
     int light_subpaths;        /* SCENE_LIGHTPATH or SCENE_BDPT for those integrators, else 0: the path tracer */
     float rr_threshold;        /* Integrator "rrthreshold" (default 1): where Russian roulette starts */
     char *light_sampler;       /* Integrator "lightsampler" as written (NULL: pbrt-v4's default, bvh) */
+    /* The integrator renders participating media (pbrt-v4's volpath, its
+     * default, simplevolpath, bdpt, mlt); pbrt-v4's path and the others
+     * ignore them, and so does the renderer then. */
+    int integrator_media;
+    SceneMedium *media;
+    size_t medium_count;
+    int camera_medium; /* the outside medium of the MediumInterface in force at Camera, or -1 */
 
     SceneMaterial *materials;
     size_t material_count;

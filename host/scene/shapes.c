@@ -51,6 +51,8 @@ static int add_shape(Parser *p, SceneShapeKind kind, int flip_normal, size_t fir
     shape->object = p->object;
     shape->alpha = 1.0f;
     shape->alpha_texture = -1;
+    shape->medium_inside = p->state.medium_inside;
+    shape->medium_outside = p->state.medium_outside;
     if (p->state.has_area_light && p->object < 0) {
         if (scene_reserve((void **)&s->area_lights, &p->area_light_capacity, s->area_light_count + 1,
                           sizeof *s->area_lights))

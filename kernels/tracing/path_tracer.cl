@@ -7,6 +7,13 @@
  * heuristic), as pbrt-v4's "path" integrator. Without: BSDF sampling only,
  * the firefly-prone estimator experiments need.
  *
+ * With FEATURE_MEDIA it is pbrt-v4's volpath for homogeneous media
+ * (media.h): each ray segment is in a medium (the camera's, then the one
+ * each boundary's MediumInterface gives), which emits, scatters (distance
+ * sampling, Henyey-Greenstein phase function, next-event estimation through
+ * media and "interface" boundaries, MIS between phase and light sampling)
+ * and attenuates.
+ *
  * Build options: -DEST_SETS=M, -DGMON_FEATURES=<mask> to compile out
  * what the scene does not use (feature_mask.h), and with per-sample
  * estimators -DEST_SAMPLE_PASSES=<mask> and their parameters
@@ -22,6 +29,9 @@
 #include "lights.h"
 #include "scene.h"
 #include "surface.h"
+#if GMON_HAS_MEDIA
+#include "media.h"
+#endif
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -71,11 +81,31 @@ KERNEL_FN Vec3 emitted(__global const Light *light, Vec3 n, Vec3 w)
     return vec3_from_global(light->radiance);
 }
 
-/* Next-event estimation at a surface: picks a light (pick_light_at) and
- * samples it; its unoccluded radiance and density (solid angle, with the
- * pick). Returns 0 if none. */
-KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, float u1, float u2, LightSample *s,
-                           uint *rays)
+/* Whether light reaches along the shadow ray; with media, s->radiance is
+ * scaled by the transmittance, from `medium`, or from the side of
+ * `primitive` (-1: none, a point in a medium) the ray leaves to. */
+KERNEL_FN int light_visible(const Scene *scene, Vec3 origin, float distance, int32_t primitive, Vec3 n, int medium,
+                            const SampleStream *stream, uint *dimension, LightSample *s, uint *rays)
+{
+#if GMON_HAS_MEDIA
+    if (primitive >= 0)
+        medium = medium_after(scene, primitive, n, s->wi, medium);
+    s->radiance =
+        v_mul(s->radiance, shadow_transmittance(scene, origin, s->wi, distance, medium, stream, dimension, rays));
+    return v_max_component(s->radiance) > 0.0f;
+#else
+    (void)primitive, (void)n, (void)medium, (void)stream, (void)dimension, (void)rays;
+    return !occluded(scene, origin, s->wi, distance);
+#endif
+}
+
+/* Next-event estimation at a surface (of primitive `primitive`, normal n)
+ * or at a point in a medium (n = 0, primitive -1): picks a light
+ * (pick_light_at) and samples it; its radiance reaching p and density
+ * (solid angle, with the pick). Grid media's transmittance draws random
+ * numbers from stream at *dimension on. Returns 0 if none. */
+KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, int32_t primitive, int medium, float u_pick, float u1,
+                           float u2, const SampleStream *stream, uint *dimension, LightSample *s, uint *rays)
 {
     if (scene->constants->integrator.light_count == 0)
         return 0;
@@ -92,7 +122,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
     ++*rays;
     Vec3 origin = offset_origin(p, n, s->wi);
     if (!(s->distance < INFINITY))
-        return !occluded(scene, origin, s->wi, INFINITY);
+        return light_visible(scene, origin, INFINITY, primitive, n, medium, stream, dimension, s, rays);
     /* Aim from the offset origin at the sampled point itself: a ray
      * parallel to p's would cross a light's plane before that point at
      * grazing angles (by offset / cos), and the light would shadow itself. */
@@ -101,7 +131,7 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
     if (!(distance > 0.0f))
         return 0;
     s->wi = v_scale(to_light, 1.0f / distance);
-    return !occluded(scene, origin, s->wi, distance * (1.0f - 1e-4f));
+    return light_visible(scene, origin, distance * (1.0f - 1e-4f), primitive, n, medium, stream, dimension, s, rays);
 }
 
 /* Adds a contribution to the radiance and, with TRACK_DIRECT, to its
@@ -119,6 +149,22 @@ KERNEL_FN int sample_light(const Scene *scene, Vec3 p, Vec3 n, float u_pick, flo
                 parts[1] = v_add(parts[1], contribution_);                                                             \
         }                                                                                                              \
     } while (0)
+
+/* Russian roulette on the throughput without the radiance scaling of
+ * refraction, after the first bounces (IntegratorData). Returns 0 when the
+ * path ends. */
+KERNEL_FN int roulette_survives(Vec3 *throughput, float eta_scale, uint depth, float threshold,
+                                const SampleStream *stream, uint dimension)
+{
+    float q = v_max_component(*throughput) * eta_scale;
+    if (depth >= 1 && q < threshold) {
+        float survive = fmax(q, 0.05f);
+        if (sample_1d(stream, dimension) >= survive)
+            return 0;
+        *throughput = v_scale(*throughput, 1.0f / survive);
+    }
+    return 1;
+}
 
 /* One path sample along a camera ray; returns its radiance (with
  * TRACK_DIRECT also its direct and indirect parts in parts[0], parts[1]).
@@ -138,12 +184,97 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
      * for a sphere the cone it saw). */
     Vec3 previous_point = origin, previous_normal = vec3(0.0f, 0.0f, 0.0f);
     int specular_bounce = 0;
+#if GMON_HAS_MEDIA
+    int medium = scene->constants->media.count > 0 ? scene->constants->media.camera_medium : -1;
+    uint medium_dimension = MEDIUM_DIMENSION; /* the next of the media's own random dimensions */
+#else
+    const int medium = -1;
+    uint medium_dimension = 0;
+#endif
     for (uint depth = 0;; ++depth) {
-        Ray ray = make_ray(origin, direction);
         Hit hit;
-        ++*rays;
         int unweighted = !use_nee || depth == 0 || specular_bounce;
-        if (!scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit)) {
+        uint dim = 2 + depth * DIMS_PER_BOUNCE;
+#if GMON_HAS_MEDIA
+        /* Along the ray through media and "interface" boundaries to where
+         * it scatters: in a medium, or at a surface with a material. */
+        int found, scattered = 0;
+        for (int crossings = 0;; ++crossings) {
+            Ray ray = make_ray(origin, direction);
+            ++*rays;
+            found = scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit);
+            if (medium >= 0) {
+                __global const Medium *m = scene->media + medium;
+                float t_max = found ? hit.t : INFINITY, t = 0.0f;
+                int emit = depth < integrator->max_depth; /* as pbrt-v4: no emission past the last bounce */
+                if (m->type == MEDIUM_HOMOGENEOUS) {
+                    float u1, u2;
+                    if (emit)
+                        ADD_LIGHT(v_mul(throughput, medium_emission(m, t_max)), depth <= 1);
+                    sample_2d(stream, medium_dimension, &u1, &u2);
+                    medium_dimension += 2u;
+                    Vec3 weight;
+                    scattered = medium_sample_distance(m, t_max, throughput, u1, u2, &t, &weight);
+                    throughput = v_mul(throughput, weight);
+                } else {
+                    Vec3 emitted = vec3(0.0f, 0.0f, 0.0f);
+                    scattered = grid_sample_distance(scene, m, origin, direction, t_max, stream, &medium_dimension,
+                                                     emit, &throughput, &emitted, &t);
+                    if (emit)
+                        ADD_LIGHT(emitted, depth <= 1);
+                }
+                if (scattered) {
+                    origin = v_add(origin, v_scale(direction, t));
+                    break;
+                }
+            }
+            if (!found || scene->materials[scene->primitives[hit.primitive].material].type != MAT_INTERFACE)
+                break;
+            if (crossings >= MEDIUM_MAX_CROSSINGS) {
+                throughput = vec3(0.0f, 0.0f, 0.0f); /* ends the path below */
+                break;
+            }
+            __global const Primitive *boundary = scene->primitives + hit.primitive;
+            Vec3 p = v_add(origin, v_scale(direction, hit.t));
+            Vec3 n = hit_normal(scene, &hit, boundary, p);
+            medium = medium_after(scene, hit.primitive, n, direction, medium);
+            origin = offset_origin(p, n, direction);
+        }
+        if (scattered) {
+            if (depth >= integrator->max_depth)
+                break;
+            /* Light sampling and phase sampling, combined by MIS; the phase
+             * function's sample weighs f / pdf = 1. */
+            Vec3 wo = v_scale(direction, -1.0f);
+            float g = scene->media[medium].g, u1, u2;
+            if (use_nee) {
+                LightSample ls;
+                sample_2d(stream, dim + 1, &u1, &u2);
+                if (sample_light(scene, origin, vec3(0.0f, 0.0f, 0.0f), -1, medium, sample_1d(stream, dim), u1, u2,
+                                 stream, &medium_dimension, &ls, rays)) {
+                    float phase = hg_phase(wo, ls.wi, g);
+                    float weight = ls.is_delta ? 1.0f : power_heuristic(ls.pdf, phase);
+                    ADD_LIGHT(v_scale(v_mul(throughput, ls.radiance), phase * weight / ls.pdf), depth == 0);
+                }
+            }
+            sample_2d(stream, dim + 4, &u1, &u2);
+            direction = v_normalize(hg_sample(wo, g, u1, u2));
+            previous_pdf = hg_phase(wo, direction, g);
+            previous_point = origin;
+            previous_normal = vec3(0.0f, 0.0f, 0.0f);
+            specular_bounce = 0;
+            if (!roulette_survives(&throughput, eta_scale, depth, integrator->rr_threshold, stream, dim + 6))
+                break;
+            continue;
+        }
+        if (!(v_max_component(throughput) > 0.0f))
+            break;
+#else
+        Ray ray = make_ray(origin, direction);
+        ++*rays;
+        int found = scene_intersect(scene, &ray, 0.0f, INFINITY, 0, &hit);
+#endif
+        if (!found) {
             if (GMON_HAS_INFINITE_LIGHTS)
                 ADD_LIGHT(v_mul(throughput, infinite_radiance(scene, direction, previous_pdf, unweighted)), depth <= 1);
             break;
@@ -160,9 +291,15 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             float weight = 1.0f;
             if (!unweighted) {
                 float cos_light = fabs(v_dot(n, wo_world));
-                float light_pdf = cos_light > 0.0f ? light_pick_pmf(scene, light, previous_point, previous_normal) *
-                                                         area_light_pdf(scene, light, previous_point, hit.t, cos_light)
-                                                   : 0.0f;
+#if GMON_HAS_MEDIA
+                float distance = v_length(v_sub(p, previous_point)); /* the ray may have crossed interfaces */
+#else
+                float distance = hit.t;
+#endif
+                float light_pdf = cos_light > 0.0f
+                                      ? light_pick_pmf(scene, light, previous_point, previous_normal) *
+                                            area_light_pdf(scene, light, previous_point, distance, cos_light)
+                                      : 0.0f;
                 weight = cos_light > 0.0f ? power_heuristic(previous_pdf, light_pdf) : 0.0f;
             }
             ADD_LIGHT(v_scale(v_mul(throughput, le), weight), depth <= 1);
@@ -177,14 +314,14 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
         const Material *material = &surface.material;
         Vec3 ns = surface.ns, s = surface.s, t = surface.t;
         Vec3 wo = vec3(v_dot(wo_world, s), v_dot(wo_world, t), v_dot(wo_world, ns));
-        uint dim = 2 + depth * DIMS_PER_BOUNCE;
 
         /* Next-event estimation (not for perfectly smooth surfaces). */
         if (use_nee && !bsdf_is_delta(material)) {
             LightSample ls;
             float u1, u2;
             sample_2d(stream, dim + 1, &u1, &u2);
-            if (sample_light(scene, p, n, sample_1d(stream, dim), u1, u2, &ls, rays)) {
+            if (sample_light(scene, p, n, hit.primitive, medium, sample_1d(stream, dim), u1, u2, stream,
+                             &medium_dimension, &ls, rays)) {
                 Vec3 wi = vec3(v_dot(ls.wi, s), v_dot(ls.wi, t), v_dot(ls.wi, ns));
                 float bsdf_pdf = 0.0f;
                 Vec3 f = bsdf_eval(material, wo, wi, &bsdf_pdf);
@@ -208,16 +345,11 @@ KERNEL_FN Vec3 trace_path(const Scene *scene, Vec3 origin, Vec3 direction, float
             eta_scale *= bs.etap * bs.etap;
         direction = v_normalize(v_add(v_add(v_scale(s, bs.wi.x), v_scale(t, bs.wi.y)), v_scale(ns, bs.wi.z)));
         origin = offset_origin(p, n, direction);
-
-        /* Russian roulette on the throughput without the radiance scaling
-         * of refraction, after the first bounces (IntegratorData). */
-        float q = v_max_component(throughput) * eta_scale;
-        if (depth >= 1 && q < integrator->rr_threshold) {
-            float survive = fmax(q, 0.05f);
-            if (sample_1d(stream, dim + 6) >= survive)
-                break;
-            throughput = v_scale(throughput, 1.0f / survive);
-        }
+#if GMON_HAS_MEDIA
+        medium = medium_after(scene, hit.primitive, n, direction, medium);
+#endif
+        if (!roulette_survives(&throughput, eta_scale, depth, integrator->rr_threshold, stream, dim + 6))
+            break;
     }
     return radiance;
 }

@@ -100,7 +100,7 @@ KERNEL_FN int is_sphere(const GLOBAL Primitive *p)
 #define MAT_MIX 5u /* resolved to one of its two materials at each hit */
 #define MAT_COATED_CONDUCTOR 6u
 #define MAT_THIN_DIELECTRIC 7u
-#define MAT_INTERFACE 8u  /* no surface: the host drops its shapes, the kernel never sees it */
+#define MAT_INTERFACE 8u  /* no surface: a boundary between media (FEATURE_MEDIA); else the host drops its shapes */
 #define MIX_MAX_NESTING 8 /* mixes of mixes, at most */
 
 /* 128 bytes. alpha_x/alpha_y are GGX roughnesses (of the coating for the
@@ -333,7 +333,7 @@ typedef struct {
 #define CAMERA_PERSPECTIVE 0u
 #define CAMERA_ORTHOGRAPHIC 1u
 
-/* The constants of one render, by concern. 224 bytes in all.
+/* The constants of one render, by concern. 256 bytes in all.
  *
  * The camera: an image point (sx, sy) in [-1, 1]^2 (x to the right, y up
  * in the image) is, for the perspective camera, the ray from `position`
@@ -416,6 +416,59 @@ typedef struct {
     uint32_t unbounded_lights; /* lights[0, this): the infinite, then the distant ones */
 } IntegratorData;
 
+/* Medium.type */
+#define MEDIUM_HOMOGENEOUS 0u
+#define MEDIUM_UNIFORM_GRID 1u /* sigma_a, sigma_s, emission times a density grid (and a Lescale grid) */
+#define MEDIUM_RGB_GRID 2u     /* RGB grids of sigma_a, sigma_s and Le */
+#define MEDIUM_CLOUD 3u        /* pbrt-v4's procedural cloud: sigma_a, sigma_s times its density */
+
+/* A participating medium (FEATURE_MEDIA): absorption and scattering
+ * coefficients per unit of world length, per channel, the radiance it
+ * emits (per unit of absorption, as pbrt-v4's Le) and the
+ * Henyey-Greenstein asymmetry g. Grids (media.h, medium_at): their values
+ * in medium_values, size[0] x size[1] x size[2] cells (x fastest) over the
+ * unit cube that medium_from_world (rows of an affine map) takes world
+ * points to; uniformgrid: the density grid at `density` multiplies sigma_a,
+ * sigma_s and emission, the emission also the le_size grid at `le_scale`;
+ * rgbgrid: RGB grids (3 values a cell, or -1: sigma 1, Le 0) times
+ * sigma_a[0], sigma_s[0] ("scale"), emission[0] ("Lescale"); cloud: at
+ * `density` its density, wispiness, frequency, then its box's lower corner
+ * and extent in the medium's space (9 values). The
+ * majorant grid, MEDIUM_MAJORANT_GRID^3 values at `majorants` (x fastest),
+ * bounds sigma_t in every channel over each of its cells of the cube (as
+ * pbrt-v4's MajorantGrid); `majorant` over the whole cube. 144 bytes. */
+#define MEDIUM_MAJORANT_GRID 16
+typedef struct {
+    float sigma_a[3];
+    float g;
+    float sigma_s[3];
+    uint32_t type;
+    float emission[3];
+    float majorant;
+    float medium_from_world[3][4];
+    uint32_t size[3];
+    int32_t density;
+    uint32_t le_size[3];
+    int32_t le_scale;
+    int32_t rgb_sigma_a, rgb_sigma_s, rgb_le;
+    int32_t majorants;
+} Medium;
+
+/* primitive_media[i], primitive i's (in the BVH's order) MediumInterface:
+ * the medium behind it (against its normal) in the low 16 bits, the one in
+ * front in the high 16, each an index into media or MEDIUM_VACUUM; equal
+ * halves: no boundary, the ray keeps its medium. */
+#define MEDIUM_VACUUM 0xffffu
+#define MEDIUM_MAX_COUNT 0xffffu
+
+/* The media (FEATURE_MEDIA): `count` media, and the one the camera sees
+ * through (-1: vacuum). count 0: no media (primitive_media is empty). */
+typedef struct {
+    uint32_t count;
+    int32_t camera_medium;
+    uint32_t pad[2];
+} MediaData;
+
 /* The infinite lights: lights[0, infinite_count) of the light array. */
 typedef struct {
     uint32_t infinite_count;
@@ -428,6 +481,7 @@ typedef struct {
     FilmData film;
     IntegratorData integrator;
     BackgroundData background;
+    MediaData media;
 } SceneConstants;
 
 /* The scene's arrays, in the order the path tracer takes them after the
@@ -461,7 +515,10 @@ typedef struct {
     ARRAY(texture_floats, float)                                                                                       \
     ARRAY(surface_uvs, float)                                                                                          \
     ARRAY(instances, Instance)                                                                                         \
-    ARRAY(alphas, AlphaSlot)
+    ARRAY(alphas, AlphaSlot)                                                                                           \
+    ARRAY(media, Medium)                                                                                               \
+    ARRAY(primitive_media, uint32_t)                                                                                   \
+    ARRAY(medium_values, float)
 
 #ifndef __OPENCL_C_VERSION__
 _Static_assert(sizeof(Primitive) == 48, "Primitive must match the kernel's layout");
@@ -473,7 +530,8 @@ _Static_assert(sizeof(Instance) == 64, "Instance must match the kernel's layout"
 _Static_assert(sizeof(AlphaSlot) == 8, "AlphaSlot must match the kernel's layout");
 _Static_assert(sizeof(Light) == 128, "Light must match the kernel's layout");
 _Static_assert(sizeof(LightNode) == 64, "LightNode must match the kernel's layout");
-_Static_assert(sizeof(SceneConstants) == 240, "SceneConstants must match the kernel's layout");
+_Static_assert(sizeof(Medium) == 144, "Medium must match the kernel's layout");
+_Static_assert(sizeof(SceneConstants) == 256, "SceneConstants must match the kernel's layout");
 #endif
 
 #endif

@@ -147,6 +147,28 @@ Include "geometry/a.pbrt"
         text = cp.rewrite_scene('Film "rgb"\nWorldBegin\n', 5, 7)
         self.assertIn('Film "rgb"\n    "integer xresolution" [ 5 ] "integer yresolution" [ 7 ]\nWorldBegin', text)
 
+    def test_integrator_variant(self):
+        """A renders row "the same with `Integrator "volpath"`" takes the row
+        above's scene, with its integrator replaced in a copy."""
+        import tempfile
+        from pathlib import Path
+        with tempfile.TemporaryDirectory() as d:
+            d = Path(d)
+            (d / "renders").mkdir()
+            (d / "renders" / "README.md").write_text(
+                "| folder | scene file | resolution | integrator |\n| --- | --- | --- | --- |\n"
+                "| box | box/box.pbrt | 8x8 | path |\n"
+                "| box-volpath | the same with `Integrator \"volpath\"` | 8x8 | volpath |\n")
+            table = cp.scene_table(d / "renders")
+            self.assertEqual(table["box-volpath"], ("box/box.pbrt", 8, 8))
+            self.assertEqual(cp.INTEGRATOR_VARIANTS["box-volpath"], "volpath")
+            (d / "box").mkdir()
+            (d / "box" / "box.pbrt").write_text('Integrator "path" "integer maxdepth" 5\nWorldBegin\n')
+            (d / "box" / "mesh.ply").write_text("ply")
+            copy = cp.integrator_variant(d / "box" / "box.pbrt", "volpath", d / "copy")
+            self.assertEqual(copy.read_text(), 'Integrator "volpath" "integer maxdepth" 5\nWorldBegin\n')
+            self.assertTrue((d / "copy" / "mesh.ply").is_symlink())
+
 
 if __name__ == "__main__":
     unittest.main()
