@@ -1315,9 +1315,7 @@ static void test_allow_unsupported_substitutes(void **state)
               "Shape \"curve\" \"float width\" 1\n"                                /* skipped */
               "LightSource \"sun\" \"rgb I\" [ 1 1 1 ]\n"                          /* skipped */
               "AreaLightSource \"goniometric\"\n" TRIANGLE                         /* does not emit */
-              "Shape \"sphere\" \"float phimax\" 180\n"                            /* full sphere */
-              "MakeNamedMedium \"smoke\" \"string type\" \"uniformgrid\" \"float density\" 1 \"float temperature\" "
-              "900\n"; /* vacuum */
+              "Shape \"sphere\" \"float phimax\" 180\n";                           /* full sphere */
     assert_int_equal(load_text("allow.pbrt", text, &s, 1), 0);
     assert_int_equal(s.shape_count, 4);
     assert_int_equal(s.triangle_count, 3);
@@ -1337,9 +1335,6 @@ static void test_allow_unsupported_substitutes(void **state)
     assert_true(has_warning(&s, "LightSource \"sun\""));
     assert_true(has_warning(&s, "goniometric"));
     assert_true(has_warning(&s, "phimax"));
-    assert_true(has_warning(&s,
-                            "MakeNamedMedium \"smoke\": type \"uniformgrid\" with a temperature grid is not rendered "
-                            "(homogeneous, uniformgrid, rgbgrid and cloud are); the medium is rendered as vacuum"));
     for (size_t i = 0; i < s.warning_count; ++i)
         assert_true(strncmp(s.warnings[i], temp_path("allow.pbrt"), strlen(temp_path("allow.pbrt"))) == 0);
     scene_destroy(&s);
@@ -1446,16 +1441,52 @@ static void test_media(void **state)
     assert_vec3(s.media[1].cloud, 1, 1, 5); /* pbrt-v4's defaults */
     scene_destroy(&s);
 
+    /* A temperature grid: the rgbgrid of its cells' blackbody emission
+     * (T = (t - offset) * scale, none at 100 K or below) times "Lescale",
+     * sigma_a and sigma_s per cell times the density. */
+    load_ok("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"integer nz\" 3 \"float density\" [ 0.5 1 2 ] "
+            "\"float temperature\" [ 900 1000 140 ] \"float temperaturescale\" 2 \"float temperatureoffset\" 100 "
+            "\"float Lescale\" [ 1 3 1 ] \"rgb sigma_a\" [ 1 2 3 ]\n" WORLD,
+            &s);
+    grid = &s.media[0];
+    assert_int_equal(grid->type, SCENE_MEDIUM_RGB_GRID);
+    assert_int_equal(grid->rendered, 1);
+    assert_vec3(grid->sigma_a, 1, 1, 1);
+    assert_vec3(grid->emission, 1, 1, 1);
+    assert_vec3(grid->rgb_sigma_a, 0.5, 1, 1.5);
+    assert_vec3(grid->rgb_sigma_s + 6, 2, 2, 2);
+    {
+        static const double kelvin[2] = {1600.0, 1800.0}, cell_scale[2] = {1.0, 3.0};
+        double srgb_from_xyz[3][3];
+        spectrum_srgb_from_xyz(srgb_from_xyz);
+        for (int i = 0; i < 2; ++i) {
+            Spectrum b;
+            double xyz[3];
+            spectrum_blackbody(kelvin[i], &b);
+            spectrum_to_xyz(&b, xyz);
+            for (int k = 0; k < 3; ++k) {
+                double rgb = srgb_from_xyz[k][0] * xyz[0] + srgb_from_xyz[k][1] * xyz[1] + srgb_from_xyz[k][2] * xyz[2];
+                assert_float_equal(grid->rgb_le[3 * i + k], fmax(0.0, rgb) * cell_scale[i], 1e-6 + 1e-5 * fabs(rgb));
+            }
+        }
+        assert_true(grid->rgb_le[0] > grid->rgb_le[2]); /* red hot */
+        assert_vec3(grid->rgb_le + 6, 0, 0, 0);         /* 80 K: none */
+    }
+    scene_destroy(&s);
+    load_ok("MakeNamedMedium \"m\" \"string type\" \"uniformgrid\" \"float density\" 1 \"float temperature\" 900 "
+            "\"float temperaturecutoff\" 850\n" WORLD,
+            &s); /* the offset defaults to the cutoff: 50 K, no emission */
+    assert_vec3(s.media[0].rgb_le, 0, 0, 0);
+    scene_destroy(&s);
+
     /* The types not rendered are read and checked, then refused (with
      * allow_unsupported: vacuum). */
     unsigned char nvdb[16] = "NanoVDB0";
     write_bytes("cloud.nvdb", nvdb, sizeof nvdb);
     static const char *const unrendered[] = {
-        ("\"uniformgrid\" \"integer nz\" 2 \"float density\" [ 0.5 1 ] \"float temperature\" [ 900 1000 ] "
-         "\"float temperaturescale\" 2 \"float temperatureoffset\" 100"),
         "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
     };
-    static const char *const types[] = {"uniformgrid\" with a temperature grid", "nanovdb\""};
+    static const char *const types[] = {"nanovdb\""};
     for (size_t i = 0; i < sizeof unrendered / sizeof unrendered[0]; ++i) {
         char text[512], message[128];
         snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, unrendered[i]);
@@ -1465,7 +1496,7 @@ static void test_media(void **state)
         if (!has_warning(&s, message))
             fail_msg("%s: no warning \"%s\"", unrendered[i], message);
         assert_int_equal(s.medium_count, 1);
-        assert_int_equal(s.media[0].type, i == 0 ? SCENE_MEDIUM_UNIFORM_GRID : SCENE_MEDIUM_NANOVDB);
+        assert_int_equal(s.media[0].type, SCENE_MEDIUM_NANOVDB);
         assert_int_equal(s.media[0].rendered, 0);
         scene_destroy(&s);
         load_fails(text, 1, message);

@@ -3,6 +3,7 @@
  * media, which the shapes and the camera take), and the names bound once
  * the whole scene is read, as pbrt-v4 binds them. */
 #include "scene/media.h"
+#include "scene/spectrum.h"
 
 #include <float.h>
 #include <math.h>
@@ -273,6 +274,57 @@ static int read_bounds(Parser *p, Lexer *lex, const Token *d, ParamList *params,
     return 0;
 }
 
+/* A uniformgrid with a "temperature" grid, made the rgbgrid it equals:
+ * per cell sigma_a and sigma_s times the density, and as Le the blackbody
+ * of the cell's temperature (pbrt-v4's BlackbodySpectrum, peak 1, none at
+ * 100 K or below) in linear sRGB times the cell's "Lescale" value. pbrt-v4 interpolates the
+ * temperature and then takes its blackbody; interpolating the cells' RGB
+ * approximates that. */
+static int temperature_to_rgb_grid(Parser *p, Lexer *lex, const Token *d, ParamList *params, const Param *temperature,
+                                   float offset, float temperature_scale, size_t n, SceneMedium *m)
+{
+    (void)params;
+    float *a = malloc(3 * n * sizeof *a), *s = malloc(3 * n * sizeof *s), *le = malloc(3 * n * sizeof *le);
+    if (!a || !s || !le) {
+        free(a);
+        free(s);
+        free(le);
+        return out_of_memory(p, lex->path, d->line);
+    }
+    double srgb_from_xyz[3][3];
+    spectrum_srgb_from_xyz(srgb_from_xyz);
+    for (size_t i = 0; i < n; ++i) {
+        double t = (temperature->numbers[i] - (double)offset) * (double)temperature_scale, xyz[3] = {0, 0, 0};
+        if (t > 100.0) {
+            Spectrum b;
+            spectrum_blackbody(t, &b);
+            spectrum_to_xyz(&b, xyz);
+        }
+        double cell = m->le_scale ? (double)m->le_scale[i] : 1.0;
+        for (int k = 0; k < 3; ++k) {
+            double rgb = 0.0;
+            for (int j = 0; j < 3; ++j)
+                rgb += srgb_from_xyz[k][j] * xyz[j];
+            a[3 * i + (size_t)k] = m->density[i] * m->sigma_a[k];
+            s[3 * i + (size_t)k] = m->density[i] * m->sigma_s[k];
+            le[3 * i + (size_t)k] = (float)fmax(0.0, rgb * cell);
+        }
+    }
+    free(m->density);
+    free(m->le_scale);
+    m->density = m->le_scale = NULL;
+    m->rgb_sigma_a = a;
+    m->rgb_sigma_s = s;
+    m->rgb_le = le;
+    for (int k = 0; k < 3; ++k) {
+        m->sigma_a[k] = m->sigma_s[k] = 1.0f;
+        m->emission[k] = 1.0f;
+    }
+    m->type = SCENE_MEDIUM_RGB_GRID;
+    m->rendered = 1;
+    return 0;
+}
+
 static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
     size_t n;
@@ -288,16 +340,20 @@ static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *p
     if (le && temperature)
         return scene_error(&p->diag, lex->path, d->line, "%s: both \"Le\" and \"temperature\" are given",
                            params->owner);
-    float unused;
+    /* pbrt-v4: T = (t - "temperatureoffset") * "temperaturescale", the
+     * offset defaulting to "temperaturecutoff" (default 0). */
+    float cutoff = 0.0f, offset, temperature_scale = 1.0f;
     if (params_get_spectrum(params, "Le", SPECTRUM_ILLUMINANT, m->emission) < 0 ||
         grid_values(p, lex, d, params, "Lescale", PARAM_FLOAT, n, 0) ||
-        params_get_float(params, "temperatureoffset", &unused) < 0 ||
-        params_get_float(params, "temperaturecutoff", &unused) < 0 ||
-        params_get_float(params, "temperaturescale", &unused) < 0 || read_bounds(p, lex, d, params, m) ||
+        params_get_float(params, "temperaturecutoff", &cutoff) < 0 || ((offset = cutoff), 0) ||
+        params_get_float(params, "temperatureoffset", &offset) < 0 ||
+        params_get_float(params, "temperaturescale", &temperature_scale) < 0 || read_bounds(p, lex, d, params, m) ||
         read_coefficients(p, lex, d, params, 0, m) ||
         copy_values(p, lex, d, params, "density", PARAM_FLOAT, &m->density) ||
         copy_values(p, lex, d, params, "Lescale", PARAM_FLOAT, &m->le_scale))
         return -1;
+    if (temperature)
+        return temperature_to_rgb_grid(p, lex, d, params, temperature, offset, temperature_scale, n, m);
     if (m->le_scale) {
         memcpy(m->le_size, m->size, sizeof m->le_size);
     } else { /* pbrt-v4's one cell of 1 (its Le's normalisation, applied to Le here) */
@@ -306,7 +362,7 @@ static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *p
         m->le_scale[0] = 1.0f;
         m->le_size[0] = m->le_size[1] = m->le_size[2] = 1;
     }
-    m->rendered = !temperature; /* blackbody emission from a temperature grid is not rendered */
+    m->rendered = 1;
     return 0;
 }
 
@@ -443,8 +499,7 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
         result = scene_unsupported(&p->diag, lex->path, d->line, "the medium is rendered as vacuum",
                                    "MakeNamedMedium \"%s\": type \"%s\"%s is not rendered (homogeneous, "
                                    "uniformgrid, rgbgrid and cloud are)",
-                                   p->scene->media[index].name, type,
-                                   m.type == SCENE_MEDIUM_UNIFORM_GRID ? " with a temperature grid" : "");
+                                   p->scene->media[index].name, type, "");
     char origin[512];
     snprintf(origin, sizeof origin, "%s:%d", lex->path, d->line);
     if (result == 0 && !(m.origin = scene_strndup(origin, strlen(origin))))

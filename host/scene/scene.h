@@ -352,9 +352,10 @@ typedef enum {
  * rgb_sigma_s, rgb_le (3 values a cell; NULL: 1, 1 and 0), sigma_a and
  * sigma_s holding "scale" and emission "Lescale" in each channel. cloud:
  * pbrt-v4's procedural cloud over bounds, `cloud` its density, wispiness
- * and frequency, sigma_a and sigma_s per unit of its density. The other
- * types (nanovdb, uniformgrid with temperature) are read and checked but
- * not rendered: the renderer takes them as vacuum under allow_unsupported
+ * and frequency, sigma_a and sigma_s per unit of its density. A
+ * uniformgrid with a "temperature" grid is read as the rgbgrid of its
+ * cells' blackbody emission (media.c). nanovdb is read and checked but not
+ * rendered: the renderer takes it as vacuum under allow_unsupported
  * (`rendered` 0). */
 typedef struct {
     char *name;
