@@ -4,10 +4,12 @@
  * the furnace inside a scattering medium of albedo 1 (with per-channel
  * coefficients, for the spectral MIS), and emission: closed form where the
  * medium only absorbs, and the furnace again where emission balances
- * absorption. */
+ * absorption; a temperature grid (from a scene file) emits its blackbody. */
 #include "cl/cl_device.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
+#include "render/scene_convert.h"
+#include "scene/spectrum.h"
 #include "test_device.h"
 
 #include <math.h>
@@ -415,12 +417,84 @@ static void test_grid_furnace(void **state)
     }
 }
 
+/* A scene file: the camera at the origin inside a sphere (radius 2) of
+ * medium `medium` (its MakeNamedMedium parameters), no light; rendered. */
+static float *render_medium_file(const char *name, const char *medium)
+{
+    char path[512], error[1024];
+    snprintf(path, sizeof path, "%s/%s", GMON_BINARY_DIR, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fprintf(f,
+            "MediumInterface \"\" \"fire\"\nCamera \"perspective\" \"float fov\" 60\nWorldBegin\n"
+            "MakeNamedMedium \"fire\" %s\nMediumInterface \"fire\" \"\"\nMaterial \"interface\"\n"
+            "Shape \"sphere\" \"float radius\" 2\n",
+            medium);
+    fclose(f);
+    RenderScene scene;
+    SceneSummary summary;
+    if (scene_convert_load(path, 0, SIZE, SIZE, 1, &scene, &summary, error, sizeof error))
+        fail_msg("%s", error);
+    float *image = render(&scene, 1, 5, 64);
+    render_scene_destroy(&scene);
+    return image;
+}
+
+static void test_temperature_grid(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    /* An absorbing grid at one temperature (T = (t - 100) * 2 = 3000 K)
+     * over [-3, 3]^3 (constant within 2.25 of the centre) emits that
+     * blackbody's RGB times Lescale as Le: every ray sees
+     * Le (1 - exp(-2 sigma_a)), sigma_a = density * "sigma_a". */
+    Spectrum b;
+    double xyz[3], m[3][3], le[3];
+    spectrum_blackbody(3000.0, &b);
+    spectrum_to_xyz(&b, xyz);
+    spectrum_srgb_from_xyz(m);
+    for (int k = 0; k < 3; ++k)
+        le[k] = 3.0 * fmax(0.0, m[k][0] * xyz[0] + m[k][1] * xyz[1] + m[k][2] * xyz[2]);
+    char grid[2048];
+    int used = snprintf(grid, sizeof grid,
+                        "\"string type\" \"uniformgrid\" \"integer nx\" 4 \"integer ny\" 4 \"integer nz\" 4 "
+                        "\"point3 p0\" [ -3 -3 -3 ] \"point3 p1\" [ 3 3 3 ] \"rgb sigma_a\" [ 0.5 1 0.2 ] "
+                        "\"rgb sigma_s\" [ 0 0 0 ] \"float temperatureoffset\" 100 \"float temperaturescale\" 2 "
+                        "\"float density\" [");
+    for (int i = 0; i < 64; ++i)
+        used += snprintf(grid + used, sizeof grid - (size_t)used, " 0.5");
+    used += snprintf(grid + used, sizeof grid - (size_t)used, " ] \"float Lescale\" [");
+    for (int i = 0; i < 64; ++i)
+        used += snprintf(grid + used, sizeof grid - (size_t)used, " 3");
+    used += snprintf(grid + used, sizeof grid - (size_t)used, " ] \"float temperature\" [");
+    for (int i = 0; i < 64; ++i)
+        used += snprintf(grid + used, sizeof grid - (size_t)used, " 1600");
+    snprintf(grid + used, sizeof grid - (size_t)used, " ]");
+    float *a = render_medium_file("temperature-grid.pbrt", grid);
+    const double sigma_a[3] = {0.25, 0.5, 0.1};
+    assert_true(le[0] > le[1] && le[1] > le[2] && le[2] > 0.0);
+    for (int c = 0; c < 3; ++c) { /* the pixels' ratios to it: independent, mean 1 */
+        double sum = 0.0, squares = 0.0, expected = le[c] * (1.0 - exp(-2.0 * sigma_a[c]));
+        for (int p = 0; p < SIZE * SIZE; ++p) {
+            double r = a[3 * p + c] / expected;
+            sum += r;
+            squares += r * r;
+        }
+        double mean = sum / (SIZE * SIZE), error = sqrt((squares / (SIZE * SIZE) - mean * mean) / (SIZE * SIZE - 1));
+        printf("  temperature grid, channel %d: mean / Le (1 - exp(-2 sigma_a)) %.5f (standard error %.5f)\n", c, mean,
+               error);
+        assert_true(error < 0.02);
+        assert_true(fabs(mean - 1.0) < 4.0 * error);
+    }
+    free(a);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_absorbing_slab),     cmocka_unit_test(test_absorbing_sphere_transmittance),
         cmocka_unit_test(test_scattering_furnace), cmocka_unit_test(test_emission),
-        cmocka_unit_test(test_grid_furnace),
+        cmocka_unit_test(test_grid_furnace),       cmocka_unit_test(test_temperature_grid),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }
