@@ -38,28 +38,19 @@
 #endif
 
 #if SAMPLE_PASSES
-/* Adds one value (a camera sample's film response `film`, times `weight`
- * in the sets, or a splat's RGB with weight 1) to the per-sample state of
- * `pixel`: as the path tracer adds a sample, with no direct part. */
-KERNEL_FN void bdpt_sample_passes_add(__global ulong *sample_state, ulong pixel, ulong pixel_count, const float *film,
-                                      float weight, uint set)
+/* Adds one value to the per-sample state of `pixel`: a camera sample's
+ * film response (times its filter weight in the sets) or a splat's RGB,
+ * both as splat_sample_parts makes them (no direct part). */
+KERNEL_FN void bdpt_sample_passes_add(__global ulong *sample_state, ulong pixel, ulong pixel_count,
+                                      const SampleParts *sample)
 {
-    SampleParts sample;
-    for (int c = 0; c < EST_CHANNELS; ++c) {
-        sample.film[c] = film[c];
-        sample.direct[c] = 0.0f;
-        sample.indirect[c] = film[c];
-    }
-    sample.weight = weight;
-    sample.set = set;
-    sample.set_count = EST_SETS;
 #if EST_CLAMP_LEVEL_COUNT > 0
     const float levels[EST_CLAMP_LEVEL_COUNT] = {EST_CLAMP_LEVEL_VALUES};
 #else
     const float levels[1] = {0.0f};
 #endif
     sample_passes_add(sample_state, pixel, pixel_count, SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, levels, 0.0f, 0.0f,
-                      EST_ZIRR_COUNT, EST_ZIRR_BASE, &sample);
+                      EST_ZIRR_COUNT, EST_ZIRR_BASE, sample);
 }
 #endif
 
@@ -299,14 +290,15 @@ __kernel void render_samples(__global const SceneConstants *constants,
         Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &camera, &rays));
 #if SAMPLE_PASSES
         const float film[EST_CHANNELS] = {L.x, L.y, L.z};
+        SampleParts sample = splat_sample_parts(film, set_of_sample(sample_index, EST_SETS), EST_SETS);
+        sample.weight = GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f;
 #endif
         if (GMON_HAS_PIXEL_FILTER)
             L = v_scale(L, camera.weight);
         const uint set = set_of_sample(sample_index, EST_SETS);
         int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS, set, L.x, L.y, L.z);
 #if SAMPLE_PASSES
-        bdpt_sample_passes_add(sample_state, local_pixel, buffer_pixel_count, film,
-                               GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f, set);
+        bdpt_sample_passes_add(sample_state, local_pixel, buffer_pixel_count, &sample);
 #endif
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
@@ -372,8 +364,9 @@ __kernel void add_splats(__global ulong *accumulators, __global uint *rejected, 
         __global const SplatRecord *r = records + k;
         int added = accumulate_sample(accumulators, i, pixel_count, EST_SETS, r->set, r->rgb[0], r->rgb[1], r->rgb[2]);
 #if SAMPLE_PASSES
-        const float film[EST_CHANNELS] = {r->rgb[0], r->rgb[1], r->rgb[2]};
-        bdpt_sample_passes_add(sample_state, i, pixel_count, film, 1.0f, r->set);
+        const float rgb[EST_CHANNELS] = {r->rgb[0], r->rgb[1], r->rgb[2]};
+        const SampleParts sample = splat_sample_parts(rgb, r->set, EST_SETS);
+        bdpt_sample_passes_add(sample_state, i, pixel_count, &sample);
 #endif
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
