@@ -370,7 +370,11 @@ static void test_lightpath_splats_equal_one_device(void **state)
         light.constants.integrator.flags = RENDER_NEE | integrators[i];
         assert_int_equal(render_scene_finalize(&light, error, sizeof error), 0);
         RenderSettings s = small_settings();
-        s.estimator.passes = PASSES_ALL; /* the per-sample estimators do not take splats */
+        /* The per-sample estimators that take splats (clamp, zirr) too. */
+        s.estimator.passes = PASSES_ALL | PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_ZIRR);
+        s.estimator.params.clamp_level_count = 2;
+        s.estimator.params.clamp_levels[0] = INFINITY;
+        s.estimator.params.clamp_levels[1] = 0.05f;
         RenderOutput one, all;
         assert_int_equal(renderer_run(devices, 1, &light, &s, &one, error, sizeof error), RENDER_OK);
         assert_int_equal(renderer_run(devices, device_count, &light, &s, &all, error, sizeof error), RENDER_OK);

@@ -328,6 +328,86 @@ static void test_caustic_check_names_lights_behind_specular_surfaces(void **stat
         }
 }
 
+/* Renders scenes/<name> expecting renderer_run to refuse it; returns the
+ * error. */
+static void render_refused(const char *name, uint32_t flags, const RenderSettings *settings, char *error,
+                           size_t error_size)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenes/%s", GMON_SOURCE_DIR, name);
+    RenderScene scene;
+    SceneSummary summary;
+    assert_int_equal(scene_convert_load(path, 0, 8, 8, 1, &scene, &summary, error, error_size), 0);
+    scene.constants.integrator.flags = flags;
+    assert_int_equal(render_scene_finalize(&scene, error, error_size), 0);
+    RenderOutput out;
+    assert_int_not_equal(renderer_run(&test_device, 1, &scene, settings, &out, error, error_size), RENDER_OK);
+    render_scene_destroy(&scene);
+}
+
+/* clamp and zirr see each splat as a sample of value its RGB (weight 1):
+ * clamp at V = infinity is the mean bit for bit, a low V clamps the image
+ * below it; zirr's cascades split each value, so its image keeps at most
+ * the mean's light (as test_sample_passes' zirr render checks). Their images do not
+ * depend on how passes batch samples (the splats' sums are exact). The
+ * moment-based estimators and clamp-sum are refused with splats. */
+static void test_splats_in_per_sample_estimators(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    const uint32_t integrators[] = {RENDER_LIGHTPATH, RENDER_BDPT};
+    for (int i = 0; i < 2; ++i) {
+        const uint32_t flags = RENDER_NEE | integrators[i];
+        RenderSettings s;
+        render_settings_default(&s);
+        s.estimator.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_ZIRR);
+        s.estimator.params.clamp_level_count = 2;
+        s.estimator.params.clamp_levels[0] = INFINITY;
+        s.estimator.params.clamp_levels[1] = 0.05f;
+        s.sample_count = 12;
+        s.seed = 4;
+        s.seconds_per_pass = 100.0;
+        RenderOutput one, many;
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &one);
+        s.seconds_per_pass = 1e-6; /* one sample a pass */
+        render_scene_file("cornell-diffuse.pbrt", 24, 20, flags, &s, &many);
+        const size_t values = (size_t)one.width * one.height * 3;
+        const float *mean = one.pass[PASS_MEAN], *clamp = one.pass[PASS_CLAMP], *zirr = one.pass[PASS_ZIRR];
+        assert_non_null(clamp);
+        assert_non_null(zirr);
+        assert_memory_equal(mean, clamp, values * sizeof(float));
+        int below = 0;
+        double total = 0.0, plain = 0.0;
+        for (size_t k = 0; k < values; ++k) {
+            assert_true(clamp[values + k] <= mean[k]);
+            below += clamp[values + k] < mean[k];
+            assert_true(isfinite(zirr[k]) && zirr[k] >= 0.0f);
+            total += zirr[k];
+            plain += mean[k];
+        }
+        assert_true(below > 0);
+        /* zirr's cascades split each value (splats too): trusting some less
+         * than all, it keeps at most the mean's light. */
+        assert_true(total <= plain * 1.0001 && total > 0.15 * plain);
+        assert_memory_equal(one.pass[PASS_CLAMP], many.pass[PASS_CLAMP], 2 * values * sizeof(float));
+        assert_memory_equal(one.pass[PASS_ZIRR], many.pass[PASS_ZIRR], values * sizeof(float));
+        printf("  %s: clamp at infinity is the mean, at 0.05 below it in %d of %zu values; zirr's light %.3f of "
+               "the mean's; the same over 12 passes\n",
+               one.integrator, below, values, total / plain);
+        render_output_free(&one);
+        render_output_free(&many);
+        const uint32_t refused[] = {PASS_ABMM, PASS_GABMM, PASS_MEAN_OR_MON, PASS_CLAMP_SUM};
+        for (size_t r = 0; r < sizeof refused / sizeof refused[0]; ++r) {
+            render_settings_default(&s);
+            s.estimator.passes = PASS_BIT(PASS_MEAN) | PASS_BIT(refused[r]);
+            s.sample_count = 2;
+            char error[2048];
+            render_refused("cornell-diffuse.pbrt", flags, &s, error, sizeof error);
+            assert_non_null(strstr(error, "not samples of the pixel"));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -336,6 +416,7 @@ int main(void)
         cmocka_unit_test(test_bdpt_caustic_through_mirror),
         cmocka_unit_test(test_caustic_check_names_lights_behind_specular_surfaces),
         cmocka_unit_test(test_splat_sums_do_not_depend_on_passes_or_slices),
+        cmocka_unit_test(test_splats_in_per_sample_estimators),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

@@ -923,6 +923,77 @@ static void test_zirr_render(void **state)
     assert_true(ratio[1] > ratio[0]);
 }
 
+/* Splats (bdpt, lightpath) on the host reference, as add_splats adds them
+ * (film_sample_add_splat): each a sample of value its RGB and weight 1 to
+ * clamp (clamped by each level, as pbrt-v4's RGBFilm::AddSplat clamps
+ * splats) and to zirr's cascades; n stays the camera samples. Two camera
+ * samples and three splats of one pixel, sums known by hand; the estimates
+ * do not depend on the order the values come in; zirr's cascades split
+ * each value, so their means add up to the mean. */
+static void test_splats_hand_computed(void **state)
+{
+    (void)state;
+    const float levels[] = {1.0f, INFINITY};
+    EstimatorSettings s = sample_settings(PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_ZIRR), levels, 2);
+    s.set_count = 2;
+    assert_int_equal(estimator_settings_check(&s, NULL, 0), 0);
+    const size_t planes = film_sample_planes(&s), set_planes = accumulator_planes(2);
+    uint64_t *sums[2], *sets[2];
+    const float splats[3][3] = {{4.0f, 2.0f, 1.0f}, {0.5f, 0.5f, 0.5f}, {16.0f, 8.0f, 16.0f}};
+    const uint32_t splat_sets[3] = {0, 1, 1};
+    const SampleParts camera[2] = {
+        parts_in_set(parts_of(0.5f, 0.25f, 0.125f, 0, 0, 0, 0.5f, 0.25f, 0.125f, 1.0f), 0, 2),
+        parts_in_set(parts_of(0.25f, 0.25f, 0.25f, 0, 0, 0, 0.25f, 0.25f, 0.25f, 1.0f), 1, 2)};
+    for (int order = 0; order < 2; ++order) {
+        sums[order] = calloc(planes, sizeof(uint64_t));
+        sets[order] = calloc(set_planes, sizeof(uint64_t));
+        for (int k = 0; k < 5; ++k) {
+            const int i = order ? 4 - k : k; /* camera samples, then splats; or reversed */
+            if (i < 2)
+                assert_int_equal(film_sample_add(&s, sets[order], sums[order], 0, 1, &camera[i]), EST_ADD_EXACT);
+            else
+                assert_int_equal(
+                    film_sample_add_splat(&s, sets[order], sums[order], 0, 1, splat_sets[i - 2], 2, splats[i - 2]),
+                    EST_ADD_EXACT);
+        }
+    }
+    /* The sums' grids may differ by order (until normalized), their
+     * values and so the estimates not. */
+    float clamp[2][3], clamp_reversed[2][3], zirr_reversed[3];
+    EstimatorImages images;
+    memset(&images, 0, sizeof images);
+    images.pass[PASS_CLAMP] = clamp_reversed;
+    images.length = 3;
+    assert_int_equal(film_sample_estimate(&s, sums[1], planes, sets[1], 1, 2, &images, NULL, 0), ESTIMATOR_OK);
+    images.pass[PASS_CLAMP] = clamp;
+    assert_int_equal(film_sample_estimate(&s, sums[0], planes, sets[0], 1, 2, &images, NULL, 0), ESTIMATOR_OK);
+    assert_memory_equal(clamp, clamp_reversed, sizeof clamp);
+    assert_int_equal(film_sample_estimate_zirr(&s, sums[1], planes, sets[1], 1, 1, 2, zirr_reversed, NULL, 0),
+                     ESTIMATOR_OK);
+    /* V = 1: (4, 2, 1) by 1/4, (16, 8, 16) by 1/16, the rest as they are. */
+    const float expected[2][3] = {{3.25f, 2.0f, 2.125f}, {21.25f, 11.0f, 17.875f}};
+    for (int level = 0; level < 2; ++level)
+        for (int c = 0; c < 3; ++c)
+            assert_true(clamp[level][c] == expected[level][c] / 2.0f);
+    float zirr_image[3];
+    assert_int_equal(film_sample_estimate_zirr(&s, sums[0], planes, sets[0], 1, 1, 2, zirr_image, NULL, 0),
+                     ESTIMATOR_OK);
+    float means[EST_ZIRR_CASCADES_MAX * 3];
+    zirr_pixel_means(film_sample_zirr_block(&s, sums[0], 1), sets[0], 2, s.params.zirr_k, 0, 1, 2, means);
+    for (int c = 0; c < 3; ++c) {
+        double total = 0.0;
+        for (int k = 0; k < s.params.zirr_k; ++k)
+            total += means[k * 3 + c];
+        assert_true(fabs(total - expected[1][c] / 2.0) <= 1e-5 * expected[1][c]);
+        assert_true(isfinite(zirr_image[c]) && zirr_image[c] <= expected[1][c] / 2.0f * 1.0001f);
+        assert_true(zirr_image[c] == zirr_reversed[c]);
+    }
+    for (int order = 0; order < 2; ++order) {
+        free(sums[order]);
+        free(sets[order]);
+    }
+}
+
 /* zirr's memory: K = 6 costs 6 RGB sums and a grid word a pixel, and says
  * so in the summary. */
 static void test_zirr_memory_summary(void **state)
@@ -945,6 +1016,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_hand_computed_stream),
+        cmocka_unit_test(test_splats_hand_computed),
         cmocka_unit_test(test_levels_parameter),
         cmocka_unit_test(test_kernel_equals_host),
         cmocka_unit_test(test_clamp_infinity_is_the_mean),

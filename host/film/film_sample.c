@@ -233,3 +233,10 @@ int film_sample_add(const EstimatorSettings *s, uint64_t *accumulators, uint64_t
                              s->params.clamp_levels, s->params.clamp_sum_direct, s->params.clamp_sum_indirect,
                              s->params.zirr_k, s->params.zirr_base, sample);
 }
+
+int film_sample_add_splat(const EstimatorSettings *s, uint64_t *accumulators, uint64_t *state, size_t pixel,
+                          size_t pixel_count, uint32_t set, uint32_t set_count, const float *rgb)
+{
+    const SampleParts sample = splat_sample_parts(rgb, set, set_count);
+    return film_sample_add(s, accumulators, state, pixel, pixel_count, &sample);
+}

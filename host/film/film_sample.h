@@ -88,4 +88,10 @@ EstimatorStatus film_sample_estimate_zirr(const EstimatorSettings *settings, con
 int film_sample_add(const EstimatorSettings *settings, uint64_t *accumulators, uint64_t *state, size_t pixel,
                     size_t pixel_count, const SampleParts *sample);
 
+/* Adds one splat record's value `rgb` of set `set` (of set_count) to pixel
+ * `pixel` on the host as add_splats does (splat_sample_parts): to the set
+ * sums, then to clamp's and zirr's state. Returns EST_ADD_*. */
+int film_sample_add_splat(const EstimatorSettings *settings, uint64_t *accumulators, uint64_t *state, size_t pixel,
+                          size_t pixel_count, uint32_t set, uint32_t set_count, const float *rgb);
+
 #endif

@@ -668,6 +668,8 @@ static cl_int add_slice_splats(Render *r, Worker *w, const Slice *slice)
     CL_CHECK(clSetKernelArg(k, a++, sizeof w->offsets, &w->offsets), failed);
     CL_CHECK(clSetKernelArg(k, a++, sizeof first, &first), failed);
     CL_CHECK(clSetKernelArg(k, a++, sizeof count, &count), failed);
+    if (r->sample_planes)
+        CL_CHECK(clSetKernelArg(k, a++, sizeof slice->samples, &slice->samples), failed);
     CL_CHECK(clEnqueueNDRangeKernel(w->device->queue, k, 1, NULL, &global, &local, 0, NULL, NULL), failed);
     CL_CHECK(clFinish(w->device->queue), failed);
     free(relative);
@@ -1133,10 +1135,15 @@ static int plan_render(Render *r, int device_count, const RenderScene *scene, co
                  scene->constants.integrator.max_depth, BDPT_MOST_DEPTH);
         return -1;
     }
-    if (r->splats && r->sample_planes) {
+    /* A splat updates clamp's and zirr's sums as a sample of its value
+     * would (add_splats). It is not a sample of the pixel, so the moments
+     * of abmm, gabmm and mean-or-mon are undefined with splats; bdpt's
+     * strategies do not keep direct light apart for clamp-sum. */
+    if (r->splats && (film_sample_passes(&r->estimator) & ~(PASS_BIT(PASS_CLAMP) | PASS_BIT(PASS_ZIRR)))) {
         snprintf(error, error_size,
-                 "the per-sample estimators (clamp, clamp-sum, abmm, gabmm, zirr, mean-or-mon) do not take bdpt's "
-                 "and lightpath's splats yet: ask for the set-based ones");
+                 "bdpt's and lightpath's splats are not samples of the pixel they land on: the per-sample moments "
+                 "of abmm, gabmm and mean-or-mon are undefined with them, and clamp-sum needs direct light apart "
+                 "(ask for clamp, zirr or the set-based estimators)");
         return -1;
     }
     r->estimator.first_sample = s->first_sample;

@@ -251,6 +251,26 @@ typedef struct {
     uint32_t set_count;
 } SampleParts;
 
+/* A splat (kernels/film/splats.h) as the per-sample passes see it: a
+ * sample of value its RGB (the filter's share is in it: weight 1) in the
+ * set of the sample that made it, all of it indirect light. clamp clamps
+ * it as pbrt-v4's RGBFilm::AddSplat does, zirr splits it by its own
+ * luminance; the moment-based passes do not take splats (the host refuses
+ * them). */
+KERNEL_FN SampleParts splat_sample_parts(const float *rgb, uint32_t set, uint32_t set_count)
+{
+    SampleParts s;
+    for (int c = 0; c < EST_CHANNELS; ++c) {
+        s.film[c] = rgb[c];
+        s.direct[c] = 0.0f;
+        s.indirect[c] = rgb[c];
+    }
+    s.weight = 1.0f;
+    s.set = set;
+    s.set_count = set_count;
+    return s;
+}
+
 /* The sample as the sets see it (film response times weight); returns
  * whether it is finite. */
 KERNEL_FN int sample_film_weighted(const SampleParts *s, float *x)

@@ -13,11 +13,46 @@
  *
  * Build options: as the path tracer's (-DEST_SETS=M, -DGMON_FEATURES,
  * -DGMON_SAMPLER, -DGMON_SAMPLER_SETS, -DBVH_STACK_SIZE) and
- * -DBDPT_MAX_DEPTH (maxdepth: the subpaths' private arrays); no
- * per-sample estimators. */
+ * -DBDPT_MAX_DEPTH (maxdepth: the subpaths' private arrays), and the
+ * per-sample estimators clamp and zirr (-DEST_SAMPLE_PASSES and theirs):
+ * a splat updates its pixel's per-sample state as a sample of value its
+ * RGB and weight 1 would (the host refuses the others: a splat is not a
+ * sample of the pixel, so the per-sample moments are undefined, and bdpt's
+ * strategies do not keep direct light apart for clamp-sum). */
 #include "../film/accumulate.h"
 #include "../film/splats.h"
 #include "bdpt.h"
+
+#ifdef EST_SAMPLE_PASSES
+#include "../film/sample_passes.h"
+#define SAMPLE_PASSES EST_SAMPLE_PASSES
+#else
+#define SAMPLE_PASSES 0u
+#endif
+#ifndef EST_CLAMP_LEVEL_COUNT
+#define EST_CLAMP_LEVEL_COUNT 0
+#endif
+#ifndef EST_ZIRR_COUNT
+#define EST_ZIRR_COUNT 2
+#define EST_ZIRR_BASE 8.0f
+#endif
+
+#if SAMPLE_PASSES
+/* Adds one value to the per-sample state of `pixel`: a camera sample's
+ * film response (times its filter weight in the sets) or a splat's RGB,
+ * both as splat_sample_parts makes them (no direct part). */
+KERNEL_FN void bdpt_sample_passes_add(__global ulong *sample_state, ulong pixel, ulong pixel_count,
+                                      const SampleParts *sample)
+{
+#if EST_CLAMP_LEVEL_COUNT > 0
+    const float levels[EST_CLAMP_LEVEL_COUNT] = {EST_CLAMP_LEVEL_VALUES};
+#else
+    const float levels[1] = {0.0f};
+#endif
+    sample_passes_add(sample_state, pixel, pixel_count, SAMPLE_PASSES, EST_CLAMP_LEVEL_COUNT, levels, 0.0f, 0.0f,
+                      EST_ZIRR_COUNT, EST_ZIRR_BASE, sample);
+}
+#endif
 
 #ifndef EST_SETS
 #error "build with -DEST_SETS=M"
@@ -229,7 +264,12 @@ KERNEL_FN Vec3 bdpt_camera_strategies(const Scene *scene, const SampleStream *st
 __kernel void render_samples(__global const SceneConstants *constants,
                              GMON_SCENE_ARRAYS(SCENE_ARRAY_PARAMETER) __global ulong *accumulators,
                              __global uint *rejected, __global ulong *ray_counts, ulong first_sample, uint sample_count,
-                             ulong first_pixel, ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count)
+                             ulong first_pixel, ulong pixel_count, ulong buffer_first_pixel, ulong buffer_pixel_count
+#if SAMPLE_PASSES
+                             ,
+                             __global ulong *sample_state
+#endif
+)
 {
     if (get_global_id(0) >= pixel_count)
         return;
@@ -248,10 +288,18 @@ __kernel void render_samples(__global const SceneConstants *constants,
             sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
         CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, &stream);
         Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &camera, &rays));
+#if SAMPLE_PASSES
+        const float film[EST_CHANNELS] = {L.x, L.y, L.z};
+        SampleParts sample = splat_sample_parts(film, set_of_sample(sample_index, EST_SETS), EST_SETS);
+        sample.weight = GMON_HAS_PIXEL_FILTER ? camera.weight : 1.0f;
+#endif
         if (GMON_HAS_PIXEL_FILTER)
             L = v_scale(L, camera.weight);
-        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS,
-                                      set_of_sample(sample_index, EST_SETS), L.x, L.y, L.z);
+        const uint set = set_of_sample(sample_index, EST_SETS);
+        int added = accumulate_sample(accumulators, local_pixel, buffer_pixel_count, EST_SETS, set, L.x, L.y, L.z);
+#if SAMPLE_PASSES
+        bdpt_sample_passes_add(sample_state, local_pixel, buffer_pixel_count, &sample);
+#endif
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }
@@ -294,10 +342,18 @@ __kernel void splat_samples(__global const SceneConstants *constants,
  * order (pixel first_pixel + i's are records[offsets[i], offsets[i + 1])):
  * one work item a pixel, as render_samples adds samples, and its light
  * subpaths' rays to its ray count. Non-finite and rounded values are
- * counted as the path tracer counts such samples. */
+ * counted as the path tracer counts such samples. With per-sample
+ * estimators (clamp, zirr) each record also updates the pixel's
+ * per-sample state as a sample of value its RGB and weight 1 would: its
+ * exact sums keep the order of the records out of the image too. */
 __kernel void add_splats(__global ulong *accumulators, __global uint *rejected, __global ulong *ray_counts,
                          __global const ulong *light_rays, __global const SplatRecord *records,
-                         __global const uint *offsets, ulong first_pixel, ulong pixel_count)
+                         __global const uint *offsets, ulong first_pixel, ulong pixel_count
+#if SAMPLE_PASSES
+                         ,
+                         __global ulong *sample_state
+#endif
+)
 {
     (void)first_pixel;
     if (get_global_id(0) >= pixel_count)
@@ -307,6 +363,11 @@ __kernel void add_splats(__global ulong *accumulators, __global uint *rejected, 
     for (uint k = offsets[i]; k < offsets[i + 1]; ++k) {
         __global const SplatRecord *r = records + k;
         int added = accumulate_sample(accumulators, i, pixel_count, EST_SETS, r->set, r->rgb[0], r->rgb[1], r->rgb[2]);
+#if SAMPLE_PASSES
+        const float rgb[EST_CHANNELS] = {r->rgb[0], r->rgb[1], r->rgb[2]};
+        const SampleParts sample = splat_sample_parts(rgb, r->set, EST_SETS);
+        bdpt_sample_passes_add(sample_state, i, pixel_count, &sample);
+#endif
         nonfinite += added == EST_ADD_NONFINITE;
         rounded += added == EST_ADD_ROUNDED;
     }
