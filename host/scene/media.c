@@ -280,10 +280,9 @@ static int read_bounds(Parser *p, Lexer *lex, const Token *d, ParamList *params,
  * 100 K or below) in linear sRGB times the cell's "Lescale" value. pbrt-v4 interpolates the
  * temperature and then takes its blackbody; interpolating the cells' RGB
  * approximates that. */
-static int temperature_to_rgb_grid(Parser *p, Lexer *lex, const Token *d, ParamList *params, const Param *temperature,
-                                   float offset, float temperature_scale, size_t n, SceneMedium *m)
+static int temperature_to_rgb_grid(Parser *p, Lexer *lex, const Token *d, const Param *temperature, float offset,
+                                   float temperature_scale, size_t n, SceneMedium *m)
 {
-    (void)params;
     float *a = malloc(3 * n * sizeof *a), *s = malloc(3 * n * sizeof *s), *le = malloc(3 * n * sizeof *le);
     if (!a || !s || !le) {
         free(a);
@@ -353,7 +352,7 @@ static int read_uniform_grid(Parser *p, Lexer *lex, const Token *d, ParamList *p
         copy_values(p, lex, d, params, "Lescale", PARAM_FLOAT, &m->le_scale))
         return -1;
     if (temperature)
-        return temperature_to_rgb_grid(p, lex, d, params, temperature, offset, temperature_scale, n, m);
+        return temperature_to_rgb_grid(p, lex, d, temperature, offset, temperature_scale, n, m);
     if (m->le_scale) {
         memcpy(m->le_size, m->size, sizeof m->le_size);
     } else { /* pbrt-v4's one cell of 1 (its Le's normalisation, applied to Le here) */
@@ -497,9 +496,9 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
         result = params_check_unused(&params);
     if (result == 0 && !m.rendered)
         result = scene_unsupported(&p->diag, lex->path, d->line, "the medium is rendered as vacuum",
-                                   "MakeNamedMedium \"%s\": type \"%s\"%s is not rendered (homogeneous, "
+                                   "MakeNamedMedium \"%s\": type \"%s\" is not rendered (homogeneous, "
                                    "uniformgrid, rgbgrid and cloud are)",
-                                   p->scene->media[index].name, type, "");
+                                   p->scene->media[index].name, type);
     char origin[512];
     snprintf(origin, sizeof origin, "%s:%d", lex->path, d->line);
     if (result == 0 && !(m.origin = scene_strndup(origin, strlen(origin))))
