@@ -177,6 +177,17 @@ static void *load_native(const ImageFile *file, int hdr, int wide, int *width, i
         return stbi_loadf_from_memory(file->data, stb_length(file), width, height, channels, 0);
     if (wide)
         return stbi_load_16_from_memory(file->data, stb_length(file), width, height, channels, 0);
+    if (file->header.format == IMAGE_FORMAT_PIC) {
+        /* stb 2.27's PIC loader, asked for the file's own channels,
+         * converts the NULL image a decoding error leaves (a crash): ask for
+         * RGBA, then drop the alpha where the file has none. */
+        unsigned char *rgba = stbi_load_from_memory(file->data, stb_length(file), width, height, channels, 4);
+        if (rgba && *channels == 3)
+            for (size_t i = 0, n = (size_t)*width * (size_t)*height; i < n; ++i)
+                for (int c = 0; c < 3; ++c)
+                    rgba[3 * i + (size_t)c] = rgba[4 * i + (size_t)c];
+        return rgba;
+    }
     return stbi_load_from_memory(file->data, stb_length(file), width, height, channels, 0);
 }
 
