@@ -8,7 +8,7 @@ packages=(
   pocl-opencl-icd ocl-icd-opencl-dev opencl-headers clinfo
   libopenexr-dev libpng-dev libcglm-dev libcmocka-dev zlib1g-dev
   python3 python3-venv
-  libstb-dev
+  libstb-dev libnanovdb-dev libblosc-dev
 )
 
 missing=()

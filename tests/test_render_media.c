@@ -4,7 +4,8 @@
  * the furnace inside a scattering medium of albedo 1 (with per-channel
  * coefficients, for the spectral MIS), and emission: closed form where the
  * medium only absorbs, and the furnace again where emission balances
- * absorption; a temperature grid (from a scene file) emits its blackbody. */
+ * absorption; a temperature grid (from a scene file) emits its blackbody;
+ * NanoVDB grids: transmittance through a box, and blackbody emission. */
 #include "cl/cl_device.h"
 #include "render/render_scene.h"
 #include "render/renderer.h"
@@ -417,19 +418,14 @@ static void test_grid_furnace(void **state)
     }
 }
 
-/* A scene file: the camera at the origin inside a sphere (radius 2) of
- * medium `medium` (its MakeNamedMedium parameters), no light; rendered. */
-static float *render_medium_file(const char *name, const char *medium)
+/* A scene file of `text` (after its header), rendered at SIZE x SIZE. */
+static float *render_file(const char *name, const char *text)
 {
     char path[512], error[1024];
     snprintf(path, sizeof path, "%s/%s", GMON_BINARY_DIR, name);
     FILE *f = fopen(path, "w");
     assert_non_null(f);
-    fprintf(f,
-            "MediumInterface \"\" \"fire\"\nCamera \"perspective\" \"float fov\" 60\nWorldBegin\n"
-            "MakeNamedMedium \"fire\" %s\nMediumInterface \"fire\" \"\"\nMaterial \"interface\"\n"
-            "Shape \"sphere\" \"float radius\" 2\n",
-            medium);
+    fputs(text, f);
     fclose(f);
     RenderScene scene;
     SceneSummary summary;
@@ -438,6 +434,38 @@ static float *render_medium_file(const char *name, const char *medium)
     float *image = render(&scene, 1, 5, 64);
     render_scene_destroy(&scene);
     return image;
+}
+
+/* A scene file: the camera at the origin inside a sphere (radius 2) of
+ * medium `medium` (its MakeNamedMedium parameters), no light; rendered. */
+static float *render_medium_file(const char *name, const char *medium)
+{
+    char text[4096];
+    snprintf(text, sizeof text,
+             "MediumInterface \"\" \"fire\"\nCamera \"perspective\" \"float fov\" 60\nWorldBegin\n"
+             "MakeNamedMedium \"fire\" %s\nMediumInterface \"fire\" \"\"\nMaterial \"interface\"\n"
+             "Shape \"sphere\" \"float radius\" 2\n",
+             medium);
+    return render_file(name, text);
+}
+
+/* Every pixel's ratio to expected[c] (independent, mean 1): their mean
+ * within 4 standard errors of 1. */
+static void assert_image_is(const float *image, const double expected[3], const char *what)
+{
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0.0, squares = 0.0;
+        for (int p = 0; p < SIZE * SIZE; ++p) {
+            double r = image[3 * p + c] / expected[c];
+            sum += r;
+            squares += r * r;
+        }
+        double mean = sum / (SIZE * SIZE),
+               error = sqrt(fmax(0.0, squares / (SIZE * SIZE) - mean * mean) / (SIZE * SIZE - 1));
+        printf("  %s, channel %d: mean / expected %.5f (standard error %.5f)\n", what, c, mean, error);
+        assert_true(error < 0.02);
+        assert_true(fabs(mean - 1.0) < 4.0 * error + 1e-4); /* + float rounding where there is no noise */
+    }
 }
 
 static void test_temperature_grid(void **state)
@@ -473,28 +501,75 @@ static void test_temperature_grid(void **state)
     float *a = render_medium_file("temperature-grid.pbrt", grid);
     const double sigma_a[3] = {0.25, 0.5, 0.1};
     assert_true(le[0] > le[1] && le[1] > le[2] && le[2] > 0.0);
-    for (int c = 0; c < 3; ++c) { /* the pixels' ratios to it: independent, mean 1 */
-        double sum = 0.0, squares = 0.0, expected = le[c] * (1.0 - exp(-2.0 * sigma_a[c]));
-        for (int p = 0; p < SIZE * SIZE; ++p) {
-            double r = a[3 * p + c] / expected;
-            sum += r;
-            squares += r * r;
-        }
-        double mean = sum / (SIZE * SIZE), error = sqrt((squares / (SIZE * SIZE) - mean * mean) / (SIZE * SIZE - 1));
-        printf("  temperature grid, channel %d: mean / Le (1 - exp(-2 sigma_a)) %.5f (standard error %.5f)\n", c, mean,
-               error);
-        assert_true(error < 0.02);
-        assert_true(fabs(mean - 1.0) < 4.0 * error);
-    }
+    double expected[3];
+    for (int c = 0; c < 3; ++c)
+        expected[c] = le[c] * (1.0 - exp(-2.0 * sigma_a[c]));
+    assert_image_is(a, expected, "temperature grid, mean / Le (1 - exp(-2 sigma_a))");
     free(a);
+}
+
+/* NanoVDB grids written by NanoVDB's own builder (build/nvdb, tests/support/
+ * write_nvdb.cpp): box.nvdb's density is 1 in voxels [0, 15]^3 of side
+ * 1/16 from (-0.5, -0.5, -0.5) and its box (pbrt-v4's: the active voxels'
+ * world box) [-0.5, 0.5]^3; looked up trilinearly between voxels at their
+ * corners, it falls to 0 over the last 1/16 before z = 0.5. An orthographic
+ * camera looking along +z through it, at the constant environment of 1:
+ * each pixel sees exp(-sigma_a (15.5 / 16)). The temperature grid is left
+ * out by naming another. */
+static void test_nanovdb_transmittance(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char text[2048];
+    snprintf(text, sizeof text,
+             "LookAt 0 0 -3  0 0 0  0 1 0\nCamera \"orthographic\" \"float screenwindow\" [ -0.4 0.4 -0.4 0.4 ]\n"
+             "Integrator \"volpath\"\nWorldBegin\nLightSource \"infinite\" \"rgb L\" [ 1 1 1 ]\n"
+             "MakeNamedMedium \"fog\" \"string type\" \"nanovdb\" \"string filename\" \"%s/nvdb/box.nvdb\" "
+             "\"rgb sigma_a\" [ 1 2 3 ] \"rgb sigma_s\" [ 0 0 0 ] \"float scale\" 0.5 "
+             "\"string temperaturename\" \"none\"\n"
+             "MediumInterface \"fog\" \"\"\nMaterial \"interface\"\nShape \"sphere\" \"float radius\" 2\n",
+             GMON_BINARY_DIR);
+    float *image = render_file("nanovdb-box.pbrt", text);
+    double expected[3];
+    for (int c = 0; c < 3; ++c)
+        expected[c] = exp(-0.5 * (c + 1) * 15.5 / 16.0);
+    assert_image_is(image, expected, "nanovdb box, mean / exp(-sigma_a 15.5 / 16)");
+    free(image);
+}
+
+/* box.nvdb's temperature grid is 3000 everywhere (its background): with
+ * the offset 1000 and scale 1.25, 2500 K. The camera at its centre, in a
+ * density so absorbing (sigma_a 200, at least 87 optical depths to the box's
+ * side) that every ray sees Lescale times that blackbody's RGB. */
+static void test_nanovdb_temperature(void **state)
+{
+    (void)state;
+    REQUIRE_TEST_DEVICE();
+    char medium[1024];
+    snprintf(medium, sizeof medium,
+             "\"string type\" \"nanovdb\" \"string filename\" \"%s/nvdb/box.nvdb\" \"rgb sigma_a\" [ 1 1 1 ] "
+             "\"rgb sigma_s\" [ 0 0 0 ] \"float scale\" 200 \"float Lescale\" 3 \"float temperatureoffset\" 1000 "
+             "\"float temperaturescale\" 1.25",
+             GMON_BINARY_DIR);
+    float *image = render_medium_file("nanovdb-temperature.pbrt", medium);
+    Spectrum b;
+    double xyz[3], m[3][3], expected[3];
+    spectrum_blackbody(2500.0, &b);
+    spectrum_to_xyz(&b, xyz);
+    spectrum_srgb_from_xyz(m);
+    for (int k = 0; k < 3; ++k)
+        expected[k] = 3.0 * fmax(0.0, m[k][0] * xyz[0] + m[k][1] * xyz[1] + m[k][2] * xyz[2]);
+    assert_image_is(image, expected, "nanovdb temperature, mean / Lescale blackbody(2500 K)");
+    free(image);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_absorbing_slab),     cmocka_unit_test(test_absorbing_sphere_transmittance),
-        cmocka_unit_test(test_scattering_furnace), cmocka_unit_test(test_emission),
-        cmocka_unit_test(test_grid_furnace),       cmocka_unit_test(test_temperature_grid),
+        cmocka_unit_test(test_absorbing_slab),        cmocka_unit_test(test_absorbing_sphere_transmittance),
+        cmocka_unit_test(test_scattering_furnace),    cmocka_unit_test(test_emission),
+        cmocka_unit_test(test_grid_furnace),          cmocka_unit_test(test_temperature_grid),
+        cmocka_unit_test(test_nanovdb_transmittance), cmocka_unit_test(test_nanovdb_temperature),
     };
     return cmocka_run_group_tests(tests, test_device_setup, test_device_teardown);
 }

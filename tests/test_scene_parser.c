@@ -7,6 +7,7 @@
 #include "scene/scene.h"
 #include "scene/read_file.h" /* scene_read_file, for its size limit on gzip data */
 #include "scene/spectrum.h"
+#include "nanovdb.h"
 
 #include <errno.h>
 #include <math.h>
@@ -1479,29 +1480,6 @@ static void test_media(void **state)
     assert_vec3(s.media[0].rgb_le, 0, 0, 0);
     scene_destroy(&s);
 
-    /* The types not rendered are read and checked, then refused (with
-     * allow_unsupported: vacuum). */
-    unsigned char nvdb[16] = "NanoVDB0";
-    write_bytes("cloud.nvdb", nvdb, sizeof nvdb);
-    static const char *const unrendered[] = {
-        "\"nanovdb\" \"string filename\" \"cloud.nvdb\" \"string gridname\" \"density\" \"float Lescale\" 2",
-    };
-    static const char *const types[] = {"nanovdb\""};
-    for (size_t i = 0; i < sizeof unrendered / sizeof unrendered[0]; ++i) {
-        char text[512], message[128];
-        snprintf(text, sizeof text, "MakeNamedMedium \"m\" \"string type\" %s\n" WORLD, unrendered[i]);
-        assert_int_equal(load_text("grid.pbrt", text, &s, 1), 0);
-        snprintf(message, sizeof message, "type \"%s is not rendered (homogeneous, uniformgrid, rgbgrid and cloud are)",
-                 types[i]);
-        if (!has_warning(&s, message))
-            fail_msg("%s: no warning \"%s\"", unrendered[i], message);
-        assert_int_equal(s.medium_count, 1);
-        assert_int_equal(s.media[0].type, SCENE_MEDIUM_NANOVDB);
-        assert_int_equal(s.media[0].rendered, 0);
-        scene_destroy(&s);
-        load_fails(text, 1, message);
-    }
-
     /* Bad input: file:line errors. */
     load_fails("MakeNamedMedium \"m\" \"string type\" \"fog\"\n" WORLD, 1, "unknown type \"fog\"");
     load_fails("MakeNamedMedium \"m\" \"float scale\" 1\n" WORLD, 1, "missing \"string type\"");
@@ -1544,10 +1522,132 @@ static void test_media(void **state)
                "cannot open");
     write_text("corrupt.nvdb", "not a grid at all");
     load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"corrupt.nvdb\"\n" WORLD, 1,
-               "is not a NanoVDB file");
+               "not a NanoVDB file (no magic number)");
     write_text("short.nvdb", "Nano");
     load_fails("MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" \"short.nvdb\"\n" WORLD, 1,
-               "is not a NanoVDB file");
+               "truncated segment header");
+}
+
+static unsigned char *read_whole(const char *path, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    *size = (size_t)ftell(f);
+    rewind(f);
+    unsigned char *data = malloc(*size);
+    assert_non_null(data);
+    assert_int_equal(fread(data, 1, *size, f), *size);
+    fclose(f);
+    return data;
+}
+
+#define NANOVDB_MEDIUM "MakeNamedMedium \"m\" \"string type\" \"nanovdb\" \"string filename\" "
+
+/* The NanoVDB files written by NanoVDB's own builder (tests/support/
+ * write_nvdb.cpp): read with pbrt-v4's parameters, the three codecs
+ * alike, lookups equal to NanoVDB's trilinear sampler, bad files refused. */
+static void test_nanovdb(void **state)
+{
+    (void)state;
+    Scene s;
+    char text[1024];
+    snprintf(text, sizeof text,
+             "Translate 1 0 0\n" NANOVDB_MEDIUM "\"%s/box.nvdb\" \"float Lescale\" 2 \"float temperaturecutoff\" 100 "
+             "\"float temperaturescale\" 1.5 \"rgb sigma_a\" [ 1 2 3 ] \"float scale\" 2 \"float g\" 0.5\n" WORLD,
+             GMON_NVDB_DIR);
+    assert_int_equal(load_text("nanovdb.pbrt", text, &s, 0), 0);
+    assert_int_equal(s.medium_count, 1);
+    const SceneMedium *m = &s.media[0];
+    assert_int_equal(m->type, SCENE_MEDIUM_NANOVDB);
+    assert_int_equal(m->rendered, 1);
+    for (int k = 0; k < 3; ++k) {
+        assert_float_equal(m->bounds[0][k], -0.5f, 1e-6f);
+        assert_float_equal(m->bounds[1][k], 0.5f, 1e-6f);
+        assert_float_equal(m->sigma_a[k], 2.0f * (float)(k + 1), 0.0f);
+        assert_float_equal(m->sigma_s[k], 2.0f, 0.0f);
+        assert_float_equal(m->emission[k], 2.0f, 0.0f);
+    }
+    assert_float_equal(m->world_from_medium[3][0], 1.0f, 0.0f);
+    assert_float_equal(m->g, 0.5f, 0.0f);
+    assert_float_equal(m->temperature_offset, 100.0f, 0.0f); /* the cutoff's */
+    assert_float_equal(m->temperature_scale, 1.5f, 0.0f);
+    assert_non_null(m->nanovdb_temperature.data);
+    assert_float_equal(m->nanovdb_density.largest, 1.0f, 0.0f);
+    assert_float_equal(m->nanovdb_temperature.largest, 3000.0f, 0.0f);
+    NanoGrid box = m->nanovdb_density;
+    static const char *const compressed[] = {"box-zip.nvdb", "box-blosc.nvdb"};
+    for (int i = 0; i < 2; ++i) {
+        char path[512], error[256];
+        NanoGrid same;
+        snprintf(path, sizeof path, "%s/%s", GMON_NVDB_DIR, compressed[i]);
+        if (nanovdb_read(path, "density", &same, error, sizeof error))
+            fail_msg("%s: %s", compressed[i], error);
+        assert_int_equal(same.size, box.size);
+        assert_memory_equal(same.data, box.data, box.size);
+        nanovdb_free(&same);
+    }
+    scene_destroy(&s);
+
+    /* Lookups: NanoVDB's sampler at 400 points of a grid over leaves and
+     * nodes on both sides of 0, against nanovdb_trilinear (the kernels'). */
+    char path[512], error[256];
+    snprintf(path, sizeof path, "%s/lumpy.nvdb", GMON_NVDB_DIR);
+    NanoGrid lumpy;
+    if (nanovdb_read(path, "density", &lumpy, error, sizeof error))
+        fail_msg("lumpy.nvdb: %s", error);
+    double matrix[9], inverse[9], translation[3];
+    nanovdb_map(&lumpy, matrix, inverse, translation);
+    snprintf(path, sizeof path, "%s/lumpy-samples.txt", GMON_NVDB_DIR);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int count = 0, nonzero = 0;
+    double world[3], expected;
+    while (fscanf(f, "%lf %lf %lf %lf", &world[0], &world[1], &world[2], &expected) == 4) {
+        double index[3];
+        for (int k = 0; k < 3; ++k)
+            index[k] = inverse[3 * k] * (world[0] - translation[0]) + inverse[3 * k + 1] * (world[1] - translation[1]) +
+                       inverse[3 * k + 2] * (world[2] - translation[2]);
+        float got = nanovdb_trilinear(lumpy.data, vec3((float)index[0], (float)index[1], (float)index[2]));
+        if (!(fabs(got - expected) <= 1e-4 * (1.0 + expected)))
+            fail_msg("at (%g, %g, %g): %.7g, NanoVDB's sampler %.7g", world[0], world[1], world[2], got, expected);
+        ++count;
+        nonzero += expected > 0.0;
+    }
+    fclose(f);
+    assert_int_equal(count, 400);
+    assert_true(nonzero > 200);
+    nanovdb_free(&lumpy);
+
+    /* Bad files: file:line errors. */
+    snprintf(text, sizeof text, NANOVDB_MEDIUM "\"%s/box.nvdb\" \"string gridname\" \"smoke\"\n" WORLD, GMON_NVDB_DIR);
+    load_fails(text, 1, "has no grid \"smoke\"");
+    snprintf(text, sizeof text, NANOVDB_MEDIUM "\"%s/vector.nvdb\"\n" WORLD, GMON_NVDB_DIR);
+    load_fails(text, 1, "is not of 32-bit floats");
+    snprintf(text, sizeof text, NANOVDB_MEDIUM "\"%s/box.nvdb\" \"float temperaturescale\" -1\n" WORLD, GMON_NVDB_DIR);
+    load_fails(text, 1, "\"temperaturescale\" -1 must lie in");
+    size_t size;
+    snprintf(path, sizeof path, "%s/box.nvdb", GMON_NVDB_DIR);
+    unsigned char *bytes = read_whole(path, &size);
+    write_bytes("truncated.nvdb", bytes, size / 2);
+    load_fails(NANOVDB_MEDIUM "\"truncated.nvdb\"\n" WORLD, 1, "truncated grid data");
+    unsigned char *changed = malloc(size);
+    assert_non_null(changed);
+    memcpy(changed, bytes, size);
+    uint32_t version = 31u << 21;
+    memcpy(changed + 8, &version, sizeof version);
+    write_bytes("old.nvdb", changed, size);
+    load_fails(NANOVDB_MEDIUM "\"old.nvdb\"\n" WORLD, 1, "NanoVDB file format 31.0, not 32.x");
+    /* The density grid's bytes follow the header and both grids' metadata
+     * and names; its root's offset made to point past its end. */
+    size_t grid = 16 + (176 + sizeof "density") + (176 + sizeof "temperature");
+    uint64_t far = (uint64_t)1 << 40;
+    memcpy(changed, bytes, size);
+    memcpy(changed + grid + sizeof(cnanovdb_griddata) + 3 * sizeof(uint64_t), &far, sizeof far);
+    write_bytes("corrupt-root.nvdb", changed, size);
+    load_fails(NANOVDB_MEDIUM "\"corrupt-root.nvdb\"\n" WORLD, 1, "is corrupt (a node outside the grid)");
+    free(changed);
+    free(bytes);
 }
 
 /* ------------------------------------------------------------------ PLY */
@@ -2371,6 +2471,7 @@ int main(void)
         cmocka_unit_test(test_pixel_filters),
         cmocka_unit_test(test_film_sampler_integrator_filter),
         cmocka_unit_test(test_media),
+        cmocka_unit_test(test_nanovdb),
         cmocka_unit_test(test_translate_then_scale),
         cmocka_unit_test(test_rotate),
         cmocka_unit_test(test_transform_concat_identity),

@@ -121,7 +121,7 @@ cl_program cl_program_build(ClDevice *device, const char *name, const char *opti
      * division (GPUs) bit-identical with the host. Sources read from a
      * directory include its headers, then the ones the build generated. */
     const char *generated_dir = kernel_source_generated_dir();
-    size_t length = strlen(options) + strlen(include_dir) + strlen(generated_dir) + 128;
+    size_t length = strlen(options) + strlen(include_dir) + 2 * strlen(generated_dir) + 128;
     char *all_options = malloc(length);
     if (!all_options) {
         free(source);
@@ -130,7 +130,8 @@ cl_program cl_program_build(ClDevice *device, const char *name, const char *opti
     int used = snprintf(all_options, length, "-cl-std=CL1.2%s",
                         device->info.correctly_rounded_divide ? " -cl-fp32-correctly-rounded-divide-sqrt" : "");
     if (include_dir[0])
-        used += snprintf(all_options + used, length - (size_t)used, " -I %s -I %s", include_dir, generated_dir);
+        used += snprintf(all_options + used, length - (size_t)used, " -I %s -I %s/film -I %s/tracing", include_dir,
+                         generated_dir, generated_dir);
     snprintf(all_options + used, length - (size_t)used, " %s", options);
 
     cl_int err = CL_SUCCESS;

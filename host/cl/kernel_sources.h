@@ -30,9 +30,9 @@ char *kernel_source_load(const char *name, const char *kernel_dir, char *include
                          char *error, int error_size);
 
 /* The directory of the kernel headers this build generated (its
- * generated/kernels/film: sorting_networks.h), which a kernels/ directory does
- * not hold: a program read from a directory is built with -I for it after
- * the kernel directory's own. */
+ * generated/kernels: film/sorting_networks.h, tracing/CNanoVDB.h), which a
+ * kernels/ directory does not hold: a program read from a directory is
+ * built with -I for its film/ and tracing/ after the kernel directory's own. */
 const char *kernel_source_generated_dir(void);
 
 #endif

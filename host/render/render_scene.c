@@ -1,6 +1,7 @@
 #include "render/render_scene.h"
 
 #include "render/light_tree_build.h"
+#include "nanovdb.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -228,6 +229,8 @@ static double cell_sigma_t(const RenderScene *scene, const Medium *m, size_t i)
 static int add_majorant_grid(RenderScene *scene, Medium *m)
 {
     enum { R = MEDIUM_MAJORANT_GRID };
+    if (m->type == MEDIUM_NANOVDB) /* scene_convert.c gathers them from the grid's tree */
+        return 0;
     float grid[R * R * R];
     double overall = 0.0;
     for (int z = 0; z < R; ++z)
@@ -399,6 +402,22 @@ static float *grow_floats(float **array, size_t *count, size_t *capacity, size_t
     float *start = *array + *count;
     *count += more;
     return start;
+}
+
+int32_t render_scene_add_medium_bytes(RenderScene *scene, const void *bytes, size_t size)
+{
+    size_t padding = (NANOVDB_ALIGNMENT_FLOATS - scene->medium_value_count % NANOVDB_ALIGNMENT_FLOATS) %
+                     NANOVDB_ALIGNMENT_FLOATS,
+           count = (size + sizeof(float) - 1) / sizeof(float);
+    if (scene->medium_value_count + padding + count > INT32_MAX)
+        return -1;
+    float *at =
+        grow_floats(&scene->medium_values, &scene->medium_value_count, &scene->medium_value_capacity, padding + count);
+    if (!at)
+        return -1;
+    memset(at, 0, (padding + count) * sizeof *at);
+    memcpy(at + padding, bytes, size);
+    return (int32_t)(at + padding - scene->medium_values);
 }
 
 int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count)
@@ -1084,6 +1103,9 @@ uint64_t render_scene_features(const RenderScene *scene)
         features |= FEATURE_INSTANCING;
     if (scene->constants.media.count > 0)
         features |= FEATURE_MEDIA;
+    for (uint32_t i = 0; i < scene->constants.media.count; ++i)
+        if (scene->media[i].type == MEDIUM_NANOVDB)
+            features |= FEATURE_NANOVDB;
     static const uint64_t by_type[] = {
         [MAT_DIFFUSE] = FEATURE_DIFFUSE,
         [MAT_DIELECTRIC] = FEATURE_DIELECTRIC,

@@ -143,6 +143,9 @@ int render_scene_add_medium(RenderScene *scene, const Medium *medium);
 /* Appends a grid's values for a Medium; returns the first one's index, or
  * -1 when out of memory. */
 int32_t render_scene_add_medium_values(RenderScene *scene, const float *values, size_t count);
+/* `size` bytes (a NanoVDB grid) at an offset of NANOVDB_ALIGNMENT_FLOATS
+ * floats' alignment; returns the offset, or -1 when out of memory. */
+int32_t render_scene_add_medium_bytes(RenderScene *scene, const void *bytes, size_t size);
 int render_scene_set_media(RenderScene *scene, int inside, int outside);
 
 /* Adds a light that is not an area light (point, spot, distant, uniform

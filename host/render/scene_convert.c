@@ -2,8 +2,10 @@
 
 #include "bsdf.h"
 #include "equal_area.h"
+#include "nanovdb.h"
 #include "io/image_read.h"
 #include "scene/scene.h"
+#include "scene/spectrum.h"
 #include "scene/textures.h"
 
 #include <float.h>
@@ -561,6 +563,122 @@ static int grid_transform(const SceneMedium *in, float out[3][4])
     return 0;
 }
 
+/* Rows of the affine map from the medium's unit cube (its bounds) to the
+ * grid's index space, and back (NanoVDB maps index = inverse (world -
+ * translation) in the medium's space). */
+static void nanovdb_unit_maps(const SceneMedium *in, const NanoGrid *grid, float index_from_unit[12],
+                              float unit_from_index[12])
+{
+    double matrix[9], inverse[9], translation[3];
+    nanovdb_map(grid, matrix, inverse, translation);
+    for (int k = 0; k < 3; ++k) {
+        double constant = 0.0, extent = (double)in->bounds[1][k] - in->bounds[0][k];
+        for (int j = 0; j < 3; ++j) {
+            double e = (double)in->bounds[1][j] - in->bounds[0][j];
+            index_from_unit[4 * k + j] = (float)(inverse[3 * k + j] * e);
+            constant += inverse[3 * k + j] * ((double)in->bounds[0][j] - translation[j]);
+            if (unit_from_index)
+                unit_from_index[4 * k + j] = (float)(matrix[3 * k + j] / extent);
+        }
+        index_from_unit[4 * k + 3] = (float)constant;
+        if (unit_from_index)
+            unit_from_index[4 * k + 3] = (float)((translation[k] - in->bounds[0][k]) / extent);
+    }
+}
+
+/* A nanovdb medium's largest density per majorant cell, gathered from the
+ * grid's leaves and tiles: each widened by a voxel (a trilinear lookup
+ * reads the voxels around it), taken to the unit cube, and raising every
+ * cell its box overlaps (conservative for rotated grids). */
+typedef struct {
+    float largest[MEDIUM_MAJORANT_GRID * MEDIUM_MAJORANT_GRID * MEDIUM_MAJORANT_GRID];
+    const float *unit_from_index; /* rows of an affine map */
+} NanoMajorants;
+
+static void raise_majorants(void *context, const int32_t lo[3], const int32_t hi[3], float value)
+{
+    enum { R = MEDIUM_MAJORANT_GRID };
+    NanoMajorants *g = context;
+    int all = lo[0] > hi[0], first[3] = {0, 0, 0}, last[3] = {R - 1, R - 1, R - 1};
+    for (int k = 0; k < 3 && !all; ++k) {
+        double low = INFINITY, high = -INFINITY;
+        for (int corner = 0; corner < 8; ++corner) {
+            double u = g->unit_from_index[4 * k + 3];
+            for (int j = 0; j < 3; ++j)
+                u += g->unit_from_index[4 * k + j] * ((corner >> j & 1) ? hi[j] + 1.0 : lo[j] - 1.0);
+            low = fmin(low, u);
+            high = fmax(high, u);
+        }
+        if (high < 0.0 || low > 1.0)
+            return;
+        first[k] = low <= 0.0 ? 0 : (int)fmin(floor(low * R), R - 1);
+        last[k] = high >= 1.0 ? R - 1 : (int)floor(high * R);
+    }
+    for (int z = first[2]; z <= last[2]; ++z)
+        for (int y = first[1]; y <= last[1]; ++y)
+            for (int x = first[0]; x <= last[0]; ++x) {
+                float *cell = &g->largest[(z * R + y) * R + x];
+                *cell = fmaxf(*cell, value);
+            }
+}
+
+/* Returns 0, or 1 when out of memory. */
+static int nanovdb_majorants(const NanoGrid *grid, const float unit_from_index[12], RenderScene *scene, Medium *m)
+{
+    enum { N = MEDIUM_MAJORANT_GRID * MEDIUM_MAJORANT_GRID * MEDIUM_MAJORANT_GRID };
+    NanoMajorants *g = calloc(1, sizeof *g);
+    if (!g)
+        return 1;
+    g->unit_from_index = unit_from_index;
+    nanovdb_visit(grid, raise_majorants, g);
+    double sigma_t = 0.0, overall = 0.0;
+    for (int k = 0; k < 3; ++k)
+        sigma_t = fmax(sigma_t, (double)m->sigma_a[k] + m->sigma_s[k]);
+    float cells[N];
+    for (int i = 0; i < N; ++i) {
+        double largest = (double)g->largest[i] * sigma_t;
+        cells[i] = (float)(largest * (1.0 + 1e-5));
+        overall = fmax(overall, largest);
+    }
+    free(g);
+    m->majorant = (float)(overall * (1.0 + 1e-5));
+    return (m->majorants = render_scene_add_medium_values(scene, cells, N)) < 0;
+}
+
+/* A nanovdb medium: its grids' bytes and its parameters (nanovdb.h), with
+ * a table of the blackbody over the temperatures the grid can reach.
+ * Returns 0, or 1 when out of memory. */
+static int nanovdb_medium(const SceneMedium *in, RenderScene *out, Medium *m)
+{
+    enum { N = NANOVDB_BLACKBODY_ENTRIES };
+    float q[NANOVDB_PARAMETER_COUNT + 3 * N];
+    memset(q, 0, sizeof q);
+    m->type = MEDIUM_NANOVDB;
+    nanovdb_unit_maps(in, &in->nanovdb_density, q + NANOVDB_DENSITY_FROM_UNIT, q + NANOVDB_UNIT_FROM_DENSITY);
+    const NanoGrid *t = &in->nanovdb_temperature;
+    double hottest = t->data ? ((double)t->largest - in->temperature_offset) * in->temperature_scale : 0.0;
+    int emits = t->data && hottest > NANOVDB_TEMPERATURE_MIN && isfinite(hottest) && in->emission[0] > 0.0f;
+    if (emits) {
+        nanovdb_unit_maps(in, t, q + NANOVDB_TEMPERATURE_FROM_UNIT, NULL);
+        q[NANOVDB_TEMPERATURE_OFFSET] = in->temperature_offset;
+        q[NANOVDB_TEMPERATURE_SCALE] = in->temperature_scale;
+        q[NANOVDB_BLACKBODY_STEP] = (float)((hottest - NANOVDB_TEMPERATURE_MIN) / (N - 1));
+        q[NANOVDB_BLACKBODY_COUNT] = (float)N;
+        for (int i = 0; i < N; ++i) {
+            double rgb[3];
+            spectrum_blackbody_srgb(NANOVDB_TEMPERATURE_MIN + i * (double)q[NANOVDB_BLACKBODY_STEP], rgb);
+            for (int k = 0; k < 3; ++k)
+                q[NANOVDB_BLACKBODY + 3 * i + k] = (float)rgb[k];
+        }
+    }
+    m->le_scale = -1;
+    if ((m->density = render_scene_add_medium_bytes(out, in->nanovdb_density.data, in->nanovdb_density.size)) < 0 ||
+        (emits && (m->le_scale = render_scene_add_medium_bytes(out, t->data, t->size)) < 0) ||
+        (m->rgb_le = render_scene_add_medium_values(out, q, sizeof q / sizeof q[0])) < 0)
+        return 1;
+    return nanovdb_majorants(&in->nanovdb_density, q + NANOVDB_UNIT_FROM_DENSITY, out, m);
+}
+
 /* A grid medium's values (render_scene_add_medium adds its majorants).
  * Returns 0, or 1 when out of memory. */
 static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
@@ -571,6 +689,8 @@ static int grid_medium(const SceneMedium *in, RenderScene *out, Medium *m)
         m->le_size[k] = (uint32_t)in->le_size[k];
     }
     m->density = m->le_scale = m->rgb_sigma_a = m->rgb_sigma_s = m->rgb_le = -1;
+    if (in->type == SCENE_MEDIUM_NANOVDB)
+        return nanovdb_medium(in, out, m);
     if (in->type == SCENE_MEDIUM_CLOUD) {
         m->type = MEDIUM_CLOUD;
         float cloud[9];

@@ -249,6 +249,8 @@ static int grid_values(Parser *p, Lexer *lex, const Token *d, ParamList *params,
 
 /* The box the grid spans in the medium's space, "p0" to "p1" (default
  * the unit cube), each side longer than 0; the CTM places the medium. */
+static int read_transform(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m);
+
 static int read_bounds(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
     static const char *const names[2] = {"p0", "p1"};
@@ -266,6 +268,12 @@ static int read_bounds(Parser *p, Lexer *lex, const Token *d, ParamList *params,
         if (!(m->bounds[1][k] > m->bounds[0][k]))
             return scene_error(&p->diag, lex->path, d->line, "%s: \"p1\" must exceed \"p0\" along every axis",
                                params->owner);
+    return read_transform(p, lex, d, params, m);
+}
+
+/* The medium's space: the CTM at MakeNamedMedium, which must be invertible. */
+static int read_transform(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
+{
     memcpy(m->world_from_medium, p->state.ctm, sizeof m->world_from_medium);
     if (!(fabs(glm_mat3_det((mat3){{p->state.ctm[0][0], p->state.ctm[0][1], p->state.ctm[0][2]},
                                    {p->state.ctm[1][0], p->state.ctm[1][1], p->state.ctm[1][2]},
@@ -290,23 +298,14 @@ static int temperature_to_rgb_grid(Parser *p, Lexer *lex, const Token *d, const 
         free(le);
         return out_of_memory(p, lex->path, d->line);
     }
-    double srgb_from_xyz[3][3];
-    spectrum_srgb_from_xyz(srgb_from_xyz);
     for (size_t i = 0; i < n; ++i) {
-        double t = (temperature->numbers[i] - (double)offset) * (double)temperature_scale, xyz[3] = {0, 0, 0};
-        if (t > 100.0) {
-            Spectrum b;
-            spectrum_blackbody(t, &b);
-            spectrum_to_xyz(&b, xyz);
-        }
+        double rgb[3];
+        spectrum_blackbody_srgb((temperature->numbers[i] - (double)offset) * (double)temperature_scale, rgb);
         double cell = m->le_scale ? (double)m->le_scale[i] : 1.0;
         for (int k = 0; k < 3; ++k) {
-            double rgb = 0.0;
-            for (int j = 0; j < 3; ++j)
-                rgb += srgb_from_xyz[k][j] * xyz[j];
             a[3 * i + (size_t)k] = m->density[i] * m->sigma_a[k];
             s[3 * i + (size_t)k] = m->density[i] * m->sigma_s[k];
-            le[3 * i + (size_t)k] = (float)fmax(0.0, rgb * cell);
+            le[3 * i + (size_t)k] = (float)(rgb[k] * cell);
         }
     }
     free(m->density);
@@ -410,19 +409,36 @@ static int read_cloud(Parser *p, Lexer *lex, const Token *d, ParamList *params, 
     return read_bounds(p, lex, d, params, m) || read_coefficients(p, lex, d, params, 0, m) ? -1 : 0;
 }
 
-/* A NanoVDB file: pbrt-v4 reads its "density" grid (and "temperature");
- * here the file must exist and begin with NanoVDB's magic number. */
+/* One grid of a NanoVDB file: 0, 1 when the file has none of that name
+ * (and `required` is 0), or -1 after a file:line error. */
+static int read_nanovdb_grid(Parser *p, Lexer *lex, const Token *d, const char *owner, const char *path,
+                             const char *name, int required, NanoGrid *grid)
+{
+    char error[512];
+    int found = nanovdb_read(path, name, grid, error, sizeof error);
+    if (found < 0)
+        return scene_error(&p->diag, lex->path, d->line, "%s: \"%s\": %s", owner, path, error);
+    if (found == 1 && required)
+        return scene_error(&p->diag, lex->path, d->line, "%s: \"%s\" has no grid \"%s\"", owner, path, name);
+    return found;
+}
+
+/* A NanoVDB file's "density" grid (its name "gridname") and, where the file
+ * has one, its "temperature" grid ("temperaturename"), with the parameters
+ * pbrt-v4 reads: sigma_a, sigma_s (default 1), scale, g, Lescale and the
+ * temperature's cutoff, offset (default the cutoff) and scale. */
 static int read_nanovdb(Parser *p, Lexer *lex, const Token *d, ParamList *params, SceneMedium *m)
 {
-    const char *filename = NULL, *unused_name = NULL;
-    float unused;
-    if (params_get_string(params, "filename", &filename) < 0 ||
-        params_get_string(params, "gridname", &unused_name) < 0 ||
-        params_get_string(params, "temperaturename", &unused_name) < 0 ||
-        params_get_float(params, "temperatureoffset", &unused) < 0 ||
-        params_get_float(params, "temperaturecutoff", &unused) < 0 ||
-        params_get_float(params, "temperaturescale", &unused) < 0 || read_emission(p, lex, d, params, m) ||
-        read_coefficients(p, lex, d, params, 0, m))
+    const char *filename = NULL, *gridname = "density", *temperaturename = "temperature";
+    float cutoff = 0.0f, le_scale = 1.0f;
+    m->temperature_scale = 1.0f;
+    if (params_get_string(params, "filename", &filename) < 0 || params_get_string(params, "gridname", &gridname) < 0 ||
+        params_get_string(params, "temperaturename", &temperaturename) < 0 ||
+        params_get_float(params, "temperaturecutoff", &cutoff) < 0 || ((m->temperature_offset = cutoff), 0) ||
+        params_get_float(params, "temperatureoffset", &m->temperature_offset) < 0 ||
+        get_float_in(p, lex, d, params, "temperaturescale", 0.0f, FLT_MAX, &m->temperature_scale) ||
+        get_float_in(p, lex, d, params, "Lescale", 0.0f, FLT_MAX, &le_scale) ||
+        read_coefficients(p, lex, d, params, 0, m) || read_transform(p, lex, d, params, m))
         return -1;
     if (!filename || !*filename)
         return scene_error(&p->diag, lex->path, d->line, "%s: \"filename\" is required", params->owner);
@@ -430,20 +446,29 @@ static int read_nanovdb(Parser *p, Lexer *lex, const Token *d, ParamList *params
     if (!path)
         return out_of_memory(p, lex->path, d->line);
     int result = scene_missing_file(&p->diag, lex->path, d->line, path, params->owner);
-    if (result == 0) {
-        FILE *f = fopen(path, "rb");
-        char magic[8] = {0};
-        size_t got = f ? fread(magic, 1, sizeof magic, f) : 0;
-        if (f)
-            fclose(f);
-        if (!f)
-            result = scene_error(&p->diag, lex->path, d->line, "%s: cannot open \"%s\"", params->owner, path);
-        else if (got < sizeof magic || memcmp(magic, "NanoVDB", 7) != 0)
-            result = scene_error(&p->diag, lex->path, d->line, "%s: \"%s\" is not a NanoVDB file (no magic number)",
-                                 params->owner, path);
-    }
+    if (result == 0)
+        result = read_nanovdb_grid(p, lex, d, params->owner, path, gridname, 1, &m->nanovdb_density);
+    if (result == 0 &&
+        read_nanovdb_grid(p, lex, d, params->owner, path, temperaturename, 0, &m->nanovdb_temperature) < 0)
+        result = -1;
     free(path);
-    return result < 0 ? -1 : 0;
+    if (result != 0)
+        return result < 0 ? -1 : 0;
+    for (int k = 0; k < 3; ++k) {
+        m->emission[k] = le_scale;
+        double lo = m->nanovdb_density.world_bounds[0][k], hi = m->nanovdb_density.world_bounds[1][k];
+        if (m->nanovdb_temperature.data) {
+            lo = fmin(lo, m->nanovdb_temperature.world_bounds[0][k]);
+            hi = fmax(hi, m->nanovdb_temperature.world_bounds[1][k]);
+        }
+        m->bounds[0][k] = (float)lo;
+        m->bounds[1][k] = (float)hi;
+        if (!(m->bounds[1][k] > m->bounds[0][k]))
+            return scene_error(&p->diag, lex->path, d->line, "%s: the grids' box is empty along an axis",
+                               params->owner);
+    }
+    m->rendered = 1;
+    return 0;
 }
 
 static const struct {
@@ -494,11 +519,6 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
     }
     if (result == 0)
         result = params_check_unused(&params);
-    if (result == 0 && !m.rendered)
-        result = scene_unsupported(&p->diag, lex->path, d->line, "the medium is rendered as vacuum",
-                                   "MakeNamedMedium \"%s\": type \"%s\" is not rendered (homogeneous, "
-                                   "uniformgrid, rgbgrid and cloud are)",
-                                   p->scene->media[index].name, type);
     char origin[512];
     snprintf(origin, sizeof origin, "%s:%d", lex->path, d->line);
     if (result == 0 && !(m.origin = scene_strndup(origin, strlen(origin))))
@@ -513,6 +533,8 @@ int on_make_named_medium(Parser *p, Lexer *lex, const Token *d)
         free(m.rgb_sigma_a);
         free(m.rgb_sigma_s);
         free(m.rgb_le);
+        nanovdb_free(&m.nanovdb_density);
+        nanovdb_free(&m.nanovdb_temperature);
     }
     params_free(&params);
     return result;

@@ -25,6 +25,8 @@ void scene_destroy(Scene *scene)
         free(scene->media[i].rgb_sigma_a);
         free(scene->media[i].rgb_sigma_s);
         free(scene->media[i].rgb_le);
+        nanovdb_free(&scene->media[i].nanovdb_density);
+        nanovdb_free(&scene->media[i].nanovdb_temperature);
     }
     free(scene->media);
     for (size_t i = 0; i < scene->texture_count; ++i) {

@@ -7,6 +7,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include "scene/nanovdb_file.h"
 
 /* The renderer intersects rays in single precision, squaring distances
  * and multiplying a triangle's two edges by a third length. Beyond these
@@ -354,9 +355,14 @@ typedef enum {
  * pbrt-v4's procedural cloud over bounds, `cloud` its density, wispiness
  * and frequency, sigma_a and sigma_s per unit of its density. A
  * uniformgrid with a "temperature" grid is read as the rgbgrid of its
- * cells' blackbody emission (media.c). nanovdb is read and checked but not
- * rendered: the renderer takes it as vacuum under allow_unsupported
- * (`rendered` 0). */
+ * cells' blackbody emission (media.c). nanovdb: the float grids read from
+ * its file (nanovdb_file.h), looked up as pbrt-v4 does (trilinear between
+ * voxels at integer index points) over bounds, the world box of their
+ * active voxels, sigma_a and sigma_s per unit of density, emission[0]
+ * "Lescale" times the blackbody of the temperature grid's
+ * (t - temperature_offset) * temperature_scale kelvin (none at 100 K or
+ * below, or without a temperature grid: its data NULL). `rendered` 0: a
+ * medium whose file check mode found missing (vacuum). */
 typedef struct {
     char *name;
     SceneMediumType type;
@@ -370,6 +376,8 @@ typedef struct {
     float *le_scale;
     float *rgb_sigma_a, *rgb_sigma_s, *rgb_le;
     float cloud[3];
+    NanoGrid nanovdb_density, nanovdb_temperature;
+    float temperature_offset, temperature_scale;
     float bounds[2][3];
     float world_from_medium[4][4]; /* column-major, [column][row] like cglm's mat4 */
     char *origin;                  /* "file:line" of its MakeNamedMedium */

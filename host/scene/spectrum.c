@@ -503,3 +503,20 @@ int spectrum_film_from_radiance(const char *sensor, double imaging_ratio, double
             m[r][c] = (float)(imaging_ratio * film[r][c]);
     return 0;
 }
+
+void spectrum_blackbody_srgb(double kelvin, double rgb[3])
+{
+    double xyz[3] = {0.0, 0.0, 0.0}, srgb_from_xyz[3][3];
+    if (kelvin > 100.0) {
+        Spectrum b;
+        spectrum_blackbody(kelvin, &b);
+        spectrum_to_xyz(&b, xyz);
+    }
+    spectrum_srgb_from_xyz(srgb_from_xyz);
+    for (int k = 0; k < 3; ++k) {
+        rgb[k] = 0.0;
+        for (int j = 0; j < 3; ++j)
+            rgb[k] += srgb_from_xyz[k][j] * xyz[j];
+        rgb[k] = fmax(0.0, rgb[k]);
+    }
+}

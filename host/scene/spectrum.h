@@ -60,6 +60,10 @@ void spectrum_from_pairs(const double *lambda, const double *value, size_t count
 /* Planck's law at `kelvin` (> 0), divided by its peak (pbrt-v4's blackbody). */
 void spectrum_blackbody(double kelvin, Spectrum *out);
 
+/* That blackbody's linear sRGB, negative channels clipped to 0; all 0 at
+ * 100 K or below (pbrt-v4's media emit nothing there). */
+void spectrum_blackbody_srgb(double kelvin, double rgb[3]);
+
 /* pbrt-v4's built-in spectra by name (metal-Au-eta, glass-BK7,
  * stdillum-D65, illum-acesD60, canon_eos_100d_r, ...; the illuminants
  * stdillum-* and illum-acesD60 normalised to luminance 1 as pbrt does).

@@ -44,7 +44,8 @@
 #define FEATURE_LAYERED 0x1000000000ul       /* the layered random walk: coated diffuse or coated conductor */
 #define FEATURE_ALPHA_TEXTURE 0x2000000000ul /* "texture alpha": cut-outs whose alpha is a float texture */
 #define FEATURE_MEDIA 0x4000000000ul         /* participating media: the volumetric path tracer (media.h) */
-#define FEATURES_ALL 0x7ffff7fff0ul          /* bits 4..38 but 19 */
+#define FEATURE_NANOVDB 0x8000000000ul       /* "nanovdb" media (nanovdb.h) */
+#define FEATURES_ALL 0xfffff7fff0ul          /* bits 4..39 but 19 */
 
 #ifndef GMON_FEATURES
 #define GMON_FEATURES FEATURES_ALL
@@ -88,5 +89,6 @@
 #define GMON_HAS_ALPHA GMON_HAS(FEATURE_ALPHA)
 #define GMON_HAS_ALPHA_TEXTURE GMON_HAS(FEATURE_ALPHA_TEXTURE)
 #define GMON_HAS_MEDIA GMON_HAS(FEATURE_MEDIA)
+#define GMON_HAS_NANOVDB GMON_HAS(FEATURE_NANOVDB)
 
 #endif

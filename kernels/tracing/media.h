@@ -33,6 +33,9 @@
 #include "sampler.h"
 #include "scene.h"
 #include "texture.h" /* Perlin noise, for clouds */
+#if GMON_HAS_NANOVDB
+#include "nanovdb.h"
+#endif
 
 /* Each medium segment of a path takes its two random numbers from its own
  * dimensions, past any bounce's (camera.h keeps the lens higher still). */
@@ -128,6 +131,15 @@ KERNEL_FN void grid_medium_at(const Scene *scene, GLOBAL const Medium *m, Vec3 p
         *le = vec3(0.0f, 0.0f, 0.0f);
         return;
     }
+#if GMON_HAS_NANOVDB
+    if (m->type == MEDIUM_NANOVDB) {
+        float density = nanovdb_medium_at(values, m->density, m->le_scale, m->rgb_le, u, le);
+        *sigma_a = v_scale(vec3_from_global(m->sigma_a), density);
+        *sigma_s = v_scale(vec3_from_global(m->sigma_s), density);
+        *le = v_scale(*le, m->emission[0]);
+        return;
+    }
+#endif
     if (m->type == MEDIUM_UNIFORM_GRID) {
         float density = grid_lookup(values + m->density, m->size, 1, u).x;
         *sigma_a = v_scale(vec3_from_global(m->sigma_a), density);

@@ -421,6 +421,7 @@ typedef struct {
 #define MEDIUM_UNIFORM_GRID 1u /* sigma_a, sigma_s, emission times a density grid (and a Lescale grid) */
 #define MEDIUM_RGB_GRID 2u     /* RGB grids of sigma_a, sigma_s and Le */
 #define MEDIUM_CLOUD 3u        /* pbrt-v4's procedural cloud: sigma_a, sigma_s times its density */
+#define MEDIUM_NANOVDB 4u      /* NanoVDB grids: sigma_a, sigma_s times the density grid; blackbody emission */
 
 /* A participating medium (FEATURE_MEDIA): absorption and scattering
  * coefficients per unit of world length, per channel, the radiance it
@@ -433,7 +434,9 @@ typedef struct {
  * rgbgrid: RGB grids (3 values a cell, or -1: sigma 1, Le 0) times
  * sigma_a[0], sigma_s[0] ("scale"), emission[0] ("Lescale"); cloud: at
  * `density` its density, wispiness, frequency, then its box's lower corner
- * and extent in the medium's space (9 values). The
+ * and extent in the medium's space (9 values); nanovdb: the NanoVDB grid of
+ * density at `density`, of temperature at `le_scale` (-1: none), its
+ * parameters (nanovdb.h) at `rgb_le`. The
  * majorant grid, MEDIUM_MAJORANT_GRID^3 values at `majorants` (x fastest),
  * bounds sigma_t in every channel over each of its cells of the cube (as
  * pbrt-v4's MajorantGrid); `majorant` over the whole cube. 144 bytes. */

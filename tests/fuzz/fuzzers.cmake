@@ -12,6 +12,7 @@ find_package(OpenEXR 3 CONFIG REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CGLM REQUIRED IMPORTED_TARGET cglm)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+pkg_check_modules(BLOSC REQUIRED IMPORTED_TARGET blosc)
 find_library(MATH_LIBRARY m REQUIRED)
 find_package(ZLIB REQUIRED)
 
@@ -34,9 +35,10 @@ add_library(fuzz_code STATIC
   host/io/image_probe.c
   tests/fuzz/fuzz_input.c)
 target_include_directories(fuzz_code PUBLIC host kernels/common kernels/film kernels/tracing ${GMON_GENERATED_DIR}/kernels/film
-                                            tests/fuzz)
+                                            ${GMON_GENERATED_DIR}/kernels/tracing tests/fuzz)
 add_dependencies(fuzz_code sorting_networks)
-target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB OpenEXR::OpenEXRCore ZLIB::ZLIB ${MATH_LIBRARY})
+target_link_libraries(fuzz_code PUBLIC PkgConfig::CGLM PkgConfig::STB PkgConfig::BLOSC OpenEXR::OpenEXRCore ZLIB::ZLIB
+                      ${MATH_LIBRARY})
 
 foreach(harness scene ply exr image)
   add_executable(fuzz_${harness} tests/fuzz/fuzz_${harness}.c)
