@@ -124,6 +124,29 @@ static void test_streams_are_nets_at_every_power_of_two(void **state)
                 }
 }
 
+/* A light subpath's numbers come from one sequence over the image: the
+ * light streams of all 4096 pixels of a 64x64 image at one sample index
+ * (of one set, with sobol-sets) form a (0,12,2)-net together, where the
+ * pixels' own streams are independent of one another. */
+static void test_light_streams_are_one_net_over_the_image(void **state)
+{
+    (void)state;
+    static uint32_t x[1u << MAX_LOG2], y[1u << MAX_LOG2];
+    const uint32_t modes[] = {SAMPLER_SOBOL_PIXEL, SAMPLER_SOBOL_SETS};
+    const uint64_t pixels = 1u << MAX_LOG2;
+    for (size_t m = 0; m < 2; ++m)
+        for (uint64_t sample = 0; sample < 50u; sample += 7u) {
+            for (uint64_t pixel = 0; pixel < pixels; ++pixel) {
+                SampleStream s = light_sample_stream(modes[m], 3u, pixel, sample, 21u, pixels);
+                float u, v;
+                sample_2d(&s, 0x40000001u, &u, &v);
+                x[pixel] = bits_of(u);
+                y[pixel] = bits_of(v);
+            }
+            assert_true(is_02_net(x, y, MAX_LOG2));
+        }
+}
+
 /* Every pixel, dimension and seed has its own scrambling: the first
  * sample's numbers differ among them and are uniform (chi-square over 32
  * bins of 32768 streams; 99.9th percentile of chi-square with 31 degrees of
@@ -250,6 +273,7 @@ int main(void)
         cmocka_unit_test(test_sobol_points_form_a_02_sequence),
         cmocka_unit_test(test_streams_are_nets_at_every_power_of_two),
         cmocka_unit_test(test_scrambling_is_uniform_and_distinct),
+        cmocka_unit_test(test_light_streams_are_one_net_over_the_image),
         cmocka_unit_test(test_sets_stay_independent_with_sobol_sets),
         cmocka_unit_test(test_independent_is_the_old_random_numbers),
         cmocka_unit_test(test_names_and_scene_samplers),

@@ -220,7 +220,8 @@ KERNEL_FN Vec3 connect_vertices(const Scene *scene, const PathVertex *qs, const 
 
 /* The strategies of one sample that land on its own pixel (t >= 2), each
  * by its MIS weight; the camera ray from `ray`. */
-KERNEL_FN Vec3 bdpt_camera_strategies(const Scene *scene, const SampleStream *stream, const CameraRay *ray, uint *rays)
+KERNEL_FN Vec3 bdpt_camera_strategies(const Scene *scene, const SampleStream *stream, const SampleStream *light_stream,
+                                      const CameraRay *ray, uint *rays)
 {
     __global const IntegratorData *integrator = &scene->constants->integrator;
     int max_depth = (int)integrator->max_depth;
@@ -236,7 +237,7 @@ KERNEL_FN Vec3 bdpt_camera_strategies(const Scene *scene, const SampleStream *st
     c0->radiance = 1;
     int camera_count = random_walk(scene, stream, camera, 1, max_depth + 2, ray->origin, ray->direction, c0->beta,
                                    camera_pdf_direction(&scene->constants->camera, ray->direction), 1, rays);
-    int light_count = light_subpath(scene, stream, light, max_depth + 1, rays);
+    int light_count = light_subpath(scene, light_stream, light, max_depth + 1, rays);
     Vec3 L = vec3(0.0f, 0.0f, 0.0f);
     for (int t = 2; t <= camera_count; ++t)
         for (int s = 0; s <= light_count && s + t - 2 <= max_depth; ++s) {
@@ -286,8 +287,10 @@ __kernel void render_samples(__global const SceneConstants *constants,
         ulong sample_index = first_sample + i;
         SampleStream stream =
             sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
+        SampleStream light_stream = light_sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index,
+                                                        GMON_SAMPLER_SETS, (ulong)width * constants->camera.height);
         CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, &stream);
-        Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &camera, &rays));
+        Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &light_stream, &camera, &rays));
 #if SAMPLE_PASSES
         const float film[EST_CHANNELS] = {L.x, L.y, L.z};
         SampleParts sample = splat_sample_parts(film, set_of_sample(sample_index, EST_SETS), EST_SETS);
@@ -329,8 +332,9 @@ __kernel void splat_samples(__global const SceneConstants *constants,
     uint rays = 0;
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
-        SampleStream stream =
-            sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS);
+        SampleStream stream = light_sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index,
+                                                  GMON_SAMPLER_SETS,
+                                                  (ulong)constants->camera.width * constants->camera.height);
         target.set = set_of_sample(sample_index, EST_SETS);
         splat_light_subpath(&scene, &stream, &target, &rays);
     }

@@ -108,6 +108,32 @@ KERNEL_FN SampleStream sample_stream(uint32_t mode, uint32_t seed, uint64_t pixe
     return s;
 }
 
+/* The stream of a light subpath: light subpaths land anywhere on the
+ * image, so their numbers come from one sequence over the whole image
+ * (point sample_index * image_pixels + pixel; with sobol-sets one such
+ * sequence a set) rather than one a pixel: all the image's light subpaths
+ * are then stratified together, as pbrt-v4's image-wide Sobol sampler
+ * stratifies them, and a pixel's splats vary less. Independent numbers
+ * stay the sample's own. */
+KERNEL_FN SampleStream light_sample_stream(uint32_t mode, uint32_t seed, uint64_t pixel, uint64_t sample_index,
+                                           uint32_t set_count, uint64_t image_pixels)
+{
+    if (mode == SAMPLER_INDEPENDENT)
+        return sample_stream(mode, seed, pixel, sample_index, set_count);
+    uint64_t sequence = 0u, index = sample_index;
+    if (mode == SAMPLER_SOBOL_SETS) {
+        sequence = 1u + sample_index % set_count;
+        index = sample_index / set_count;
+    }
+    index = index * image_pixels + pixel;
+    SampleStream s;
+    s.mode = mode;
+    /* The pixel key ~0 keeps these sequences apart from every pixel's. */
+    s.key = rng_sample_key(seed, ~(uint64_t)0u, (sequence << 32) ^ (index >> 32) ^ 0x5bd1e995u);
+    s.index = (uint32_t)index;
+    return s;
+}
+
 /* One dimension's hash of the stream's key. */
 KERNEL_FN uint64_t dimension_hash(const SampleStream *s, uint32_t dimension)
 {
