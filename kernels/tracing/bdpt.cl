@@ -290,7 +290,8 @@ __kernel void render_samples(__global const SceneConstants *constants,
         SampleStream light_stream = light_sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index,
                                                         GMON_SAMPLER_SETS, (ulong)width * constants->camera.height);
         CameraRay camera = camera_ray(&constants->camera, &constants->filter, distributions, x, y, &stream);
-        Vec3 L = film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &light_stream, &camera, &rays));
+        Vec3 L =
+            film_response(&constants->film, bdpt_camera_strategies(&scene, &stream, &light_stream, &camera, &rays));
 #if SAMPLE_PASSES
         const float film[EST_CHANNELS] = {L.x, L.y, L.z};
         SampleParts sample = splat_sample_parts(film, set_of_sample(sample_index, EST_SETS), EST_SETS);
@@ -332,9 +333,9 @@ __kernel void splat_samples(__global const SceneConstants *constants,
     uint rays = 0;
     for (uint i = 0; i < sample_count; ++i) {
         ulong sample_index = first_sample + i;
-        SampleStream stream = light_sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index,
-                                                  GMON_SAMPLER_SETS,
-                                                  (ulong)constants->camera.width * constants->camera.height);
+        SampleStream stream =
+            light_sample_stream(GMON_SAMPLER, constants->integrator.seed, pixel, sample_index, GMON_SAMPLER_SETS,
+                                (ulong)constants->camera.width * constants->camera.height);
         target.set = set_of_sample(sample_index, EST_SETS);
         splat_light_subpath(&scene, &stream, &target, &rays);
     }
