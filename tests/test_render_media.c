@@ -468,6 +468,19 @@ static void assert_image_is(const float *image, const double expected[3], const 
     }
 }
 
+/* `scale` times the linear sRGB (negative channels 0) of pbrt-v4's
+ * blackbody at `kelvin`, from the spectrum's XYZ. */
+static void scaled_blackbody(double kelvin, double scale, double rgb[3])
+{
+    Spectrum b;
+    double xyz[3], m[3][3];
+    spectrum_blackbody(kelvin, &b);
+    spectrum_to_xyz(&b, xyz);
+    spectrum_srgb_from_xyz(m);
+    for (int k = 0; k < 3; ++k)
+        rgb[k] = scale * fmax(0.0, m[k][0] * xyz[0] + m[k][1] * xyz[1] + m[k][2] * xyz[2]);
+}
+
 static void test_temperature_grid(void **state)
 {
     (void)state;
@@ -476,13 +489,8 @@ static void test_temperature_grid(void **state)
      * over [-3, 3]^3 (constant within 2.25 of the centre) emits that
      * blackbody's RGB times Lescale as Le: every ray sees
      * Le (1 - exp(-2 sigma_a)), sigma_a = density * "sigma_a". */
-    Spectrum b;
-    double xyz[3], m[3][3], le[3];
-    spectrum_blackbody(3000.0, &b);
-    spectrum_to_xyz(&b, xyz);
-    spectrum_srgb_from_xyz(m);
-    for (int k = 0; k < 3; ++k)
-        le[k] = 3.0 * fmax(0.0, m[k][0] * xyz[0] + m[k][1] * xyz[1] + m[k][2] * xyz[2]);
+    double le[3];
+    scaled_blackbody(3000.0, 3.0, le);
     char grid[2048];
     int used = snprintf(grid, sizeof grid,
                         "\"string type\" \"uniformgrid\" \"integer nx\" 4 \"integer ny\" 4 \"integer nz\" 4 "
@@ -552,13 +560,8 @@ static void test_nanovdb_temperature(void **state)
              "\"float temperaturescale\" 1.25",
              GMON_BINARY_DIR);
     float *image = render_medium_file("nanovdb-temperature.pbrt", medium);
-    Spectrum b;
-    double xyz[3], m[3][3], expected[3];
-    spectrum_blackbody(2500.0, &b);
-    spectrum_to_xyz(&b, xyz);
-    spectrum_srgb_from_xyz(m);
-    for (int k = 0; k < 3; ++k)
-        expected[k] = 3.0 * fmax(0.0, m[k][0] * xyz[0] + m[k][1] * xyz[1] + m[k][2] * xyz[2]);
+    double expected[3];
+    scaled_blackbody(2500.0, 3.0, expected);
     assert_image_is(image, expected, "nanovdb temperature, mean / Lescale blackbody(2500 K)");
     free(image);
 }

@@ -51,17 +51,15 @@ static int fail(char *error, size_t size, const char *format, ...)
     return -1;
 }
 
-/* The walk over a grid's tree, checking (when `error` is given) that every
- * node lies inside the grid, is aligned, and that no level has more nodes
- * than the tree says (a corrupt file could send every child to one node). */
+/* The walk over a grid's tree, checking that every node lies inside the
+ * grid, is aligned, and that no level has more nodes than the tree says (a
+ * corrupt file could send every child to one node). */
 typedef struct {
     const unsigned char *base;
     uint64_t size;
     uint32_t visited[3], counts[3];
     NanoRegionVisit *visit;
     void *context;
-    char *error;
-    size_t error_size;
 } Walk;
 
 static const void *node_at(Walk *w, const void *from, int64_t offset, uint64_t node_size, int level)
@@ -88,13 +86,12 @@ static void child_origin(const int32_t origin[3], uint32_t n, int log2dim, int32
     out[2] = origin[2] + (int32_t)(n & mask) * child;
 }
 
-static int walk_leaf(Walk *w, const cnanovdb_node0F *leaf, const int32_t origin[3])
+static void walk_leaf(Walk *w, const cnanovdb_node0F *leaf, const int32_t origin[3])
 {
     float largest = leaf->mVoxels[0];
     for (int i = 1; i < 512; ++i)
         largest = leaf->mVoxels[i] > largest ? leaf->mVoxels[i] : largest;
     region(w, origin, 8, largest);
-    return 0;
 }
 
 static int walk_lower(Walk *w, const cnanovdb_node1F *node, const int32_t origin[3])
@@ -107,8 +104,9 @@ static int walk_lower(Walk *w, const cnanovdb_node1F *node, const int32_t origin
             continue;
         }
         const cnanovdb_node0F *leaf = node_at(w, node, (int64_t)node->mTable[n].child, sizeof *leaf, 0);
-        if (!leaf || walk_leaf(w, leaf, at))
+        if (!leaf)
             return -1;
+        walk_leaf(w, leaf, at);
     }
     return 0;
 }

@@ -41,23 +41,19 @@ int main(int argc, char **argv)
     using nanovdb::Coord;
     using nanovdb::Vec3d;
 
+    // Voxels [0, 15]^3 at `value` over `background`, voxels of 1/16 from -0.5.
+    auto box_grid = [](float background, float value, const char *name) {
+        nanovdb::GridBuilder<float> builder(background, nanovdb::GridClass::FogVolume);
+        auto acc = builder.getAccessor();
+        for (int i = 0; i < 16; ++i)
+            for (int j = 0; j < 16; ++j)
+                for (int k = 0; k < 16; ++k)
+                    acc.setValue(Coord(i, j, k), value);
+        return builder.getHandle(1.0 / 16, Vec3d(-0.5), name);
+    };
     std::vector<nanovdb::GridHandle<>> box;
-    {
-        nanovdb::GridBuilder<float> density(0.0f, nanovdb::GridClass::FogVolume);
-        auto acc = density.getAccessor();
-        for (int i = 0; i < 16; ++i)
-            for (int j = 0; j < 16; ++j)
-                for (int k = 0; k < 16; ++k)
-                    acc.setValue(Coord(i, j, k), 1.0f);
-        box.push_back(density.getHandle(1.0 / 16, Vec3d(-0.5), "density"));
-        nanovdb::GridBuilder<float> temperature(3000.0f, nanovdb::GridClass::FogVolume);
-        auto tacc = temperature.getAccessor();
-        for (int i = 0; i < 16; ++i)
-            for (int j = 0; j < 16; ++j)
-                for (int k = 0; k < 16; ++k)
-                    tacc.setValue(Coord(i, j, k), 3000.0f);
-        box.push_back(temperature.getHandle(1.0 / 16, Vec3d(-0.5), "temperature"));
-    }
+    box.push_back(box_grid(0.0f, 1.0f, "density"));
+    box.push_back(box_grid(3000.0f, 3000.0f, "temperature"));
     nanovdb::io::writeGrids(dir + "/box.nvdb", box, nanovdb::io::Codec::NONE);
     nanovdb::io::writeGrids(dir + "/box-zip.nvdb", box, nanovdb::io::Codec::ZIP);
     nanovdb::io::writeGrids(dir + "/box-blosc.nvdb", box, nanovdb::io::Codec::BLOSC);
